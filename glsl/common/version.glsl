@@ -1,0 +1,2 @@
+// Shared header: GLSL version and extensions every compute pass uses.
+#extension GL_EXT_scalar_block_layout : require

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Installs the system packages tetrasim needs on Debian/Ubuntu, skipping what is present:
+#   Vulkan loader + lavapipe (Mesa's CPU Vulkan driver) + the Khronos validation layer,
+#   and cmake / python3 / a C++ compiler for building shaderc and TetGen from source.
+set -euo pipefail
+
+packages=(libvulkan1 mesa-vulkan-drivers vulkan-validationlayers cmake python3 g++ git)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}" >&2
+  SUDO=""
+  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  $SUDO apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+command -v cargo >/dev/null || { echo "setup: cargo not found; install Rust (rustup) first" >&2; exit 1; }

@@ -1,0 +1,66 @@
+//! The one interface every solver backend implements (`cpu-ref`, `cpu`, `vulkan`): same
+//! model and parameters in, same state and metrics out. Tests compare backends through it.
+
+use glam::DVec3;
+use serde::Serialize;
+
+use crate::error::Result;
+
+/// Dynamic state of one object.
+#[derive(Debug, Clone, PartialEq)]
+pub struct State {
+    /// Node positions [m].
+    pub positions: Vec<DVec3>,
+    /// Node velocities [m/s].
+    pub velocities: Vec<DVec3>,
+}
+
+/// Volume measures of one frame (physics.md, "Metrics").
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct VolumeSample {
+    /// Sum of signed tet volumes [m^3].
+    pub volume: f64,
+    /// Tets with signed volume <= 0.
+    pub inverted: u32,
+}
+
+/// Where and why a run diverged.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Divergence {
+    /// Frame (0-based) in which it was detected.
+    pub frame: u32,
+    /// Substep within that frame, when known.
+    pub substep: Option<u32>,
+    /// Method that was running.
+    pub method: String,
+    /// First node with a non-finite or out-of-bound value.
+    pub node: Option<u32>,
+    /// Human-readable cause and advice.
+    pub cause: String,
+}
+
+impl std::fmt::Display for Divergence {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "diverged at frame {}", self.frame)?;
+        if let Some(s) = self.substep {
+            write!(f, ", substep {s}")?;
+        }
+        write!(f, " (method {})", self.method)?;
+        if let Some(n) = self.node {
+            write!(f, ", first bad node {n}")?;
+        }
+        write!(f, ": {}", self.cause)
+    }
+}
+
+/// A solver backend advancing one model in time.
+pub trait Backend {
+    /// Short name used on the command line and in reports (`cpu-ref`, `cpu`, `vulkan`).
+    fn name(&self) -> &'static str;
+    /// Advances one frame (`substeps` time steps).
+    fn step_frame(&mut self) -> Result<()>;
+    /// Total signed volume and inverted-tet count of the current positions.
+    fn volume(&mut self) -> Result<VolumeSample>;
+    /// Copies the current state out (a full readback on the GPU: not for every frame).
+    fn state(&mut self) -> Result<State>;
+}

@@ -1,0 +1,73 @@
+//! One error type for the library, with enough context to say what went wrong and where.
+
+use std::path::PathBuf;
+
+/// Everything the library can fail with. Each variant names the place (file and line,
+/// element index, Vulkan call) so that a message can be acted upon.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// A file could not be opened, read or written.
+    #[error("{path}: {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// A file was read but its content is wrong (`line` is 1-based when known).
+    #[error("{path}{}: {message}", line.map(|l| format!(":{l}")).unwrap_or_default())]
+    Parse {
+        path: PathBuf,
+        line: Option<usize>,
+        message: String,
+    },
+    /// A mesh is unusable (empty, bad index, degenerate element ...).
+    #[error("invalid mesh: {0}")]
+    Mesh(String),
+    /// A parameter or scene value is out of range; `key` names it.
+    #[error("invalid parameter `{key}`: {message}")]
+    Param { key: String, message: String },
+    /// Meshing (TetGen or the voxel mesher) failed.
+    #[error("meshing failed: {0}")]
+    Meshing(String),
+    /// A Vulkan call failed.
+    #[error("Vulkan: {call} failed: {result}")]
+    Vulkan {
+        call: &'static str,
+        result: ash::vk::Result,
+    },
+    /// The GPU setup is unusable (no device, missing feature, loader not found ...).
+    #[error("GPU: {0}")]
+    Gpu(String),
+    /// The simulation became non-finite or unbounded.
+    #[error("{0}")]
+    Diverged(Box<crate::backend::Divergence>),
+}
+
+/// Result with the library's [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+impl Error {
+    /// An I/O error on `path`.
+    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        Error::Io { path: path.into(), source }
+    }
+    /// A content error in `path` at `line` (1-based), if known.
+    pub fn parse(path: impl Into<PathBuf>, line: Option<usize>, message: impl Into<String>) -> Self {
+        Error::Parse { path: path.into(), line, message: message.into() }
+    }
+    /// An out-of-range parameter.
+    pub fn param(key: impl Into<String>, message: impl Into<String>) -> Self {
+        Error::Param { key: key.into(), message: message.into() }
+    }
+}
+
+/// Turns an `ash` result into ours, naming the call.
+pub trait VkContext<T> {
+    fn vk(self, call: &'static str) -> Result<T>;
+}
+
+impl<T> VkContext<T> for std::result::Result<T, ash::vk::Result> {
+    fn vk(self, call: &'static str) -> Result<T> {
+        self.map_err(|result| Error::Vulkan { call, result })
+    }
+}

@@ -1,0 +1,24 @@
+//! tetrasim: volume-preserving mass-spring simulation of tetrahedral meshes.
+//!
+//! ```text
+//! surface file --tetprep--> TetMesh (.node/.ele/.face)
+//!   --ModelBuilder--> Model (rest data) + State (x, v) + SimParams
+//!   --Backend::step_frame--> State' --> metrics / renders / files
+//! ```
+
+pub mod backend;
+pub mod error;
+pub mod mesh;
+pub mod model;
+pub mod params;
+
+pub use backend::{Backend, State, VolumeSample};
+pub use error::{Error, Result};
+pub use mesh::{SurfaceMesh, TetMesh};
+pub use model::{Model, ModelBuilder};
+pub use params::{Method, SimParams};
+
+/// SPIR-V of every shader under `glsl/`, compiled by `build.rs`.
+pub mod shaders {
+    include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
+}

@@ -1,0 +1,1 @@
+//! Readers and writers for surface and tet-mesh formats.

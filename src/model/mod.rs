@@ -1,0 +1,215 @@
+//! The static model: everything about the object that does not change during a run,
+//! built and validated once on the CPU from a [`TetMesh`]. Every backend reads the same model.
+
+use glam::DVec3;
+
+use crate::error::{Error, Result};
+use crate::mesh::{bounds_of, tet_signed_volume, topology, TetMesh};
+use crate::params::{MassMode, Placement};
+
+/// Compressed sparse rows: `items[offsets[i]..offsets[i + 1]]` belong to row `i`.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Csr {
+    /// `rows + 1` offsets into `items`.
+    pub offsets: Vec<u32>,
+    /// Row entries.
+    pub items: Vec<u32>,
+}
+
+impl Csr {
+    /// Entries of row `i`.
+    pub fn row(&self, i: usize) -> &[u32] {
+        &self.items[self.offsets[i] as usize..self.offsets[i + 1] as usize]
+    }
+}
+
+/// Rest data of one object. Positions are the initial positions after placement.
+#[derive(Debug, Clone)]
+pub struct Model {
+    /// Initial node positions [m].
+    pub positions: Vec<DVec3>,
+    /// Node masses [kg] (a pinned node keeps its mass here, but its inverse mass is 0).
+    pub mass: Vec<f64>,
+    /// Inverse masses [1/kg]; 0 pins the node.
+    pub inv_mass: Vec<f64>,
+    /// Springs: the unique edges of all tets, `[low, high]`.
+    pub springs: Vec<[u32; 2]>,
+    /// Rest length of each spring [m].
+    pub rest_length: Vec<f64>,
+    /// Tetrahedra, positively oriented (two indices swapped at build time where needed).
+    pub tets: Vec<[u32; 4]>,
+    /// Signed rest volume of each tet [m^3], all > 0.
+    pub rest_volume: Vec<f64>,
+    /// For each node, the springs touching it (node-centric order).
+    pub node_springs: Csr,
+    /// For each node, the number of tets touching it (volume-constraint averaging).
+    pub tet_degree: Vec<u32>,
+    /// Boundary triangles, outward, for rendering and surface output.
+    pub surface: Vec<[u32; 3]>,
+}
+
+impl Model {
+    /// Number of nodes.
+    pub fn node_count(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Number of springs touching each node (distance-constraint averaging).
+    pub fn spring_degree(&self, node: usize) -> u32 {
+        self.node_springs.offsets[node + 1] - self.node_springs.offsets[node]
+    }
+
+    /// Sum of rest volumes [m^3].
+    pub fn total_rest_volume(&self) -> f64 {
+        self.rest_volume.iter().sum()
+    }
+
+    /// Length of the bounding-box diagonal of the initial positions [m].
+    pub fn bounds_diagonal(&self) -> f64 {
+        bounds_of(&self.positions).map(|(lo, hi)| (hi - lo).length()).unwrap_or(0.0)
+    }
+}
+
+/// Builds a [`Model`] from a tet mesh: placement, orientation, springs, masses, adjacency.
+#[derive(Debug, Clone)]
+pub struct ModelBuilder<'a> {
+    mesh: &'a TetMesh,
+    placement: Placement,
+    mass: MassMode,
+    pinned: Vec<u32>,
+}
+
+impl<'a> ModelBuilder<'a> {
+    /// A builder with the default placement (`seed`) and unit node masses.
+    pub fn new(mesh: &'a TetMesh) -> Self {
+        ModelBuilder { mesh, placement: Placement::default(), mass: MassMode::PerNode { mass: 1.0 }, pinned: Vec::new() }
+    }
+
+    /// Where to put the mesh.
+    pub fn placement(mut self, placement: Placement) -> Self {
+        self.placement = placement;
+        self
+    }
+
+    /// How to assign node masses.
+    pub fn mass(mut self, mass: MassMode) -> Self {
+        self.mass = mass;
+        self
+    }
+
+    /// Nodes that never move (inverse mass 0).
+    pub fn pinned(mut self, nodes: impl IntoIterator<Item = u32>) -> Self {
+        self.pinned.extend(nodes);
+        self
+    }
+
+    /// Validates the mesh and computes all rest data.
+    pub fn build(self) -> Result<Model> {
+        let mesh = self.mesh;
+        let n = mesh.nodes.len();
+        if n == 0 || mesh.tets.is_empty() {
+            return Err(Error::Mesh(format!("the mesh is empty ({n} nodes, {} tets)", mesh.tets.len())));
+        }
+        if let Some(i) = mesh.nodes.iter().position(|p| !p.is_finite()) {
+            return Err(Error::Mesh(format!("node {i} has a non-finite coordinate {:?}", mesh.nodes[i])));
+        }
+        for (t, tet) in mesh.tets.iter().enumerate() {
+            if let Some(&bad) = tet.iter().find(|&&v| v as usize >= n) {
+                return Err(Error::Mesh(format!("tet {t} refers to node {bad}, but there are {n} nodes")));
+            }
+        }
+        let positions = place(&mesh.nodes, self.placement)?;
+        let diag = bounds_of(&positions).map(|(lo, hi)| (hi - lo).length()).unwrap_or(0.0);
+        let degenerate = 1e-14 * diag.powi(3);
+
+        let mut tets = mesh.tets.clone();
+        let mut rest_volume = Vec::with_capacity(tets.len());
+        for (t, tet) in tets.iter_mut().enumerate() {
+            let p = tet.map(|v| positions[v as usize]);
+            let mut v = tet_signed_volume(p[0], p[1], p[2], p[3]);
+            if v.abs() <= degenerate {
+                return Err(Error::Mesh(format!("tet {t} {tet:?} is degenerate (volume {v:e} m^3)")));
+            }
+            if v < 0.0 {
+                tet.swap(2, 3);
+                v = -v;
+            }
+            rest_volume.push(v);
+        }
+
+        let springs = topology::unique_edges(&tets);
+        let rest_length = springs.iter().map(|s| positions[s[0] as usize].distance(positions[s[1] as usize])).collect();
+
+        let mass = match self.mass {
+            MassMode::PerNode { mass } => vec![mass; n],
+            MassMode::Density { density } => {
+                let mut m = vec![0.0; n];
+                for (tet, v) in tets.iter().zip(&rest_volume) {
+                    for &i in tet {
+                        m[i as usize] += density * v / 4.0;
+                    }
+                }
+                m
+            }
+        };
+        let mut inv_mass: Vec<f64> = mass.iter().map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 }).collect();
+        for &p in &self.pinned {
+            let slot = inv_mass
+                .get_mut(p as usize)
+                .ok_or_else(|| Error::Mesh(format!("pinned node {p} does not exist ({n} nodes)")))?;
+            *slot = 0.0;
+        }
+
+        let node_springs = adjacency(n, springs.iter().map(|s| s.as_slice()));
+        let mut tet_degree = vec![0u32; n];
+        for tet in &tets {
+            for &i in tet {
+                tet_degree[i as usize] += 1;
+            }
+        }
+        let surface = if mesh.faces.is_empty() { topology::boundary_faces(&tets) } else { mesh.faces.clone() };
+
+        Ok(Model { positions, mass, inv_mass, springs, rest_length, tets, rest_volume, node_springs, tet_degree, surface })
+    }
+}
+
+/// Applies a [`Placement`] to a point set.
+fn place(nodes: &[DVec3], placement: Placement) -> Result<Vec<DVec3>> {
+    let (lo, hi) = bounds_of(nodes).ok_or_else(|| Error::Mesh("the mesh has no nodes".into()))?;
+    let mut scale = 1.0;
+    if let Some(size) = placement.fit_size {
+        let largest = (hi - lo).max_element();
+        if largest <= 0.0 {
+            return Err(Error::Mesh("the mesh has zero extent; it cannot be scaled".into()));
+        }
+        scale = size / largest;
+    }
+    let mut offset = DVec3::ZERO;
+    if let Some(height) = placement.drop_height {
+        let centre = (lo + hi) * 0.5 * scale;
+        offset = DVec3::new(-centre.x, height - lo.y * scale, -centre.z);
+    }
+    Ok(nodes.iter().map(|&p| p * scale + offset).collect())
+}
+
+/// Row `i` lists the indices of the elements that contain node `i`.
+fn adjacency<'e>(nodes: usize, elements: impl Iterator<Item = &'e [u32]> + Clone) -> Csr {
+    let mut offsets = vec![0u32; nodes + 1];
+    for element in elements.clone() {
+        for &v in element {
+            offsets[v as usize + 1] += 1;
+        }
+    }
+    for i in 0..nodes {
+        offsets[i + 1] += offsets[i];
+    }
+    let mut fill = offsets.clone();
+    let mut items = vec![0u32; *offsets.last().unwrap_or(&0) as usize];
+    for (e, element) in elements.enumerate() {
+        for &v in element {
+            items[fill[v as usize] as usize] = e as u32;
+            fill[v as usize] += 1;
+        }
+    }
+    Csr { offsets, items }
+}

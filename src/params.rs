@@ -1,0 +1,191 @@
+//! Solver parameters: one struct with documented units and defaults, shared by the CLI,
+//! scene files and every backend (the GPU push-constant block is derived from it).
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+
+/// The simulation method (physics.md, "Methods").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// Springs only, spring-centric scatter.
+    Mss,
+    /// Springs only, node-centric gather (same physics as `mss`).
+    MssNode,
+    /// Springs plus an implicit distance constraint on every spring.
+    Distance,
+    /// Springs plus an implicit volume constraint on every tetrahedron.
+    Volume,
+}
+
+impl Method {
+    /// Every method, in the paper's order.
+    pub const ALL: [Method; 4] = [Method::Mss, Method::MssNode, Method::Distance, Method::Volume];
+
+    /// The name used on the command line, in JSON and in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Mss => "mss",
+            Method::MssNode => "mss-node",
+            Method::Distance => "distance",
+            Method::Volume => "volume",
+        }
+    }
+}
+
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// How node masses are assigned.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", tag = "mode")]
+pub enum MassMode {
+    /// Every node has the same mass [kg] (the `seed` preset: 1 kg).
+    PerNode { mass: f64 },
+    /// Lumped mass from material density [kg/m^3]: each tet gives a quarter of its rest
+    /// volume times density to each of its nodes.
+    Density { density: f64 },
+}
+
+/// How the forces of one iteration's constraints are combined per node (physics.md,
+/// "Iterations, relaxation and substeps").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum ConstraintCombine {
+    /// Divide each node's sum by the number of constraints of that kind touching it
+    /// (the default: stable on real meshes).
+    Average,
+    /// Plain Jacobi summation, the paper's literal reading (diverges on real meshes).
+    Sum,
+}
+
+/// Which float-atomic path the Vulkan engine uses for scatter passes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum AtomicsMode {
+    /// `VK_EXT_shader_atomic_float` when the device has it, else compare-and-swap.
+    Auto,
+    /// Force `atomicAdd` on floats (error if unsupported).
+    Ext,
+    /// Force the integer compare-and-swap loop on the float's bits.
+    Cas,
+}
+
+/// Everything the solver needs besides the model. Units are SI.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimParams {
+    /// Method to simulate.
+    pub method: Method,
+    /// Time step [s].
+    pub dt: f64,
+    /// Time steps per frame.
+    pub substeps: u32,
+    /// Constraint iterations per time step (ignored by `mss`, `mss-node`).
+    pub iterations: u32,
+    /// Relaxation factor applied to each iteration's averaged constraint forces.
+    pub omega: f64,
+    /// Spring stiffness [N/m].
+    pub ks: f64,
+    /// Spring damping [N s/m].
+    pub kd: f64,
+    /// Gravity magnitude along -Y [m/s^2].
+    pub gravity: f64,
+    /// Whether the floor plane `y = 0` exists.
+    pub floor: bool,
+    /// Fraction of tangential velocity removed on floor contact, in `[0, 1]`.
+    pub friction: f64,
+    /// Node mass assignment.
+    pub mass: MassMode,
+    /// Per-node combination of constraint forces.
+    pub combine: ConstraintCombine,
+    /// Float-atomic path on the GPU.
+    pub atomics: AtomicsMode,
+}
+
+impl Default for SimParams {
+    /// The `seed` preset's physics (physics.md, "The paper's experiment").
+    fn default() -> Self {
+        SimParams {
+            method: Method::Volume,
+            dt: 1e-3,
+            substeps: 1,
+            iterations: 10,
+            omega: 1.0,
+            ks: 5000.0,
+            kd: 15.0,
+            gravity: 9.81,
+            floor: true,
+            friction: 0.0,
+            mass: MassMode::PerNode { mass: 1.0 },
+            combine: ConstraintCombine::Average,
+            atomics: AtomicsMode::Auto,
+        }
+    }
+}
+
+impl SimParams {
+    /// Checks every value's range; the error names the offending key.
+    pub fn validate(&self) -> Result<()> {
+        fn positive_finite(key: &str, v: f64) -> Result<()> {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(Error::param(key, format!("must be a finite number > 0, got {v}")))
+            }
+        }
+        fn non_negative_finite(key: &str, v: f64) -> Result<()> {
+            if v.is_finite() && v >= 0.0 {
+                Ok(())
+            } else {
+                Err(Error::param(key, format!("must be a finite number >= 0, got {v}")))
+            }
+        }
+        positive_finite("dt", self.dt)?;
+        if self.substeps == 0 {
+            return Err(Error::param("substeps", "must be at least 1"));
+        }
+        if self.iterations == 0 {
+            return Err(Error::param("iterations", "must be at least 1"));
+        }
+        positive_finite("omega", self.omega)?;
+        non_negative_finite("ks", self.ks)?;
+        non_negative_finite("kd", self.kd)?;
+        if !self.gravity.is_finite() {
+            return Err(Error::param("gravity", format!("must be finite, got {}", self.gravity)));
+        }
+        if !(0.0..=1.0).contains(&self.friction) {
+            return Err(Error::param("friction", format!("must be in [0, 1], got {}", self.friction)));
+        }
+        match self.mass {
+            MassMode::PerNode { mass } => positive_finite("mass", mass)?,
+            MassMode::Density { density } => positive_finite("density", density)?,
+        }
+        Ok(())
+    }
+}
+
+/// Where the mesh is put before the run (physics.md, preset `seed`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Placement {
+    /// Uniformly scale so the bounding box's largest side is this many metres
+    /// (`None` keeps the mesh's own size).
+    pub fit_size: Option<f64>,
+    /// Centre over the origin in X and Z, and put the lowest node this high above `y = 0`
+    /// (`None` keeps the mesh where it is).
+    pub drop_height: Option<f64>,
+}
+
+impl Default for Placement {
+    fn default() -> Self {
+        Placement { fit_size: Some(1.0), drop_height: Some(0.1) }
+    }
+}
+
+/// Frames of the `seed` preset.
+pub const SEED_FRAMES: u32 = 400;
