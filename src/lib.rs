@@ -8,6 +8,7 @@
 
 pub mod backend;
 pub mod error;
+pub mod gpu;
 pub mod mesh;
 pub mod model;
 pub mod params;
