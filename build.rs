@@ -63,9 +63,12 @@ fn main() {
     fs::write(out.join("shaders.rs"), table).expect("writing shaders.rs");
 }
 
+/// Macro definitions of one variant: `(name, value)`.
+type Defines = Vec<(String, Option<String>)>;
+
 /// The variants a shader declares with `// @variant NAME: DEFINE[=VALUE] ...` lines, as
 /// `(key, defines)`; a shader without any is compiled once under its own path.
-fn variants(rel: &str, source: &str) -> Vec<(String, Vec<(String, Option<String>)>)> {
+fn variants(rel: &str, source: &str) -> Vec<(String, Defines)> {
     let mut out = Vec::new();
     for line in source.lines() {
         let Some(rest) = line.trim().strip_prefix("// @variant ") else { continue };

@@ -25,10 +25,19 @@ pub struct Buffer {
 
 impl Buffer {
     /// A buffer of `size` bytes (at least 4) in `location`.
-    pub fn new(ctx: &Arc<Context>, name: &str, size: u64, usage: vk::BufferUsageFlags, location: MemoryLocation) -> Result<Self> {
+    pub fn new(
+        ctx: &Arc<Context>,
+        name: &str,
+        size: u64,
+        usage: vk::BufferUsageFlags,
+        location: MemoryLocation,
+    ) -> Result<Self> {
         let size = size.max(4);
         let device = ctx.device();
-        let info = vk::BufferCreateInfo::default().size(size).usage(usage).sharing_mode(vk::SharingMode::EXCLUSIVE);
+        let info = vk::BufferCreateInfo::default()
+            .size(size)
+            .usage(usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE);
         // SAFETY: valid device and create info.
         let raw = unsafe { device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
         // SAFETY: `raw` was just created on this device.
@@ -41,7 +50,11 @@ impl Buffer {
                 linear: true,
                 allocation_scheme: AllocationScheme::GpuAllocatorManaged,
             })
-            .map_err(|e| Error::Gpu(format!("allocating buffer `{name}` ({size} bytes, {location:?}): {e}")))
+            .map_err(|e| {
+                Error::Gpu(format!(
+                    "allocating buffer `{name}` ({size} bytes, {location:?}): {e}"
+                ))
+            })
         });
         let allocation = match allocated {
             Ok(a) => a,
@@ -51,10 +64,17 @@ impl Buffer {
                 return Err(e);
             }
         };
-        let buffer = Buffer { ctx: ctx.clone(), raw, allocation: Some(allocation), size, name: name.to_string() };
+        let buffer = Buffer {
+            ctx: ctx.clone(),
+            raw,
+            allocation: Some(allocation),
+            size,
+            name: name.to_string(),
+        };
         let bound = match &buffer.allocation {
             // SAFETY: the allocation satisfies the buffer's requirements and is unbound.
-            Some(a) => unsafe { device.bind_buffer_memory(raw, a.memory(), a.offset()) }.vk("vkBindBufferMemory"),
+            Some(a) => unsafe { device.bind_buffer_memory(raw, a.memory(), a.offset()) }
+                .vk("vkBindBufferMemory"),
             None => Ok(()),
         };
         bound?;
@@ -64,7 +84,9 @@ impl Buffer {
 
     /// A device-local storage buffer holding `data`, uploaded through a staging buffer.
     pub fn with_data(ctx: &Arc<Context>, name: &str, data: &[u8]) -> Result<Self> {
-        let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::TRANSFER_SRC;
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_DST
+            | vk::BufferUsageFlags::TRANSFER_SRC;
         let buffer = Buffer::new(ctx, name, data.len() as u64, usage, MemoryLocation::GpuOnly)?;
         buffer.upload(data)?;
         Ok(buffer)
@@ -72,7 +94,13 @@ impl Buffer {
 
     /// A host-visible buffer the GPU copies results into.
     pub fn readback(ctx: &Arc<Context>, name: &str, size: u64) -> Result<Self> {
-        Buffer::new(ctx, name, size, vk::BufferUsageFlags::TRANSFER_DST, MemoryLocation::GpuToCpu)
+        Buffer::new(
+            ctx,
+            name,
+            size,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )
     }
 
     /// Overwrites the start of this (device-local) buffer with `data` through a staging
@@ -80,7 +108,12 @@ impl Buffer {
     pub fn upload(&self, data: &[u8]) -> Result<()> {
         let ctx = &self.ctx;
         if data.len() as u64 > self.size {
-            return Err(Error::Gpu(format!("upload of {} bytes into buffer `{}` of {} bytes", data.len(), self.name, self.size)));
+            return Err(Error::Gpu(format!(
+                "upload of {} bytes into buffer `{}` of {} bytes",
+                data.len(),
+                self.name,
+                self.size
+            )));
         }
         if data.is_empty() {
             return Ok(());
@@ -96,7 +129,10 @@ impl Buffer {
         commands::one_shot(ctx, |cmd| {
             let region = [vk::BufferCopy::default().size(data.len() as u64)];
             // SAFETY: both buffers are alive and large enough; recording into `cmd`.
-            unsafe { ctx.device().cmd_copy_buffer(cmd, staging.raw, self.raw, &region) };
+            unsafe {
+                ctx.device()
+                    .cmd_copy_buffer(cmd, staging.raw, self.raw, &region)
+            };
             commands::barrier(ctx, cmd, &[self], Access::TRANSFER_WRITE, Access::COMPUTE);
         })
     }
@@ -109,9 +145,13 @@ impl Buffer {
             .as_mut()
             .and_then(|a| a.mapped_slice_mut())
             .ok_or_else(|| Error::Gpu(format!("buffer `{name}` is not host-visible")))?;
-        let target = slice
-            .get_mut(..data.len())
-            .ok_or_else(|| Error::Gpu(format!("writing {} bytes into buffer `{name}` of {} bytes", data.len(), self.size)))?;
+        let target = slice.get_mut(..data.len()).ok_or_else(|| {
+            Error::Gpu(format!(
+                "writing {} bytes into buffer `{name}` of {} bytes",
+                data.len(),
+                self.size
+            ))
+        })?;
         target.copy_from_slice(data);
         Ok(())
     }
@@ -127,9 +167,11 @@ impl Buffer {
 
     /// The whole buffer as a descriptor.
     pub fn descriptor(&self) -> vk::DescriptorBufferInfo {
-        vk::DescriptorBufferInfo::default().buffer(self.raw).offset(0).range(vk::WHOLE_SIZE)
+        vk::DescriptorBufferInfo::default()
+            .buffer(self.raw)
+            .offset(0)
+            .range(vk::WHOLE_SIZE)
     }
-
 }
 
 impl Drop for Buffer {
@@ -137,7 +179,9 @@ impl Drop for Buffer {
     fn drop(&mut self) {
         // SAFETY: owners wait for the GPU before dropping buffers.
         unsafe { self.ctx.device().destroy_buffer(self.raw, None) };
-        if let (Some(allocation), Ok(mut allocator)) = (self.allocation.take(), self.ctx.allocator()) {
+        if let (Some(allocation), Ok(mut allocator)) =
+            (self.allocation.take(), self.ctx.allocator())
+        {
             // A failed free only leaks; the allocator reports leaks at shutdown.
             let _ = allocator.free(allocation);
         }

@@ -23,20 +23,36 @@ impl Access {
     /// Compute shaders reading and writing storage buffers.
     pub const COMPUTE: Access = Access {
         stage: vk::PipelineStageFlags::COMPUTE_SHADER,
-        access: vk::AccessFlags::from_raw(vk::AccessFlags::SHADER_READ.as_raw() | vk::AccessFlags::SHADER_WRITE.as_raw()),
+        access: vk::AccessFlags::from_raw(
+            vk::AccessFlags::SHADER_READ.as_raw() | vk::AccessFlags::SHADER_WRITE.as_raw(),
+        ),
     };
     /// A copy reading the buffer.
-    pub const TRANSFER_READ: Access = Access { stage: vk::PipelineStageFlags::TRANSFER, access: vk::AccessFlags::TRANSFER_READ };
+    pub const TRANSFER_READ: Access = Access {
+        stage: vk::PipelineStageFlags::TRANSFER,
+        access: vk::AccessFlags::TRANSFER_READ,
+    };
     /// A copy writing the buffer.
-    pub const TRANSFER_WRITE: Access =
-        Access { stage: vk::PipelineStageFlags::TRANSFER, access: vk::AccessFlags::TRANSFER_WRITE };
+    pub const TRANSFER_WRITE: Access = Access {
+        stage: vk::PipelineStageFlags::TRANSFER,
+        access: vk::AccessFlags::TRANSFER_WRITE,
+    };
     /// The host reading mapped memory after a fence wait.
-    pub const HOST_READ: Access = Access { stage: vk::PipelineStageFlags::HOST, access: vk::AccessFlags::HOST_READ };
+    pub const HOST_READ: Access = Access {
+        stage: vk::PipelineStageFlags::HOST,
+        access: vk::AccessFlags::HOST_READ,
+    };
 }
 
 /// Makes the writes of `from` to `buffers` available and visible to `to` (and orders all
 /// work of `from`'s stage before `to`'s stage, which also covers write-after-read).
-pub fn barrier(ctx: &Context, cmd: vk::CommandBuffer, buffers: &[&Buffer], from: Access, to: Access) {
+pub fn barrier(
+    ctx: &Context,
+    cmd: vk::CommandBuffer,
+    buffers: &[&Buffer],
+    from: Access,
+    to: Access,
+) {
     let barriers: Vec<vk::BufferMemoryBarrier> = buffers
         .iter()
         .map(|b| {
@@ -52,7 +68,15 @@ pub fn barrier(ctx: &Context, cmd: vk::CommandBuffer, buffers: &[&Buffer], from:
         .collect();
     // SAFETY: `cmd` is recording; the buffers are alive.
     unsafe {
-        ctx.device().cmd_pipeline_barrier(cmd, from.stage, to.stage, vk::DependencyFlags::empty(), &[], &barriers, &[]);
+        ctx.device().cmd_pipeline_barrier(
+            cmd,
+            from.stage,
+            to.stage,
+            vk::DependencyFlags::empty(),
+            &[],
+            &barriers,
+            &[],
+        );
     }
 }
 
@@ -75,23 +99,38 @@ impl Recorded {
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
         // SAFETY: valid pool of this device.
-        let cmd = unsafe { device.allocate_command_buffers(&alloc) }.vk("vkAllocateCommandBuffers")?[0];
+        let cmd =
+            unsafe { device.allocate_command_buffers(&alloc) }.vk("vkAllocateCommandBuffers")?[0];
         // SAFETY: valid device.
         let fence = match unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) } {
             Ok(f) => f,
             Err(e) => {
                 // SAFETY: the command buffer was never submitted.
                 unsafe { device.free_command_buffers(ctx.command_pool(), &[cmd]) };
-                return Err(crate::Error::Vulkan { call: "vkCreateFence", result: e });
+                return Err(crate::Error::Vulkan {
+                    call: "vkCreateFence",
+                    result: e,
+                });
             }
         };
-        let recorded = Recorded { ctx: ctx.clone(), cmd, fence, pending: false };
+        let recorded = Recorded {
+            ctx: ctx.clone(),
+            cmd,
+            fence,
+            pending: false,
+        };
         ctx.set_name(cmd, name);
         ctx.set_name(fence, name);
-        let flags = if one_time { vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT } else { vk::CommandBufferUsageFlags::empty() };
+        let flags = if one_time {
+            vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT
+        } else {
+            vk::CommandBufferUsageFlags::empty()
+        };
         // SAFETY: a fresh command buffer from a resettable pool.
-        unsafe { device.begin_command_buffer(cmd, &vk::CommandBufferBeginInfo::default().flags(flags)) }
-            .vk("vkBeginCommandBuffer")?;
+        unsafe {
+            device.begin_command_buffer(cmd, &vk::CommandBufferBeginInfo::default().flags(flags))
+        }
+        .vk("vkBeginCommandBuffer")?;
         Ok(recorded)
     }
 
@@ -109,8 +148,12 @@ impl Recorded {
         let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
         // SAFETY: the buffer is executable and not pending (waited above); the fence is unsignalled.
         unsafe {
-            ctx.device().reset_fences(&[self.fence]).vk("vkResetFences")?;
-            ctx.device().queue_submit(ctx.queue(), &submit, self.fence).vk("vkQueueSubmit")?;
+            ctx.device()
+                .reset_fences(&[self.fence])
+                .vk("vkResetFences")?;
+            ctx.device()
+                .queue_submit(ctx.queue(), &submit, self.fence)
+                .vk("vkQueueSubmit")?;
         }
         self.pending = true;
         Ok(())
@@ -122,7 +165,12 @@ impl Recorded {
             return Ok(false);
         }
         // SAFETY: the fence belongs to this device.
-        unsafe { self.ctx.device().wait_for_fences(&[self.fence], true, u64::MAX) }.vk("vkWaitForFences")?;
+        unsafe {
+            self.ctx
+                .device()
+                .wait_for_fences(&[self.fence], true, u64::MAX)
+        }
+        .vk("vkWaitForFences")?;
         self.pending = false;
         Ok(true)
     }
@@ -139,7 +187,9 @@ impl Drop for Recorded {
         // SAFETY: nothing is pending; both handles belong to this device.
         unsafe {
             self.ctx.device().destroy_fence(self.fence, None);
-            self.ctx.device().free_command_buffers(self.ctx.command_pool(), &[self.cmd]);
+            self.ctx
+                .device()
+                .free_command_buffers(self.ctx.command_pool(), &[self.cmd]);
         }
     }
 }

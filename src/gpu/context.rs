@@ -37,7 +37,10 @@ pub struct MessageLog {
 impl MessageLog {
     /// A copy of every message so far.
     pub fn messages(&self) -> Vec<String> {
-        self.messages.lock().map(|m| m.clone()).unwrap_or_else(|p| p.into_inner().clone())
+        self.messages
+            .lock()
+            .map(|m| m.clone())
+            .unwrap_or_else(|p| p.into_inner().clone())
     }
 
     fn push(&self, text: String) {
@@ -58,7 +61,10 @@ unsafe extern "system" fn on_debug_message(
     // messenger is destroyed; `data` is valid for the duration of the callback.
     unsafe {
         if let (Some(log), Some(data)) = ((user as *const MessageLog).as_ref(), data.as_ref()) {
-            let text = data.message_as_c_str().map(|c| c.to_string_lossy().into_owned()).unwrap_or_default();
+            let text = data
+                .message_as_c_str()
+                .map(|c| c.to_string_lossy().into_owned())
+                .unwrap_or_default();
             log.push(format!("[{severity:?} {types:?}] {text}"));
         }
     }
@@ -86,28 +92,51 @@ pub struct Context {
 
 fn load_entry() -> Result<ash::Entry> {
     // SAFETY: loading the system Vulkan loader; nothing else runs during the load.
-    unsafe { ash::Entry::load() }.map_err(|e| Error::Gpu(format!("cannot load the Vulkan loader (libvulkan.so.1): {e}")))
+    unsafe { ash::Entry::load() }.map_err(|e| {
+        Error::Gpu(format!(
+            "cannot load the Vulkan loader (libvulkan.so.1): {e}"
+        ))
+    })
 }
 
-fn create_instance(entry: &ash::Entry, validation: bool, log: &Arc<MessageLog>) -> Result<(ash::Instance, bool)> {
+fn create_instance(
+    entry: &ash::Entry,
+    validation: bool,
+    log: &Arc<MessageLog>,
+) -> Result<(ash::Instance, bool)> {
     // SAFETY: plain queries and instance creation with create infos that outlive the calls.
     unsafe {
-        let extensions = entry.enumerate_instance_extension_properties(None).vk("vkEnumerateInstanceExtensionProperties")?;
-        let has_debug_utils = extensions.iter().any(|e| e.extension_name_as_c_str() == Ok(ash::ext::debug_utils::NAME));
+        let extensions = entry
+            .enumerate_instance_extension_properties(None)
+            .vk("vkEnumerateInstanceExtensionProperties")?;
+        let has_debug_utils = extensions
+            .iter()
+            .any(|e| e.extension_name_as_c_str() == Ok(ash::ext::debug_utils::NAME));
         let mut layers = Vec::new();
         if validation {
-            let available = entry.enumerate_instance_layer_properties().vk("vkEnumerateInstanceLayerProperties")?;
-            if !available.iter().any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER)) {
+            let available = entry
+                .enumerate_instance_layer_properties()
+                .vk("vkEnumerateInstanceLayerProperties")?;
+            if !available
+                .iter()
+                .any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER))
+            {
                 return Err(Error::Gpu(
                     "validation requested but VK_LAYER_KHRONOS_validation is not installed (Debian: vulkan-validationlayers)".into(),
                 ));
             }
             if !has_debug_utils {
-                return Err(Error::Gpu("validation requested but VK_EXT_debug_utils is missing".into()));
+                return Err(Error::Gpu(
+                    "validation requested but VK_EXT_debug_utils is missing".into(),
+                ));
             }
             layers.push(VALIDATION_LAYER.as_ptr());
         }
-        let ext_names: Vec<*const i8> = if has_debug_utils { vec![ash::ext::debug_utils::NAME.as_ptr()] } else { Vec::new() };
+        let ext_names: Vec<*const i8> = if has_debug_utils {
+            vec![ash::ext::debug_utils::NAME.as_ptr()]
+        } else {
+            Vec::new()
+        };
         let app = vk::ApplicationInfo::default()
             .application_name(c"tetrasim")
             .engine_name(c"tetrasim")
@@ -127,7 +156,10 @@ fn create_instance(entry: &ash::Entry, validation: bool, log: &Arc<MessageLog>) 
 
 fn messenger_create_info(log: &Arc<MessageLog>) -> vk::DebugUtilsMessengerCreateInfoEXT<'static> {
     vk::DebugUtilsMessengerCreateInfoEXT::default()
-        .message_severity(vk::DebugUtilsMessageSeverityFlagsEXT::WARNING | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR)
+        .message_severity(
+            vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
+                | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
+        )
         .message_type(
             vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
                 | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
@@ -139,8 +171,13 @@ fn messenger_create_info(log: &Arc<MessageLog>) -> vk::DebugUtilsMessengerCreate
 
 fn enumerate(instance: &ash::Instance) -> Result<(Vec<vk::PhysicalDevice>, Vec<DeviceInfo>)> {
     // SAFETY: the instance is alive.
-    let handles = unsafe { instance.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
-    let infos = handles.iter().enumerate().map(|(i, &pd)| DeviceInfo::query(instance, pd, i)).collect::<Result<_>>()?;
+    let handles =
+        unsafe { instance.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
+    let infos = handles
+        .iter()
+        .enumerate()
+        .map(|(i, &pd)| DeviceInfo::query(instance, pd, i))
+        .collect::<Result<_>>()?;
     Ok((handles, infos))
 }
 
@@ -161,24 +198,34 @@ impl Context {
         let entry = load_entry()?;
         let log = Arc::new(MessageLog::default());
         let (instance, has_debug_utils) = create_instance(&entry, options.validation, &log)?;
-        let mut ctx = PartialContext { instance: instance.clone(), debug: None, armed: true };
+        let mut ctx = PartialContext {
+            instance: instance.clone(),
+            debug: None,
+            armed: true,
+        };
         if options.validation {
             let loader = ash::ext::debug_utils::Instance::new(&entry, &instance);
             // SAFETY: the create info's user data (the log) outlives the messenger.
-            let messenger = unsafe { loader.create_debug_utils_messenger(&messenger_create_info(&log), None) }
-                .vk("vkCreateDebugUtilsMessengerEXT")?;
+            let messenger =
+                unsafe { loader.create_debug_utils_messenger(&messenger_create_info(&log), None) }
+                    .vk("vkCreateDebugUtilsMessengerEXT")?;
             ctx.debug = Some(Debug { loader, messenger });
         }
         let (handles, infos) = enumerate(&instance)?;
         let chosen = device::select(&infos, &options.device)?;
         let info = infos[chosen].clone();
         let pd = handles[chosen];
-        let family = info.compute_family.ok_or_else(|| Error::Gpu(format!("device `{}` has no compute queue", info.name)))?;
+        let family = info
+            .compute_family
+            .ok_or_else(|| Error::Gpu(format!("device `{}` has no compute queue", info.name)))?;
 
         let priorities = [1.0f32];
-        let queues = [vk::DeviceQueueCreateInfo::default().queue_family_index(family).queue_priorities(&priorities)];
+        let queues = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(family)
+            .queue_priorities(&priorities)];
         let mut extensions = Vec::new();
-        let mut atomic = vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT::default().shader_buffer_float32_atomic_add(true);
+        let mut atomic = vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT::default()
+            .shader_buffer_float32_atomic_add(true);
         let mut create = vk::DeviceCreateInfo::default().queue_create_infos(&queues);
         if info.float_atomic_add {
             extensions.push(ash::ext::shader_atomic_float::NAME.as_ptr());
@@ -198,7 +245,10 @@ impl Context {
             Err(e) => {
                 // SAFETY: nothing else was made from the device.
                 unsafe { device.destroy_device(None) };
-                return Err(Error::Vulkan { call: "vkCreateCommandPool", result: e });
+                return Err(Error::Vulkan {
+                    call: "vkCreateCommandPool",
+                    result: e,
+                });
             }
         };
         let allocator = Allocator::new(&AllocatorCreateDesc {
@@ -258,15 +308,21 @@ impl Context {
 
     /// The memory allocator.
     pub fn allocator(&self) -> Result<MutexGuard<'_, Allocator>> {
-        self.allocator.lock().map_err(|_| Error::Gpu("the allocator mutex is poisoned (an earlier panic)".into()))
+        self.allocator
+            .lock()
+            .map_err(|_| Error::Gpu("the allocator mutex is poisoned (an earlier panic)".into()))
     }
 
     /// Gives a Vulkan object a debug name (shown by the validation layer and GPU tools);
     /// does nothing without `VK_EXT_debug_utils`.
     pub fn set_name<H: vk::Handle>(&self, handle: H, name: &str) {
         let Some(names) = &self.names else { return };
-        let Ok(name) = std::ffi::CString::new(name) else { return };
-        let info = vk::DebugUtilsObjectNameInfoEXT::default().object_handle(handle).object_name(&name);
+        let Ok(name) = std::ffi::CString::new(name) else {
+            return;
+        };
+        let info = vk::DebugUtilsObjectNameInfoEXT::default()
+            .object_handle(handle)
+            .object_name(&name);
         // SAFETY: the handle belongs to this device; naming failure is harmless, so ignored.
         let _ = unsafe { names.set_debug_utils_object_name(&info) };
     }
@@ -292,7 +348,9 @@ impl Drop for Context {
             ManuallyDrop::drop(&mut self.allocator);
             self.device.destroy_device(None);
             if let Some(debug) = self.debug.take() {
-                debug.loader.destroy_debug_utils_messenger(debug.messenger, None);
+                debug
+                    .loader
+                    .destroy_debug_utils_messenger(debug.messenger, None);
             }
             self.instance.destroy_instance(None);
         }
@@ -322,7 +380,9 @@ impl Drop for PartialContext {
         // SAFETY: only reached on an error path, before any device was kept.
         unsafe {
             if let Some(debug) = self.debug.take() {
-                debug.loader.destroy_debug_utils_messenger(debug.messenger, None);
+                debug
+                    .loader
+                    .destroy_debug_utils_messenger(debug.messenger, None);
             }
             self.instance.destroy_instance(None);
         }

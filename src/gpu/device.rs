@@ -101,14 +101,26 @@ pub struct DeviceInfo {
 
 impl DeviceInfo {
     /// Reads the device's properties, limits and features.
-    pub(crate) fn query(instance: &ash::Instance, pd: vk::PhysicalDevice, index: usize) -> Result<Self> {
+    pub(crate) fn query(
+        instance: &ash::Instance,
+        pd: vk::PhysicalDevice,
+        index: usize,
+    ) -> Result<Self> {
         // SAFETY: `pd` comes from `instance`, which is alive; every pNext struct outlives the call.
         unsafe {
-            let extensions = instance.enumerate_device_extension_properties(pd).vk("vkEnumerateDeviceExtensionProperties")?;
-            let has_ext = |name: &CStr| extensions.iter().any(|e| e.extension_name_as_c_str() == Ok(name));
+            let extensions = instance
+                .enumerate_device_extension_properties(pd)
+                .vk("vkEnumerateDeviceExtensionProperties")?;
+            let has_ext = |name: &CStr| {
+                extensions
+                    .iter()
+                    .any(|e| e.extension_name_as_c_str() == Ok(name))
+            };
             let mut driver = vk::PhysicalDeviceDriverProperties::default();
             let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
-            let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver).push_next(&mut subgroup);
+            let mut props2 = vk::PhysicalDeviceProperties2::default()
+                .push_next(&mut driver)
+                .push_next(&mut subgroup);
             instance.get_physical_device_properties2(pd, &mut props2);
             let props = props2.properties;
             let mut float_atomic_add = false;
@@ -125,7 +137,10 @@ impl DeviceInfo {
                 .filter(|(_, f)| f.queue_flags.contains(vk::QueueFlags::COMPUTE))
                 .max_by_key(|(_, f)| f.timestamp_valid_bits > 0);
             let limits = props.limits;
-            let text = |c: std::result::Result<&CStr, _>| c.map(|c| c.to_string_lossy().into_owned()).unwrap_or_default();
+            let text = |c: std::result::Result<&CStr, _>| {
+                c.map(|c| c.to_string_lossy().into_owned())
+                    .unwrap_or_default()
+            };
             let kind = match props.device_type {
                 vk::PhysicalDeviceType::DISCRETE_GPU => "discrete",
                 vk::PhysicalDeviceType::INTEGRATED_GPU => "integrated",
@@ -138,15 +153,27 @@ impl DeviceInfo {
                 index,
                 name: text(props.device_name_as_c_str()),
                 kind,
-                driver: format!("{} {}", text(driver.driver_name_as_c_str()), text(driver.driver_info_as_c_str())).trim().to_string(),
-                api_version: format!("{}.{}.{}", vk::api_version_major(v), vk::api_version_minor(v), vk::api_version_patch(v)),
+                driver: format!(
+                    "{} {}",
+                    text(driver.driver_name_as_c_str()),
+                    text(driver.driver_info_as_c_str())
+                )
+                .trim()
+                .to_string(),
+                api_version: format!(
+                    "{}.{}.{}",
+                    vk::api_version_major(v),
+                    vk::api_version_minor(v),
+                    vk::api_version_patch(v)
+                ),
                 max_workgroup_size: limits.max_compute_work_group_size,
                 max_workgroup_invocations: limits.max_compute_work_group_invocations,
                 max_workgroup_count: limits.max_compute_work_group_count,
                 max_shared_memory: limits.max_compute_shared_memory_size,
                 subgroup_size: subgroup.subgroup_size,
                 timestamp_period_ns: limits.timestamp_period,
-                timestamps: compute.is_some_and(|(_, f)| f.timestamp_valid_bits > 0) && limits.timestamp_period > 0.0,
+                timestamps: compute.is_some_and(|(_, f)| f.timestamp_valid_bits > 0)
+                    && limits.timestamp_period > 0.0,
                 float_atomic_add,
                 compute_family: compute.map(|(i, _)| i as u32),
                 timestamp_bits: compute.map(|(_, f)| f.timestamp_valid_bits).unwrap_or(0),
@@ -158,7 +185,10 @@ impl DeviceInfo {
     /// Why the engine cannot run on this device, if it cannot.
     pub fn unusable_reason(&self) -> Option<String> {
         if self.api < REQUIRED_API {
-            return Some(format!("it supports Vulkan {} but the engine needs 1.2", self.api_version));
+            return Some(format!(
+                "it supports Vulkan {} but the engine needs 1.2",
+                self.api_version
+            ));
         }
         if self.compute_family.is_none() {
             return Some("it has no compute queue".into());
@@ -195,14 +225,22 @@ impl DeviceInfo {
     /// (`maxComputeWorkGroupInvocations`, `maxComputeWorkGroupSize[0]`) and rounded down to a
     /// power of two (the volume reduction needs one).
     pub fn default_workgroup_size(&self) -> u32 {
-        let limit = 1024.min(self.max_workgroup_invocations).min(self.max_workgroup_size[0]).max(1);
+        let limit = 1024
+            .min(self.max_workgroup_invocations)
+            .min(self.max_workgroup_size[0])
+            .max(1);
         1 << (31 - limit.leading_zeros())
     }
 
     /// Checks a requested workgroup size against the device limits.
     pub fn check_workgroup_size(&self, size: u32) -> Result<()> {
-        let limit = self.max_workgroup_invocations.min(self.max_workgroup_size[0]);
-        if !size.is_power_of_two() || size > limit || u64::from(size) * 8 > u64::from(self.max_shared_memory) {
+        let limit = self
+            .max_workgroup_invocations
+            .min(self.max_workgroup_size[0]);
+        if !size.is_power_of_two()
+            || size > limit
+            || u64::from(size) * 8 > u64::from(self.max_shared_memory)
+        {
             return Err(Error::param(
                 "workgroup-size",
                 format!("{size} must be a power of two <= {limit} (device `{}`) and fit the shared memory", self.name),
@@ -214,13 +252,24 @@ impl DeviceInfo {
 
 /// Picks a device from `devices` (all of one instance) by `selector`.
 pub fn select(devices: &[DeviceInfo], selector: &DeviceSelector) -> Result<usize> {
-    let names = || devices.iter().map(|d| format!("{}: {} ({})", d.index, d.name, d.kind)).collect::<Vec<_>>().join("; ");
+    let names = || {
+        devices
+            .iter()
+            .map(|d| format!("{}: {} ({})", d.index, d.name, d.kind))
+            .collect::<Vec<_>>()
+            .join("; ")
+    };
     let usable = |d: &DeviceInfo| match d.unusable_reason() {
         None => Ok(d.index),
-        Some(why) => Err(Error::Gpu(format!("device {} `{}` cannot be used: {why}", d.index, d.name))),
+        Some(why) => Err(Error::Gpu(format!(
+            "device {} `{}` cannot be used: {why}",
+            d.index, d.name
+        ))),
     };
     if devices.is_empty() {
-        return Err(Error::Gpu("no Vulkan device found (install a driver; lavapipe: mesa-vulkan-drivers)".into()));
+        return Err(Error::Gpu(
+            "no Vulkan device found (install a driver; lavapipe: mesa-vulkan-drivers)".into(),
+        ));
     }
     match selector {
         DeviceSelector::Auto => devices
@@ -228,9 +277,19 @@ pub fn select(devices: &[DeviceInfo], selector: &DeviceSelector) -> Result<usize
             .filter(|d| d.unusable_reason().is_none())
             .max_by_key(|d| (d.preference(), std::cmp::Reverse(d.index)))
             .map(|d| d.index)
-            .ok_or_else(|| Error::Gpu(format!("no Vulkan 1.2 device with a compute queue among: {}", names()))),
+            .ok_or_else(|| {
+                Error::Gpu(format!(
+                    "no Vulkan 1.2 device with a compute queue among: {}",
+                    names()
+                ))
+            }),
         DeviceSelector::Index(i) => {
-            let d = devices.get(*i).ok_or_else(|| Error::Gpu(format!("--device {i}: no such device; there are: {}", names())))?;
+            let d = devices.get(*i).ok_or_else(|| {
+                Error::Gpu(format!(
+                    "--device {i}: no such device; there are: {}",
+                    names()
+                ))
+            })?;
             usable(d)
         }
         DeviceSelector::Name(text) => {
@@ -238,7 +297,12 @@ pub fn select(devices: &[DeviceInfo], selector: &DeviceSelector) -> Result<usize
             let d = devices
                 .iter()
                 .find(|d| d.name.to_lowercase().contains(&lower))
-                .ok_or_else(|| Error::Gpu(format!("--device {text}: no device name contains it; there are: {}", names())))?;
+                .ok_or_else(|| {
+                    Error::Gpu(format!(
+                        "--device {text}: no device name contains it; there are: {}",
+                        names()
+                    ))
+                })?;
             usable(d)
         }
     }
@@ -271,9 +335,16 @@ mod tests {
 
     #[test]
     fn auto_prefers_discrete_then_integrated_and_skips_old_devices() {
-        let devices = [fake(0, "cpu", REQUIRED_API), fake(1, "integrated", REQUIRED_API), fake(2, "discrete", vk::API_VERSION_1_1)];
+        let devices = [
+            fake(0, "cpu", REQUIRED_API),
+            fake(1, "integrated", REQUIRED_API),
+            fake(2, "discrete", vk::API_VERSION_1_1),
+        ];
         assert_eq!(select(&devices, &DeviceSelector::Auto).unwrap(), 1);
-        assert!(select(&devices, &DeviceSelector::Index(2)).unwrap_err().to_string().contains("needs 1.2"));
+        assert!(select(&devices, &DeviceSelector::Index(2))
+            .unwrap_err()
+            .to_string()
+            .contains("needs 1.2"));
         assert_eq!(select(&devices, &"0".parse().unwrap()).unwrap(), 0);
         assert_eq!(select(&devices, &"INTEGRATED".parse().unwrap()).unwrap(), 1);
         assert!(select(&devices, &"nvidia".parse().unwrap()).is_err());

@@ -17,7 +17,11 @@ pub fn shader(key: &str) -> Result<&'static [u8]> {
         .iter()
         .find(|(k, _)| *k == key)
         .map(|(_, bytes)| *bytes)
-        .ok_or_else(|| Error::Gpu(format!("shader `{key}` is not among the compiled shaders (see build.rs)")))
+        .ok_or_else(|| {
+            Error::Gpu(format!(
+                "shader `{key}` is not among the compiled shaders (see build.rs)"
+            ))
+        })
 }
 
 /// A compute pipeline bound to its buffers, freed on drop.
@@ -38,7 +42,13 @@ pub struct Kernel {
 impl Kernel {
     /// Builds the pass `name` from the shader `key`, with `bindings` as storage buffers of
     /// set 0 and the [`PushConstants`] block.
-    pub fn new(ctx: &Arc<Context>, name: &str, key: &str, bindings: &[(u32, &Buffer)], workgroup_size: u32) -> Result<Self> {
+    pub fn new(
+        ctx: &Arc<Context>,
+        name: &str,
+        key: &str,
+        bindings: &[(u32, &Buffer)],
+        workgroup_size: u32,
+    ) -> Result<Self> {
         let mut k = Kernel {
             ctx: ctx.clone(),
             name: name.to_string(),
@@ -68,23 +78,35 @@ impl Kernel {
             .collect();
         let code = ash::util::read_spv(&mut std::io::Cursor::new(shader(key)?))
             .map_err(|e| Error::Gpu(format!("shader `{key}` is not valid SPIR-V: {e}")))?;
-        let pool_sizes = [vk::DescriptorPoolSize::default().ty(vk::DescriptorType::STORAGE_BUFFER).descriptor_count(bindings.len().max(1) as u32)];
+        let pool_sizes = [vk::DescriptorPoolSize::default()
+            .ty(vk::DescriptorType::STORAGE_BUFFER)
+            .descriptor_count(bindings.len().max(1) as u32)];
         let ranges = [vk::PushConstantRange::default()
             .stage_flags(vk::ShaderStageFlags::COMPUTE)
             .size(std::mem::size_of::<PushConstants>() as u32)];
-        let spec_entries = [vk::SpecializationMapEntry::default().constant_id(0).offset(0).size(4)];
+        let spec_entries = [vk::SpecializationMapEntry::default()
+            .constant_id(0)
+            .offset(0)
+            .size(4)];
         let spec_data = self.workgroup_size.to_ne_bytes();
-        let spec = vk::SpecializationInfo::default().map_entries(&spec_entries).data(&spec_data);
+        let spec = vk::SpecializationInfo::default()
+            .map_entries(&spec_entries)
+            .data(&spec_data);
         // SAFETY: valid device; every create info outlives its call; handles are stored in
         // `self` as soon as they exist, so `destroy` frees them on any later error.
         unsafe {
             self.set_layout = device
-                .create_descriptor_set_layout(&vk::DescriptorSetLayoutCreateInfo::default().bindings(&layout_bindings), None)
+                .create_descriptor_set_layout(
+                    &vk::DescriptorSetLayoutCreateInfo::default().bindings(&layout_bindings),
+                    None,
+                )
                 .vk("vkCreateDescriptorSetLayout")?;
             let set_layouts = [self.set_layout];
             self.layout = device
                 .create_pipeline_layout(
-                    &vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts).push_constant_ranges(&ranges),
+                    &vk::PipelineLayoutCreateInfo::default()
+                        .set_layouts(&set_layouts)
+                        .push_constant_ranges(&ranges),
                     None,
                 )
                 .vk("vkCreatePipelineLayout")?;
@@ -96,17 +118,32 @@ impl Kernel {
                 .module(module)
                 .name(c"main")
                 .specialization_info(&spec);
-            let info = [vk::ComputePipelineCreateInfo::default().stage(stage).layout(self.layout)];
+            let info = [vk::ComputePipelineCreateInfo::default()
+                .stage(stage)
+                .layout(self.layout)];
             let pipelines = device.create_compute_pipelines(vk::PipelineCache::null(), &info, None);
             device.destroy_shader_module(module, None);
-            self.pipeline = pipelines.map_err(|(_, e)| Error::Vulkan { call: "vkCreateComputePipelines", result: e })?[0];
+            self.pipeline = pipelines.map_err(|(_, e)| Error::Vulkan {
+                call: "vkCreateComputePipelines",
+                result: e,
+            })?[0];
             self.pool = device
-                .create_descriptor_pool(&vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&pool_sizes), None)
+                .create_descriptor_pool(
+                    &vk::DescriptorPoolCreateInfo::default()
+                        .max_sets(1)
+                        .pool_sizes(&pool_sizes),
+                    None,
+                )
                 .vk("vkCreateDescriptorPool")?;
             self.set = device
-                .allocate_descriptor_sets(&vk::DescriptorSetAllocateInfo::default().descriptor_pool(self.pool).set_layouts(&set_layouts))
+                .allocate_descriptor_sets(
+                    &vk::DescriptorSetAllocateInfo::default()
+                        .descriptor_pool(self.pool)
+                        .set_layouts(&set_layouts),
+                )
                 .vk("vkAllocateDescriptorSets")?[0];
-            let infos: Vec<[vk::DescriptorBufferInfo; 1]> = bindings.iter().map(|(_, buf)| [buf.descriptor()]).collect();
+            let infos: Vec<[vk::DescriptorBufferInfo; 1]> =
+                bindings.iter().map(|(_, buf)| [buf.descriptor()]).collect();
             let writes: Vec<_> = bindings
                 .iter()
                 .zip(&infos)
@@ -151,12 +188,24 @@ impl Kernel {
         // SAFETY: `cmd` is recording; the pipeline, layout and set are alive.
         unsafe {
             device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
-            device.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, self.layout, 0, &[self.set], &[]);
-            device.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::COMPUTE, 0, bytemuck::bytes_of(push));
+            device.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                self.layout,
+                0,
+                &[self.set],
+                &[],
+            );
+            device.cmd_push_constants(
+                cmd,
+                self.layout,
+                vk::ShaderStageFlags::COMPUTE,
+                0,
+                bytemuck::bytes_of(push),
+            );
             device.cmd_dispatch(cmd, self.groups(elements).max(1), 1, 1);
         }
     }
-
 }
 
 impl Drop for Kernel {

@@ -121,7 +121,11 @@ mod tests {
     use crate::gpu::spirv::Module;
 
     fn module(key: &str) -> Module {
-        let bytes = crate::shaders::SHADERS.iter().find(|(k, _)| *k == key).map(|(_, b)| *b).unwrap();
+        let bytes = crate::shaders::SHADERS
+            .iter()
+            .find(|(k, _)| *k == key)
+            .map(|(_, b)| *b)
+            .unwrap();
         Module::parse(bytes).unwrap()
     }
 
@@ -151,11 +155,18 @@ mod tests {
         // integrate uses floor_on/friction/gravity, volume_sum the tet count: together they
         // name most members; every member the shader keeps must sit where Rust puts it.
         let mut checked = 0;
-        for key in ["passes/integrate.comp", "passes/volume.comp#ext", "passes/spring_scatter.comp#cas"] {
+        for key in [
+            "passes/integrate.comp",
+            "passes/volume.comp#ext",
+            "passes/spring_scatter.comp#cas",
+        ] {
             let offsets = module(key).struct_offsets("PushConstants");
             assert!(!offsets.is_empty(), "{key}: no PushConstants block found");
             for (name, offset) in offsets {
-                let expected = rust.iter().find(|(n, _)| *n == name).map(|(_, o)| *o as u32);
+                let expected = rust
+                    .iter()
+                    .find(|(n, _)| *n == name)
+                    .map(|(_, o)| *o as u32);
                 assert_eq!(Some(offset), expected, "{key}: member `{name}`");
                 checked += 1;
             }
@@ -165,16 +176,40 @@ mod tests {
 
     #[test]
     fn spring_and_partial_offsets_match_the_shader() {
-        let springs: HashMap<_, _> = module("passes/distance.comp#ext").struct_offsets("Spring").into_iter().collect();
+        let springs: HashMap<_, _> = module("passes/distance.comp#ext")
+            .struct_offsets("Spring")
+            .into_iter()
+            .collect();
         assert_eq!(springs.get("a"), Some(&(offset_of!(GpuSpring, a) as u32)));
         assert_eq!(springs.get("b"), Some(&(offset_of!(GpuSpring, b) as u32)));
-        assert_eq!(springs.get("rest"), Some(&(offset_of!(GpuSpring, rest) as u32)));
-        let partials: HashMap<_, _> = module("passes/volume_sum.comp").struct_offsets("VolumePartial").into_iter().collect();
-        assert_eq!(partials.get("volume"), Some(&(offset_of!(VolumePartial, volume) as u32)));
-        assert_eq!(partials.get("inverted"), Some(&(offset_of!(VolumePartial, inverted) as u32)));
-        assert_eq!(module("passes/volume_sum.comp").array_stride("Partials"), Some(size_of::<VolumePartial>() as u32));
-        assert_eq!(module("passes/distance.comp#ext").array_stride("Springs"), Some(size_of::<GpuSpring>() as u32));
-        assert_eq!(module("passes/integrate.comp").array_stride("Positions"), Some(16));
+        assert_eq!(
+            springs.get("rest"),
+            Some(&(offset_of!(GpuSpring, rest) as u32))
+        );
+        let partials: HashMap<_, _> = module("passes/volume_sum.comp")
+            .struct_offsets("VolumePartial")
+            .into_iter()
+            .collect();
+        assert_eq!(
+            partials.get("volume"),
+            Some(&(offset_of!(VolumePartial, volume) as u32))
+        );
+        assert_eq!(
+            partials.get("inverted"),
+            Some(&(offset_of!(VolumePartial, inverted) as u32))
+        );
+        assert_eq!(
+            module("passes/volume_sum.comp").array_stride("Partials"),
+            Some(size_of::<VolumePartial>() as u32)
+        );
+        assert_eq!(
+            module("passes/distance.comp#ext").array_stride("Springs"),
+            Some(size_of::<GpuSpring>() as u32)
+        );
+        assert_eq!(
+            module("passes/integrate.comp").array_stride("Positions"),
+            Some(16)
+        );
     }
 
     #[test]
@@ -199,9 +234,16 @@ mod tests {
         .into_iter()
         .collect();
         let mut seen = 0;
-        for (key, bytes) in crate::shaders::SHADERS.iter().filter(|(k, _)| k.starts_with("passes/")) {
+        for (key, bytes) in crate::shaders::SHADERS
+            .iter()
+            .filter(|(k, _)| k.starts_with("passes/"))
+        {
             for (block, number) in Module::parse(bytes).unwrap().block_bindings() {
-                assert_eq!(expected.get(block.as_str()), Some(&number), "{key}: block `{block}`");
+                assert_eq!(
+                    expected.get(block.as_str()),
+                    Some(&number),
+                    "{key}: block `{block}`"
+                );
                 seen += 1;
             }
         }

@@ -38,7 +38,11 @@ pub struct Module {
 }
 
 fn string(words: &[u32]) -> String {
-    let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).take_while(|&b| b != 0).collect();
+    let bytes: Vec<u8> = words
+        .iter()
+        .flat_map(|w| w.to_le_bytes())
+        .take_while(|&b| b != 0)
+        .collect();
     String::from_utf8_lossy(&bytes).into_owned()
 }
 
@@ -46,11 +50,20 @@ impl Module {
     /// Parses SPIR-V bytes (little-endian words).
     pub fn parse(bytes: &[u8]) -> Result<Self> {
         if bytes.len() % 4 != 0 || bytes.len() < 20 {
-            return Err(Error::Gpu(format!("SPIR-V of {} bytes is not a whole module", bytes.len())));
+            return Err(Error::Gpu(format!(
+                "SPIR-V of {} bytes is not a whole module",
+                bytes.len()
+            )));
         }
-        let words: Vec<u32> = bytes.chunks_exact(4).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect();
+        let words: Vec<u32> = bytes
+            .chunks_exact(4)
+            .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect();
         if words[0] != MAGIC {
-            return Err(Error::Gpu(format!("SPIR-V magic is {:#x}, expected {MAGIC:#x}", words[0])));
+            return Err(Error::Gpu(format!(
+                "SPIR-V magic is {:#x}, expected {MAGIC:#x}",
+                words[0]
+            )));
         }
         let mut m = Module::default();
         let mut at = 5;
@@ -67,10 +80,12 @@ impl Module {
                     m.names.insert(arg(1), string(&ins[2.min(count)..]));
                 }
                 OP_MEMBER_NAME => {
-                    m.member_names.insert((arg(1), arg(2)), string(&ins[3.min(count)..]));
+                    m.member_names
+                        .insert((arg(1), arg(2)), string(&ins[3.min(count)..]));
                 }
                 OP_TYPE_STRUCT => {
-                    m.struct_members.insert(arg(1), ins[2.min(count)..].to_vec());
+                    m.struct_members
+                        .insert(arg(1), ins[2.min(count)..].to_vec());
                 }
                 OP_TYPE_POINTER => {
                     m.pointers.insert(arg(1), arg(3));
@@ -96,12 +111,24 @@ impl Module {
 
     /// `(member name, byte offset)` of the first struct named `name` that has offsets.
     pub fn struct_offsets(&self, name: &str) -> Vec<(String, u32)> {
-        let mut ids: Vec<u32> = self.names.iter().filter(|(_, n)| *n == name).map(|(id, _)| *id).collect();
+        let mut ids: Vec<u32> = self
+            .names
+            .iter()
+            .filter(|(_, n)| *n == name)
+            .map(|(id, _)| *id)
+            .collect();
         ids.sort_unstable();
         for id in ids {
-            let Some(members) = self.struct_members.get(&id) else { continue };
+            let Some(members) = self.struct_members.get(&id) else {
+                continue;
+            };
             let found: Vec<(String, u32)> = (0..members.len() as u32)
-                .filter_map(|i| Some((self.member_names.get(&(id, i))?.clone(), *self.member_offsets.get(&(id, i))?)))
+                .filter_map(|i| {
+                    Some((
+                        self.member_names.get(&(id, i))?.clone(),
+                        *self.member_offsets.get(&(id, i))?,
+                    ))
+                })
                 .collect();
             if !found.is_empty() {
                 return found;
@@ -112,19 +139,29 @@ impl Module {
 
     /// Array stride of the runtime array that is the first member of the block `name`.
     pub fn array_stride(&self, name: &str) -> Option<u32> {
-        let (id, _) = self.names.iter().find(|(id, n)| *n == name && self.struct_members.contains_key(id))?;
+        let (id, _) = self
+            .names
+            .iter()
+            .find(|(id, n)| *n == name && self.struct_members.contains_key(id))?;
         let array = *self.struct_members.get(id)?.first()?;
-        self.decorations.get(&(array, DECORATION_ARRAY_STRIDE)).copied()
+        self.decorations
+            .get(&(array, DECORATION_ARRAY_STRIDE))
+            .copied()
     }
 
     /// `(block type name, binding)` of every buffer variable.
     pub fn block_bindings(&self) -> Vec<(String, u32)> {
         self.variables
             .iter()
-            .filter(|(_, _, storage)| *storage == STORAGE_STORAGE_BUFFER || *storage == STORAGE_UNIFORM)
+            .filter(|(_, _, storage)| {
+                *storage == STORAGE_STORAGE_BUFFER || *storage == STORAGE_UNIFORM
+            })
             .filter_map(|(pointer, id, _)| {
                 let block = self.pointers.get(pointer)?;
-                Some((self.names.get(block)?.clone(), *self.decorations.get(&(*id, DECORATION_BINDING))?))
+                Some((
+                    self.names.get(block)?.clone(),
+                    *self.decorations.get(&(*id, DECORATION_BINDING))?,
+                ))
             })
             .collect()
     }
@@ -140,7 +177,11 @@ mod tests {
         for (key, bytes) in crate::shaders::SHADERS {
             let m = Module::parse(bytes).unwrap();
             let declared = m.has_capability(CAPABILITY_ATOMIC_FLOAT32_ADD);
-            assert_eq!(declared, key.ends_with("#ext"), "{key}: AtomicFloat32AddEXT declared = {declared}");
+            assert_eq!(
+                declared,
+                key.ends_with("#ext"),
+                "{key}: AtomicFloat32AddEXT declared = {declared}"
+            );
             variants += usize::from(key.contains('#'));
         }
         // spring_scatter, distance, volume: ext + cas each.
@@ -152,6 +193,9 @@ mod tests {
         assert!(Module::parse(&[0u8; 8]).is_err());
         let mut bytes = crate::shaders::SHADERS[0].1.to_vec();
         bytes[0] ^= 0xff;
-        assert!(Module::parse(&bytes).unwrap_err().to_string().contains("magic"));
+        assert!(Module::parse(&bytes)
+            .unwrap_err()
+            .to_string()
+            .contains("magic"));
     }
 }

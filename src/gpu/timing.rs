@@ -40,11 +40,18 @@ impl Timer {
             return Ok(None);
         }
         let capacity = passes + 1;
-        let create = vk::QueryPoolCreateInfo::default().query_type(vk::QueryType::TIMESTAMP).query_count(capacity);
+        let create = vk::QueryPoolCreateInfo::default()
+            .query_type(vk::QueryType::TIMESTAMP)
+            .query_count(capacity);
         // SAFETY: valid device and create info.
-        let pool = unsafe { ctx.device().create_query_pool(&create, None) }.vk("vkCreateQueryPool")?;
+        let pool =
+            unsafe { ctx.device().create_query_pool(&create, None) }.vk("vkCreateQueryPool")?;
         ctx.set_name(pool, "pass timestamps");
-        let mask = if info.timestamp_bits >= 64 { u64::MAX } else { (1u64 << info.timestamp_bits) - 1 };
+        let mask = if info.timestamp_bits >= 64 {
+            u64::MAX
+        } else {
+            (1u64 << info.timestamp_bits) - 1
+        };
         Ok(Some(Timer {
             ctx: ctx.clone(),
             pool,
@@ -63,8 +70,14 @@ impl Timer {
         self.labels.clear();
         // SAFETY: `cmd` is recording, outside any render pass; the pool is alive.
         unsafe {
-            ctx.device().cmd_reset_query_pool(cmd, self.pool, 0, self.capacity);
-            ctx.device().cmd_write_timestamp(cmd, vk::PipelineStageFlags::COMPUTE_SHADER, self.pool, 0);
+            ctx.device()
+                .cmd_reset_query_pool(cmd, self.pool, 0, self.capacity);
+            ctx.device().cmd_write_timestamp(
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                self.pool,
+                0,
+            );
         }
     }
 
@@ -72,11 +85,21 @@ impl Timer {
     pub fn record_mark(&mut self, cmd: vk::CommandBuffer, name: &'static str) -> Result<()> {
         let slot = self.labels.len() as u32 + 1;
         if slot >= self.capacity {
-            return Err(Error::Gpu(format!("timestamp pool of {} queries is full at pass `{name}`", self.capacity)));
+            return Err(Error::Gpu(format!(
+                "timestamp pool of {} queries is full at pass `{name}`",
+                self.capacity
+            )));
         }
         self.labels.push(name);
         // SAFETY: as in `record_start`; `slot` is inside the pool.
-        unsafe { self.ctx.device().cmd_write_timestamp(cmd, vk::PipelineStageFlags::COMPUTE_SHADER, self.pool, slot) };
+        unsafe {
+            self.ctx.device().cmd_write_timestamp(
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                self.pool,
+                slot,
+            )
+        };
         Ok(())
     }
 
@@ -86,8 +109,15 @@ impl Timer {
         let used = self.labels.len() + 1;
         let mut ticks = vec![0u64; used];
         // SAFETY: the submission that wrote these queries has finished (fence waited).
-        unsafe { ctx.device().get_query_pool_results(self.pool, 0, &mut ticks, vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT) }
-            .vk("vkGetQueryPoolResults")?;
+        unsafe {
+            ctx.device().get_query_pool_results(
+                self.pool,
+                0,
+                &mut ticks,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
+        }
+        .vk("vkGetQueryPoolResults")?;
         for (k, name) in self.labels.iter().enumerate() {
             let delta = (ticks[k + 1] & self.mask).wrapping_sub(ticks[k] & self.mask) & self.mask;
             let ns = delta as f64 * self.period_ns;
@@ -108,7 +138,13 @@ impl Timer {
     /// Average GPU time per submission of each pass, in first-recorded order.
     pub fn per_frame(&self) -> Vec<PassTime> {
         let frames = f64::from(self.frames.max(1));
-        self.totals_ns.iter().map(|(name, ns)| PassTime { name: name.to_string(), ms_per_frame: ns / frames / 1e6 }).collect()
+        self.totals_ns
+            .iter()
+            .map(|(name, ns)| PassTime {
+                name: name.to_string(),
+                ms_per_frame: ns / frames / 1e6,
+            })
+            .collect()
     }
 
     /// Forgets the totals (e.g. after warm-up frames).
