@@ -35,15 +35,21 @@ pub fn box_model(cells: [usize; 3], h: f64) -> Model {
 
 /// A backend with the validation layer on; panics on any error.
 pub fn validated(model: &Model, params: &SimParams) -> VulkanBackend {
-    VulkanBackend::new(
-        model,
-        params,
-        &EngineOptions {
-            validation: true,
-            ..Default::default()
-        },
-    )
-    .unwrap()
+    validated_with(model, params, None)
+}
+
+/// [`validated`] with a given workgroup size (`None`: the device default).
+pub fn validated_with(
+    model: &Model,
+    params: &SimParams,
+    workgroup_size: Option<u32>,
+) -> VulkanBackend {
+    let options = EngineOptions {
+        validation: true,
+        workgroup_size,
+        ..Default::default()
+    };
+    VulkanBackend::new(model, params, &options).unwrap()
 }
 
 /// Asserts that the validation layer reported nothing.
