@@ -9,8 +9,8 @@ use tetrasim::params::{AtomicsMode, Method, SimParams};
 use tetrasim::Backend;
 
 /// Largest position difference allowed between the paths after the run, as a fraction of
-/// the bounding-box diagonal (observed on lavapipe with 32-wide groups: up to 1.2e-7; atomics only change the order of f32
-/// additions, whose rounding the dynamics then carry along).
+/// the bounding-box diagonal. Observed on lavapipe with 32-wide groups: up to 1.2e-7; the
+/// atomics only change the order of f32 additions, whose rounding the dynamics carry along.
 const TOLERANCE: f64 = 1e-5;
 
 #[test]

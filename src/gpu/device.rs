@@ -250,6 +250,53 @@ impl DeviceInfo {
     }
 }
 
+impl std::fmt::Display for DeviceInfo {
+    /// The `tetrasim info` block of one device.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let yes = |b: bool| if b { "yes" } else { "no" };
+        let [x, y, z] = self.max_workgroup_size;
+        writeln!(
+            f,
+            "device {}: {} [{}], Vulkan {}",
+            self.index, self.name, self.kind, self.api_version
+        )?;
+        writeln!(f, "  driver: {}", self.driver)?;
+        if let Some(why) = self.unusable_reason() {
+            return writeln!(f, "  unusable: {why}");
+        }
+        writeln!(
+            f,
+            "  compute: max workgroup size {x} x {y} x {z}, max invocations {}, subgroup {}, shared memory {} B",
+            self.max_workgroup_invocations, self.subgroup_size, self.max_shared_memory
+        )?;
+        writeln!(
+            f,
+            "  default workgroup size: {}",
+            self.default_workgroup_size()
+        )?;
+        writeln!(
+            f,
+            "  timestamps: {} (period {} ns)",
+            yes(self.timestamps),
+            self.timestamp_period_ns
+        )?;
+        let auto = self
+            .atomics_path(AtomicsMode::Auto)
+            .map(AtomicsPath::name)
+            .unwrap_or("cas");
+        let ext = if self.float_atomic_add {
+            "ext"
+        } else {
+            "unsupported"
+        };
+        writeln!(
+            f,
+            "  shaderBufferFloat32AtomicAdd: {} -> atomics: auto = {auto}, ext = {ext}, cas = cas",
+            yes(self.float_atomic_add)
+        )
+    }
+}
+
 /// Picks a device from `devices` (all of one instance) by `selector`.
 pub fn select(devices: &[DeviceInfo], selector: &DeviceSelector) -> Result<usize> {
     let names = || {
