@@ -7,12 +7,18 @@
 //! ```
 
 pub mod backend;
+pub mod cli;
+pub mod cpu;
 pub mod engine;
 pub mod error;
 pub mod gpu;
 pub mod mesh;
+pub mod metrics;
 pub mod model;
 pub mod params;
+pub mod physics;
+pub mod preset;
+pub mod runner;
 
 pub use backend::{Backend, State, VolumeSample};
 pub use error::{Error, Result};
