@@ -1,6 +1,7 @@
 //! Run metrics (physics.md, "Metrics"): volume percentage and inverted tets per frame, their
 //! minimum and average over a run, timings, and the JSON record and table of a run.
 
+use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -82,6 +83,15 @@ pub struct RunRecord {
     pub diverged: bool,
     /// Where and why it diverged.
     pub divergence: Option<String>,
+    /// GPU device name (`vulkan` only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub device: Option<String>,
+    /// Float-atomic path, `ext` or `cas` (`vulkan` only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub atomics: Option<String>,
+    /// GPU time per frame of each pass [ms] (`vulkan` only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub passes: Option<BTreeMap<String, f64>>,
 }
 
 impl RunRecord {
@@ -136,6 +146,44 @@ pub fn table(records: &[RunRecord]) -> String {
     out
 }
 
+/// Position of a pass in a time step, for printing passes in execution order.
+fn pass_rank(name: &str) -> usize {
+    const ORDER: [&str; 7] = [
+        "spring_scatter",
+        "spring_gather",
+        "distance",
+        "volume",
+        "constraint_apply",
+        "integrate",
+        "volume_sum",
+    ];
+    ORDER.iter().position(|&n| n == name).unwrap_or(ORDER.len())
+}
+
+/// Per-pass GPU time of every run that has it: ms per frame and share of the frame's GPU
+/// time; empty when no run does.
+pub fn pass_table(records: &[RunRecord]) -> String {
+    let mut out = String::new();
+    for r in records {
+        let Some(passes) = &r.passes else { continue };
+        let mut rows: Vec<(&String, &f64)> = passes.iter().collect();
+        rows.sort_by_key(|(name, _)| pass_rank(name));
+        let total: f64 = rows.iter().map(|(_, ms)| **ms).sum();
+        let _ = writeln!(
+            out,
+            "{} on {} (atomics {}): GPU {total:.3} ms/frame",
+            r.method,
+            r.device.as_deref().unwrap_or("?"),
+            r.atomics.as_deref().unwrap_or("-")
+        );
+        for (name, ms) in rows {
+            let share = if total > 0.0 { 100.0 * ms / total } else { 0.0 };
+            let _ = writeln!(out, "  {name:<17} {ms:>9.3} ms {share:>6.1} %");
+        }
+    }
+    out
+}
+
 /// Writes `records` as a pretty JSON array to `path` (through a temporary file and a rename,
 /// so a failed write leaves no half-written file).
 pub fn write_json(path: &Path, records: &[RunRecord]) -> Result<()> {
@@ -175,6 +223,9 @@ mod tests {
             wall_s: 0.01,
             diverged: false,
             divergence: None,
+            device: None,
+            atomics: None,
+            passes: None,
         };
         r.summarise();
         r

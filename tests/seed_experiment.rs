@@ -26,6 +26,7 @@ fn seed_records(backend: &str) -> Vec<RunRecord> {
         mesh_label: "ball(4.5)".into(),
         progress: false,
         output: None,
+        gpu: Default::default(),
     };
     let records = run_methods(
         &model,

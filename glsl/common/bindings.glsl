@@ -52,7 +52,7 @@ layout(push_constant, std430) uniform PushConstants {
     uint node_count;
     uint spring_count;
     uint tet_count;
-    uint pad0;
+    float epsilon;   // constraints with A <= epsilon are skipped (constraint_epsilon)
     uint pad1;
 } pc;
 

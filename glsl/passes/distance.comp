@@ -32,7 +32,7 @@ void main() {
     float b = 0.0;
     implicit_accumulate(a, b, ga, xa.w, velocities[sp.a].xyz, forces[sp.a].xyz, pc.dt);
     implicit_accumulate(a, b, -ga, xb.w, velocities[sp.b].xyz, forces[sp.b].xyz, pc.dt);
-    float lambda = implicit_lambda(distance_value(xa.xyz, xb.xyz, sp.rest), a, b, pc.dt);
+    float lambda = implicit_lambda(distance_value(xa.xyz, xb.xyz, sp.rest), a, b, pc.dt, pc.epsilon);
     if (lambda != 0.0) {
         ATOMIC_ADD_VEC3(sum_f, sum_u, sp.a, -lambda * ga);
         ATOMIC_ADD_VEC3(sum_f, sum_u, sp.b, lambda * ga);

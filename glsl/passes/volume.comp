@@ -35,7 +35,7 @@ void main() {
         implicit_accumulate(a, b, g[k], p[k].w, velocities[node].xyz, forces[node].xyz, pc.dt);
     }
     float c = volume_value(p[0].xyz, p[1].xyz, p[2].xyz, p[3].xyz, rest_volumes[t]);
-    float lambda = implicit_lambda(c, a, b, pc.dt);
+    float lambda = implicit_lambda(c, a, b, pc.dt, pc.epsilon);
     if (lambda != 0.0) {
         for (int k = 0; k < 4; ++k) {
             ATOMIC_ADD_VEC3(sum_f, sum_u, tet[k], -lambda * g[k]);

@@ -1,6 +1,7 @@
 //! The command line of `tetrasim`: clap structures and the glue from arguments to the library.
 //! `main.rs` only parses and dispatches to [`execute`].
 
+mod info;
 mod run;
 
 pub use run::RunArgs;
@@ -19,12 +20,16 @@ pub struct Cli {
 pub enum Command {
     /// Simulate a mesh dropped on the floor and report volume preservation (the paper's
     /// experiment with `--preset seed`).
-    Run(RunArgs),
+    Run(Box<RunArgs>),
+    /// List the Vulkan devices: driver, limits, timestamps, float atomics and the atomic
+    /// path and workgroup size the engine would use on each.
+    Info,
 }
 
 /// Runs a parsed command line.
 pub fn execute(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
-        Command::Run(args) => run::execute(args),
+        Command::Run(args) => run::execute(*args),
+        Command::Info => info::execute(),
     }
 }

@@ -4,8 +4,9 @@ use std::path::PathBuf;
 
 use anyhow::Context as _;
 
-use crate::metrics::{table, write_json};
-use crate::params::{ConstraintCombine, MassMode, Method};
+use crate::metrics::{pass_table, table, write_json};
+use crate::engine::EngineOptions;
+use crate::params::{AtomicsMode, ConstraintCombine, MassMode, Method};
 use crate::preset::{Preset, PresetName};
 use crate::runner::{
     build_model, load_mesh, run_methods, OutputFormat, RunOptions, SurfaceOutput, DEFAULT_MESH,
@@ -47,9 +48,22 @@ pub struct RunArgs {
     /// Method to run.
     #[arg(long, value_enum, default_value = "all")]
     pub method: MethodChoice,
-    /// Solver backend: cpu-ref (f64 reference) or cpu (f32, all cores).
+    /// Solver backend: cpu-ref (f64 reference), cpu (f32, all cores) or vulkan (GPU).
     #[arg(long, default_value = "cpu")]
     pub backend: String,
+    /// GPU for `--backend vulkan`: an index or a name fragment from `tetrasim info`
+    /// (default: discrete > integrated > virtual > CPU).
+    #[arg(long)]
+    pub device: Option<String>,
+    /// Float atomics of the GPU scatter passes: auto, ext (atomicAdd on float) or cas.
+    #[arg(long, value_enum)]
+    pub atomics: Option<AtomicsMode>,
+    /// GPU workgroup size (a power of two; default from the device limits, at most 1024).
+    #[arg(long)]
+    pub workgroup_size: Option<u32>,
+    /// Turn on the Vulkan validation layer and print its messages.
+    #[arg(long)]
+    pub validation: bool,
     /// Parameter preset; the flags below override its values.
     #[arg(long, value_enum, default_value = "seed")]
     pub preset: PresetName,
@@ -128,7 +142,7 @@ impl RunArgs {
         }
         set!(frames => p.frames, dt => s.dt, substeps => s.substeps, iterations => s.iterations,
              omega => s.omega, ks => s.ks, kd => s.kd, friction => s.friction, gravity => s.gravity,
-             combine => s.combine, epsilon => s.constraint_epsilon);
+             combine => s.combine, epsilon => s.constraint_epsilon, atomics => s.atomics);
         if let Some(mass) = self.node_mass {
             s.mass = MassMode::PerNode { mass };
         }
@@ -180,9 +194,15 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
         mesh_label: loaded.label.clone(),
         progress: !args.quiet,
         output,
+        gpu: EngineOptions {
+            device: args.device.as_deref().unwrap_or("auto").parse().unwrap_or_default(),
+            validation: args.validation,
+            workgroup_size: args.workgroup_size,
+        },
     };
     let records = run_methods(&model, &preset.params, &args.method.methods(), &options)?;
     print!("{}", table(&records));
+    print!("{}", pass_table(&records));
     if let Some(path) = &args.metrics {
         write_json(path, &records)?;
         eprintln!("metrics written to {}", path.display());

@@ -2,9 +2,9 @@
 //!
 //! The model is uploaded once; only the buffers and pipelines the method needs are built;
 //! the frame's command buffer (substeps x passes, barriers, timestamps, the volume metric)
-//! is recorded once and replayed by [`Backend::step_frame`], which submits without waiting.
-//! [`Backend::volume`] waits for the frame and reads the few volume partials; only
-//! [`Backend::state`] reads back every node.
+//! is recorded once and replayed by [`Backend::step_frame`], which submits it and waits on
+//! its fence. [`Backend::volume`] then only reads the few volume partials the frame copied
+//! to host-visible memory; only [`Backend::state`] reads back every node.
 
 mod buffers;
 mod passes;
@@ -13,7 +13,7 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use crate::backend::{Backend, State, VolumeSample};
+use crate::backend::{Backend, GpuReport, State, VolumeSample};
 use crate::error::{Error, Result};
 use crate::gpu::commands::{self, Access, Recorded};
 use crate::gpu::layout::{PushConstants, VolumePartial};
@@ -202,10 +202,13 @@ impl Backend for VulkanBackend {
         "vulkan"
     }
 
+    /// Submits the recorded frame and waits for it: one fence wait, no data transfer (the
+    /// volume partials are already copied to host-visible memory by the frame itself).
     fn step_frame(&mut self) -> Result<()> {
         self.finish_frame()?;
         self.partials_fresh = false;
-        self.frame.submit()
+        self.frame.submit()?;
+        self.finish_frame()
     }
 
     fn volume(&mut self) -> Result<VolumeSample> {
@@ -286,6 +289,21 @@ impl Backend for VulkanBackend {
             positions: read(pos)?,
             velocities: read(vel)?,
         })
+    }
+
+    fn gpu_report(&mut self) -> Result<Option<GpuReport>> {
+        let passes = self
+            .pass_times()?
+            .into_iter()
+            .map(|t| (t.name, t.ms_per_frame))
+            .collect();
+        Ok(Some(GpuReport {
+            device: self.device().name.clone(),
+            atomics: self.atomics.name().to_string(),
+            workgroup_size: self.workgroup_size,
+            passes,
+            validation_messages: self.validation_messages(),
+        }))
     }
 }
 

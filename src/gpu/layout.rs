@@ -57,8 +57,8 @@ pub struct PushConstants {
     pub spring_count: u32,
     /// Tetrahedra.
     pub tet_count: u32,
-    /// Padding to 16 bytes.
-    pub pad0: u32,
+    /// A constraint is skipped when its `A` is at or below this (`constraint_epsilon`).
+    pub epsilon: f32,
     /// Padding to 16 bytes.
     pub pad1: u32,
 }
@@ -77,7 +77,7 @@ impl PushConstants {
             node_count: nodes as u32,
             spring_count: springs as u32,
             tet_count: tets as u32,
-            pad0: 0,
+            epsilon: params.constraint_epsilon as f32,
             pad1: 0,
         }
     }
@@ -149,7 +149,7 @@ mod tests {
             ("node_count", offset_of!(PushConstants, node_count)),
             ("spring_count", offset_of!(PushConstants, spring_count)),
             ("tet_count", offset_of!(PushConstants, tet_count)),
-            ("pad0", offset_of!(PushConstants, pad0)),
+            ("epsilon", offset_of!(PushConstants, epsilon)),
             ("pad1", offset_of!(PushConstants, pad1)),
         ];
         // integrate uses floor_on/friction/gravity, volume_sum the tet count: together they

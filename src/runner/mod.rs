@@ -6,7 +6,7 @@ mod factory;
 mod load;
 mod output;
 
-pub use factory::{create_backend, BACKENDS};
+pub use factory::{create_backend, create_backend_with, BACKENDS};
 pub use load::{load_mesh, LoadedMesh, DEFAULT_MESH};
 pub use output::{write_atomically, OutputFormat, SurfaceOutput};
 
@@ -14,6 +14,7 @@ use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressStyle};
 
+use crate::engine::EngineOptions;
 use crate::error::{Error, Result};
 use crate::mesh::TetMesh;
 use crate::metrics::{volume_pct, RunRecord};
@@ -33,6 +34,8 @@ pub struct RunOptions {
     pub progress: bool,
     /// Write the deformed surface or tet mesh every few frames.
     pub output: Option<SurfaceOutput>,
+    /// Device, validation and workgroup size of the `vulkan` backend.
+    pub gpu: EngineOptions,
 }
 
 /// Builds the model of `mesh` with the placement and the mass mode of `params`.
@@ -47,7 +50,7 @@ pub fn build_model(mesh: &TetMesh, params: &SimParams, placement: Placement) -> 
 /// stops and comes back with `diverged: true` (not as an error); other failures are errors.
 pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<RunRecord> {
     let started = Instant::now();
-    let mut backend = create_backend(&options.backend, model, params)?;
+    let mut backend = create_backend_with(&options.backend, model, params, &options.gpu)?;
     let rest = model.total_rest_volume();
     let mut record = empty_record(model, params, options, backend.name());
     let bar = progress_bar(options, params.method);
@@ -93,6 +96,14 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
         0.0
     };
     record.wall_s = started.elapsed().as_secs_f64();
+    if let Some(gpu) = backend.gpu_report()? {
+        for message in &gpu.validation_messages {
+            eprintln!("validation: {message}");
+        }
+        record.device = Some(gpu.device);
+        record.atomics = Some(gpu.atomics);
+        record.passes = Some(gpu.passes.into_iter().collect());
+    }
     Ok(record)
 }
 
@@ -154,6 +165,9 @@ fn empty_record(
         wall_s: 0.0,
         diverged: false,
         divergence: None,
+        device: None,
+        atomics: None,
+        passes: None,
     }
 }
 
