@@ -301,7 +301,7 @@ impl Scene {
                 ));
             }
             if let Some(b) = o.pin.region {
-                if (0..3).any(|a| !(b.min[a] <= b.max[a])) {
+                if (0..3).any(|a| b.min[a] > b.max[a] || b.min[a].is_nan() || b.max[a].is_nan()) {
                     return Err(Error::param(
                         key("pin.box"),
                         "min must not exceed max on any axis",
@@ -320,9 +320,10 @@ impl Scene {
     pub fn params_for(&self, index: usize) -> SimParams {
         let s = &self.solver;
         let o = &self.objects[index];
-        let floor = self.colliders.iter().find_map(|c| match c {
-            Collider::Floor { friction } => Some(*friction),
+        let floor = self.colliders.iter().map(|c| match c {
+            Collider::Floor { friction } => *friction,
         });
+        let floor = floor.clone().next();
         let mass = match (o.material.node_mass, o.material.density) {
             (_, Some(density)) => MassMode::Density { density },
             (Some(mass), None) => MassMode::PerNode { mass },
