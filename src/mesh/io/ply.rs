@@ -54,6 +54,18 @@ impl Scalar {
             _ => return None,
         })
     }
+    fn name(self) -> &'static str {
+        match self {
+            Self::I8 => "char",
+            Self::U8 => "uchar",
+            Self::I16 => "short",
+            Self::U16 => "ushort",
+            Self::I32 => "int",
+            Self::U32 => "uint",
+            Self::F32 => "float",
+            Self::F64 => "double",
+        }
+    }
     fn size(self) -> usize {
         match self {
             Self::I8 | Self::U8 => 1,
@@ -181,7 +193,12 @@ fn parse_header(bytes: &[u8], ctx: Ctx<'_>) -> Result<Header> {
                     Some("ascii") => PlyEncoding::Ascii,
                     Some("binary_little_endian") => PlyEncoding::BinaryLittleEndian,
                     Some("binary_big_endian") => PlyEncoding::BinaryBigEndian,
-                    other => return Err(err(format!("unknown PLY format {other:?}"))),
+                    other => {
+                        return Err(err(format!(
+                            "unknown PLY format `{}`",
+                            other.unwrap_or_default()
+                        )))
+                    }
                 })
             }
             "element" => {
@@ -283,7 +300,7 @@ impl Source for AsciiSource<'_> {
         } else {
             parse_f64(t)
         };
-        v.ok_or_else(|| format!("`{}` is not a valid {ty:?}", show(t)))
+        v.ok_or_else(|| format!("`{}` is not a valid {}", show(t), ty.name()))
     }
     fn end(&mut self) -> std::result::Result<(), String> {
         match self.tokens.len() - self.next.min(self.tokens.len()) {
@@ -483,7 +500,7 @@ fn read_body<S: Source>(
             match role {
                 Role::Vertex(_) => mesh
                     .vertices
-                    .push(finite_point(coords, "it").map_err(|m| at(src, m))?),
+                    .push(finite_point(coords).map_err(|m| at(src, m))?),
                 Role::Face(_) if poly.len() < 3 => {
                     return Err(at(
                         src,
