@@ -4,7 +4,9 @@
 //! any further vertex properties (skipped, e.g. the Stanford scans' `confidence` and
 //! `intensity`), the `face` element's `vertex_indices` (or `vertex_index`) list with any
 //! integer count and index types, polygons split into triangle fans, and any other elements
-//! (skipped). Errors name the line (ASCII) or the element index (binary).
+//! (skipped). ASCII bodies are read one element per line, as every writer produces them, so a
+//! wrong count in the header shows up as a line with too few or too many values. Errors name
+//! the line (ASCII) or the element index (binary).
 //!
 //! Writing uses `double` coordinates (so values read back exactly) and `list uchar int`
 //! faces, the layout every PLY reader accepts.
