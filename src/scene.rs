@@ -320,10 +320,10 @@ impl Scene {
     pub fn params_for(&self, index: usize) -> SimParams {
         let s = &self.solver;
         let o = &self.objects[index];
-        let floor = self.colliders.iter().map(|c| match c {
+        let mut floors = self.colliders.iter().map(|c| match c {
             Collider::Floor { friction } => *friction,
         });
-        let floor = floor.clone().next();
+        let floor = floors.next();
         let mass = match (o.material.node_mass, o.material.density) {
             (_, Some(density)) => MassMode::Density { density },
             (Some(mass), None) => MassMode::PerNode { mass },
