@@ -4,8 +4,8 @@ use std::path::PathBuf;
 
 use anyhow::Context as _;
 
-use crate::metrics::{pass_table, table, write_json};
 use crate::engine::EngineOptions;
+use crate::metrics::{pass_table, table, write_json};
 use crate::params::{AtomicsMode, ConstraintCombine, MassMode, Method};
 use crate::preset::{Preset, PresetName};
 use crate::runner::{
@@ -195,7 +195,12 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
         progress: !args.quiet,
         output,
         gpu: EngineOptions {
-            device: args.device.as_deref().unwrap_or("auto").parse().unwrap_or_default(),
+            device: args
+                .device
+                .as_deref()
+                .unwrap_or("auto")
+                .parse()
+                .unwrap_or_default(),
             validation: args.validation,
             workgroup_size: args.workgroup_size,
         },
