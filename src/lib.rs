@@ -17,6 +17,7 @@ pub mod params;
 pub mod physics;
 pub mod preset;
 pub mod runner;
+pub mod scene;
 
 pub use backend::{Backend, State, VolumeSample};
 pub use error::{Error, Result};

@@ -491,12 +491,18 @@ fn reads_bunny_res4_ascii_scan() {
 }
 
 #[test]
+fn reads_bunny_res2_and_res3_ascii_scans() {
+    check_scan("bun_zipper_res2.ply", 8171, 16301);
+    check_scan("bun_zipper_res3.ply", 1889, 3851);
+}
+
+#[test]
 fn reads_horse_binary_little_endian_scan() {
     check_scan("horse.ply", 24228, 48452);
 }
 
-#[test]
 /// The 3 MB full-resolution scan: about 0.08 s to read in the dev profile, so it runs always.
+#[test]
 fn reads_full_bunny_with_confidence_and_intensity() {
     if let Some(mesh) = check_scan("bun_zipper.ply", 35947, 69451) {
         // First vertex line of the file: -0.0378297 0.12794 0.00447467 0.850855 0.5

@@ -13,7 +13,7 @@
 //! what it reads: counts against headers, finite coordinates, indices in range, at least one
 //! element; a failure is an [`Error::Parse`] naming the file and the line (text formats) or the
 //! element (binary formats). No reader panics on any input: the property tests in
-//! `tests/mesh_io.rs` feed them random bytes and truncated files.
+//! `tests/mesh_io_props.rs` feed them random bytes and truncated files.
 //!
 //! Every writer goes through [`write_atomic`]: the data goes to a temporary file in the
 //! destination folder, which is renamed over the destination only when everything was written,

@@ -109,11 +109,8 @@ fn parse_binary(bytes: &[u8], weld: &mut Welder, ctx: Ctx<'_>) -> Result<()> {
         let mut corners = [DVec3::ZERO; 3];
         for (k, c) in corners.iter_mut().enumerate() {
             let at = 3 + 3 * k; // skip the normal
-            *c = finite_point(
-                [float(at), float(at + 1), float(at + 2)],
-                &format!("facet {f} vertex {k}"),
-            )
-            .map_err(|m| ctx.err(None, m))?;
+            *c = finite_point([float(at), float(at + 1), float(at + 2)])
+                .map_err(|m| ctx.err(None, format!("facet {f} vertex {k} has a {m}")))?;
         }
         weld.add(corners)
             .map_err(|m| ctx.err(None, format!("facet {f}: {m}")))?;

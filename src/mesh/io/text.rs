@@ -158,17 +158,18 @@ impl<'p> Ctx<'p> {
         for (k, axis) in ["x", "y", "z"].iter().enumerate() {
             c[k] = self.f64(line, i + k, &format!("{what} {axis}"))?;
         }
-        finite_point(c, what).map_err(|m| self.err(Some(line.no), m))
+        finite_point(c).map_err(|m| self.err(Some(line.no), format!("{what} has a {m}")))
     }
 }
 
-/// `c` as a point, or a message naming `what` when a coordinate is NaN or infinite.
-pub(crate) fn finite_point(c: [f64; 3], what: &str) -> Result<glam::DVec3, String> {
+/// `c` as a point, or a message (to put after an element's name) when a coordinate is NaN or
+/// infinite.
+pub(crate) fn finite_point(c: [f64; 3]) -> Result<glam::DVec3, String> {
     if c.iter().all(|v| v.is_finite()) {
         Ok(glam::DVec3::from_array(c))
     } else {
         Err(format!(
-            "{what} has a non-finite coordinate ({}, {}, {})",
+            "non-finite coordinate ({}, {}, {})",
             c[0], c[1], c[2]
         ))
     }
