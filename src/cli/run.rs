@@ -166,6 +166,9 @@ impl RunArgs {
 pub fn execute(args: RunArgs) -> anyhow::Result<()> {
     let preset = args.preset();
     preset.params.validate()?;
+    if preset.frames == 0 {
+        return Err(crate::Error::param("frames", "must be at least 1").into());
+    }
     let loaded = load_mesh(&args.mesh)?;
     if let Some(note) = &loaded.note {
         eprintln!("{note}");

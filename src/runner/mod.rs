@@ -14,6 +14,7 @@ use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressStyle};
 
+use crate::backend::Divergence;
 use crate::engine::EngineOptions;
 use crate::error::{Error, Result};
 use crate::mesh::TetMesh;
@@ -74,8 +75,15 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
         let sample = backend.volume()?;
         let pct = volume_pct(sample, rest);
         if !pct.is_finite() {
+            let divergence = Divergence {
+                frame,
+                substep: None,
+                method: params.method.name().to_string(),
+                node: None,
+                cause: "the total volume became non-finite (positions unbounded)".to_string(),
+            };
             record.diverged = true;
-            record.divergence = Some(format!("the volume became non-finite at frame {frame}"));
+            record.divergence = Some(divergence.to_string());
             break;
         }
         record.volume_pct.push(pct);
