@@ -3,7 +3,10 @@
 
 pub mod grid;
 pub mod io;
+pub mod repair;
+pub mod shapes;
 pub mod topology;
+pub mod voxel;
 
 use glam::DVec3;
 
