@@ -11,7 +11,8 @@ use std::{
 };
 
 fn main() {
-    let root = PathBuf::from(env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
+    let root =
+        PathBuf::from(env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
     let glsl = root.join("glsl");
     let out = PathBuf::from(env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     println!("cargo:rerun-if-changed=glsl");
@@ -31,14 +32,24 @@ fn main() {
             Some("frag") => shaderc::ShaderKind::Fragment,
             _ => continue,
         };
-        let rel = path.strip_prefix(&glsl).expect("under glsl/").to_string_lossy().replace('\\', "/");
-        let source = fs::read_to_string(path).unwrap_or_else(|e| panic!("reading {}: {e}", path.display()));
+        let rel = path
+            .strip_prefix(&glsl)
+            .expect("under glsl/")
+            .to_string_lossy()
+            .replace('\\', "/");
+        let source =
+            fs::read_to_string(path).unwrap_or_else(|e| panic!("reading {}: {e}", path.display()));
         let mut options = shaderc::CompileOptions::new().expect("shaderc options");
-        options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_2 as u32);
+        options.set_target_env(
+            shaderc::TargetEnv::Vulkan,
+            shaderc::EnvVersion::Vulkan1_2 as u32,
+        );
         options.set_optimization_level(shaderc::OptimizationLevel::Performance);
         options.set_generate_debug_info();
         let glsl_root = glsl.clone();
-        options.set_include_callback(move |name, _ty, from, _depth| resolve_include(&glsl_root, name, from));
+        options.set_include_callback(move |name, _ty, from, _depth| {
+            resolve_include(&glsl_root, name, from)
+        });
         match compiler.compile_into_spirv(&source, kind, &rel, "main", Some(&options)) {
             Ok(artifact) => {
                 let spv_name = rel.replace('/', "__") + ".spv";
@@ -59,7 +70,9 @@ fn main() {
 }
 
 fn collect(dir: &Path, files: &mut Vec<PathBuf>) {
-    let Ok(entries) = fs::read_dir(dir) else { return };
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
     for entry in entries.flatten() {
         let path = entry.path();
         if path.is_dir() {
@@ -71,16 +84,29 @@ fn collect(dir: &Path, files: &mut Vec<PathBuf>) {
 }
 
 fn resolve_include(glsl: &Path, name: &str, from: &str) -> shaderc::IncludeCallbackResult {
-    let from_dir = glsl.join(from).parent().map(Path::to_path_buf).unwrap_or_else(|| glsl.to_path_buf());
+    let from_dir = glsl
+        .join(from)
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| glsl.to_path_buf());
     for candidate in [from_dir.join(name), glsl.join(name)] {
         if let Ok(content) = fs::read_to_string(&candidate) {
             let canonical = candidate.canonicalize().unwrap_or(candidate.clone());
             if !canonical.starts_with(glsl.canonicalize().unwrap_or(glsl.to_path_buf())) {
                 return Err(format!("include {name} resolves outside glsl/"));
             }
-            let resolved = canonical.strip_prefix(glsl.canonicalize().unwrap_or(glsl.to_path_buf())).unwrap_or(&canonical).to_string_lossy().replace('\\', "/");
-            return Ok(shaderc::ResolvedInclude { resolved_name: resolved, content });
+            let resolved = canonical
+                .strip_prefix(glsl.canonicalize().unwrap_or(glsl.to_path_buf()))
+                .unwrap_or(&canonical)
+                .to_string_lossy()
+                .replace('\\', "/");
+            return Ok(shaderc::ResolvedInclude {
+                resolved_name: resolved,
+                content,
+            });
         }
     }
-    Err(format!("include {name} (from {from}) not found under glsl/"))
+    Err(format!(
+        "include {name} (from {from}) not found under glsl/"
+    ))
 }

@@ -49,15 +49,29 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 impl Error {
     /// An I/O error on `path`.
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
-        Error::Io { path: path.into(), source }
+        Error::Io {
+            path: path.into(),
+            source,
+        }
     }
     /// A content error in `path` at `line` (1-based), if known.
-    pub fn parse(path: impl Into<PathBuf>, line: Option<usize>, message: impl Into<String>) -> Self {
-        Error::Parse { path: path.into(), line, message: message.into() }
+    pub fn parse(
+        path: impl Into<PathBuf>,
+        line: Option<usize>,
+        message: impl Into<String>,
+    ) -> Self {
+        Error::Parse {
+            path: path.into(),
+            line,
+            message: message.into(),
+        }
     }
     /// An out-of-range parameter.
     pub fn param(key: impl Into<String>, message: impl Into<String>) -> Self {
-        Error::Param { key: key.into(), message: message.into() }
+        Error::Param {
+            key: key.into(),
+            message: message.into(),
+        }
     }
 }
 

@@ -21,7 +21,12 @@ pub enum Method {
 
 impl Method {
     /// Every method, in the paper's order.
-    pub const ALL: [Method; 4] = [Method::Mss, Method::MssNode, Method::Distance, Method::Volume];
+    pub const ALL: [Method; 4] = [
+        Method::Mss,
+        Method::MssNode,
+        Method::Distance,
+        Method::Volume,
+    ];
 
     /// The name used on the command line, in JSON and in reports.
     pub fn name(self) -> &'static str {
@@ -135,14 +140,20 @@ impl SimParams {
             if v.is_finite() && v > 0.0 {
                 Ok(())
             } else {
-                Err(Error::param(key, format!("must be a finite number > 0, got {v}")))
+                Err(Error::param(
+                    key,
+                    format!("must be a finite number > 0, got {v}"),
+                ))
             }
         }
         fn non_negative_finite(key: &str, v: f64) -> Result<()> {
             if v.is_finite() && v >= 0.0 {
                 Ok(())
             } else {
-                Err(Error::param(key, format!("must be a finite number >= 0, got {v}")))
+                Err(Error::param(
+                    key,
+                    format!("must be a finite number >= 0, got {v}"),
+                ))
             }
         }
         positive_finite("dt", self.dt)?;
@@ -156,10 +167,16 @@ impl SimParams {
         non_negative_finite("ks", self.ks)?;
         non_negative_finite("kd", self.kd)?;
         if !self.gravity.is_finite() {
-            return Err(Error::param("gravity", format!("must be finite, got {}", self.gravity)));
+            return Err(Error::param(
+                "gravity",
+                format!("must be finite, got {}", self.gravity),
+            ));
         }
         if !(0.0..=1.0).contains(&self.friction) {
-            return Err(Error::param("friction", format!("must be in [0, 1], got {}", self.friction)));
+            return Err(Error::param(
+                "friction",
+                format!("must be in [0, 1], got {}", self.friction),
+            ));
         }
         match self.mass {
             MassMode::PerNode { mass } => positive_finite("mass", mass)?,
@@ -183,7 +200,10 @@ pub struct Placement {
 
 impl Default for Placement {
     fn default() -> Self {
-        Placement { fit_size: Some(1.0), drop_height: Some(0.1) }
+        Placement {
+            fit_size: Some(1.0),
+            drop_height: Some(0.1),
+        }
     }
 }
 

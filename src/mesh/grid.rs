@@ -20,7 +20,12 @@ const KUHN_TETS: [[usize; 4]; 6] = [
 /// A regular grid of `cells` cubes of edge `h` starting at `origin`, keeping the cells for
 /// which `keep(cell_index)` is true. Unused nodes are dropped, tets are positively oriented,
 /// and boundary faces are filled in.
-pub fn grid_tets(origin: DVec3, h: f64, cells: [usize; 3], mut keep: impl FnMut([usize; 3]) -> bool) -> TetMesh {
+pub fn grid_tets(
+    origin: DVec3,
+    h: f64,
+    cells: [usize; 3],
+    mut keep: impl FnMut([usize; 3]) -> bool,
+) -> TetMesh {
     let [nx, ny, nz] = cells;
     let node_id = |x: usize, y: usize, z: usize| x + (nx + 1) * (y + (ny + 1) * z);
     let mut used = vec![u32::MAX; (nx + 1) * (ny + 1) * (nz + 1)];
@@ -44,7 +49,11 @@ pub fn grid_tets(origin: DVec3, h: f64, cells: [usize; 3], mut keep: impl FnMut(
                         used[id]
                     });
                     let p = ids.map(|i| nodes[i as usize]);
-                    let oriented = if tet_signed_volume(p[0], p[1], p[2], p[3]) < 0.0 { [ids[0], ids[1], ids[3], ids[2]] } else { ids };
+                    let oriented = if tet_signed_volume(p[0], p[1], p[2], p[3]) < 0.0 {
+                        [ids[0], ids[1], ids[3], ids[2]]
+                    } else {
+                        ids
+                    };
                     tets.push(oriented);
                 }
             }

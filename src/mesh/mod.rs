@@ -48,7 +48,11 @@ impl TetMesh {
 /// Axis-aligned bounds of a point set.
 pub fn bounds_of(points: &[DVec3]) -> Option<(DVec3, DVec3)> {
     let first = *points.first()?;
-    Some(points.iter().fold((first, first), |(lo, hi), p| (lo.min(*p), hi.max(*p))))
+    Some(
+        points
+            .iter()
+            .fold((first, first), |(lo, hi), p| (lo.min(*p), hi.max(*p))),
+    )
 }
 
 /// Signed volume of the tetrahedron `(a, b, c, d)` in the convention of physics.md:

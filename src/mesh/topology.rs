@@ -7,7 +7,11 @@ pub fn unique_edges(tets: &[[u32; 4]]) -> Vec<[u32; 2]> {
     const PAIRS: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
     let mut edges: Vec<[u32; 2]> = tets
         .iter()
-        .flat_map(|t| PAIRS.iter().map(move |&(a, b)| [t[a].min(t[b]), t[a].max(t[b])]))
+        .flat_map(|t| {
+            PAIRS
+                .iter()
+                .map(move |&(a, b)| [t[a].min(t[b]), t[a].max(t[b])])
+        })
         .collect();
     edges.sort_unstable();
     edges.dedup();
@@ -26,10 +30,17 @@ pub fn boundary_faces(tets: &[[u32; 4]]) -> Vec<[u32; 3]> {
             let face = [t[f[0]], t[f[1]], t[f[2]]];
             let mut key = face;
             key.sort_unstable();
-            count.entry(key).and_modify(|e| e.0 += 1).or_insert((1, face));
+            count
+                .entry(key)
+                .and_modify(|e| e.0 += 1)
+                .or_insert((1, face));
         }
     }
-    let mut faces: Vec<[u32; 3]> = count.into_values().filter(|(n, _)| *n == 1).map(|(_, f)| f).collect();
+    let mut faces: Vec<[u32; 3]> = count
+        .into_values()
+        .filter(|(n, _)| *n == 1)
+        .map(|(_, f)| f)
+        .collect();
     faces.sort_unstable();
     faces
 }

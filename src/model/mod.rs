@@ -66,7 +66,9 @@ impl Model {
 
     /// Length of the bounding-box diagonal of the initial positions [m].
     pub fn bounds_diagonal(&self) -> f64 {
-        bounds_of(&self.positions).map(|(lo, hi)| (hi - lo).length()).unwrap_or(0.0)
+        bounds_of(&self.positions)
+            .map(|(lo, hi)| (hi - lo).length())
+            .unwrap_or(0.0)
     }
 }
 
@@ -82,7 +84,12 @@ pub struct ModelBuilder<'a> {
 impl<'a> ModelBuilder<'a> {
     /// A builder with the default placement (`seed`) and unit node masses.
     pub fn new(mesh: &'a TetMesh) -> Self {
-        ModelBuilder { mesh, placement: Placement::default(), mass: MassMode::PerNode { mass: 1.0 }, pinned: Vec::new() }
+        ModelBuilder {
+            mesh,
+            placement: Placement::default(),
+            mass: MassMode::PerNode { mass: 1.0 },
+            pinned: Vec::new(),
+        }
     }
 
     /// Where to put the mesh.
@@ -108,18 +115,28 @@ impl<'a> ModelBuilder<'a> {
         let mesh = self.mesh;
         let n = mesh.nodes.len();
         if n == 0 || mesh.tets.is_empty() {
-            return Err(Error::Mesh(format!("the mesh is empty ({n} nodes, {} tets)", mesh.tets.len())));
+            return Err(Error::Mesh(format!(
+                "the mesh is empty ({n} nodes, {} tets)",
+                mesh.tets.len()
+            )));
         }
         if let Some(i) = mesh.nodes.iter().position(|p| !p.is_finite()) {
-            return Err(Error::Mesh(format!("node {i} has a non-finite coordinate {:?}", mesh.nodes[i])));
+            return Err(Error::Mesh(format!(
+                "node {i} has a non-finite coordinate {:?}",
+                mesh.nodes[i]
+            )));
         }
         for (t, tet) in mesh.tets.iter().enumerate() {
             if let Some(&bad) = tet.iter().find(|&&v| v as usize >= n) {
-                return Err(Error::Mesh(format!("tet {t} refers to node {bad}, but there are {n} nodes")));
+                return Err(Error::Mesh(format!(
+                    "tet {t} refers to node {bad}, but there are {n} nodes"
+                )));
             }
         }
         let positions = place(&mesh.nodes, self.placement)?;
-        let diag = bounds_of(&positions).map(|(lo, hi)| (hi - lo).length()).unwrap_or(0.0);
+        let diag = bounds_of(&positions)
+            .map(|(lo, hi)| (hi - lo).length())
+            .unwrap_or(0.0);
         let degenerate = 1e-14 * diag.powi(3);
 
         let mut tets = mesh.tets.clone();
@@ -128,7 +145,9 @@ impl<'a> ModelBuilder<'a> {
             let p = tet.map(|v| positions[v as usize]);
             let mut v = tet_signed_volume(p[0], p[1], p[2], p[3]);
             if v.abs() <= degenerate {
-                return Err(Error::Mesh(format!("tet {t} {tet:?} is degenerate (volume {v:e} m^3)")));
+                return Err(Error::Mesh(format!(
+                    "tet {t} {tet:?} is degenerate (volume {v:e} m^3)"
+                )));
             }
             if v < 0.0 {
                 tet.swap(2, 3);
@@ -138,7 +157,10 @@ impl<'a> ModelBuilder<'a> {
         }
 
         let springs = topology::unique_edges(&tets);
-        let rest_length = springs.iter().map(|s| positions[s[0] as usize].distance(positions[s[1] as usize])).collect();
+        let rest_length = springs
+            .iter()
+            .map(|s| positions[s[0] as usize].distance(positions[s[1] as usize]))
+            .collect();
 
         let mass = match self.mass {
             MassMode::PerNode { mass } => vec![mass; n],
@@ -152,11 +174,14 @@ impl<'a> ModelBuilder<'a> {
                 m
             }
         };
-        let mut inv_mass: Vec<f64> = mass.iter().map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 }).collect();
+        let mut inv_mass: Vec<f64> = mass
+            .iter()
+            .map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 })
+            .collect();
         for &p in &self.pinned {
-            let slot = inv_mass
-                .get_mut(p as usize)
-                .ok_or_else(|| Error::Mesh(format!("pinned node {p} does not exist ({n} nodes)")))?;
+            let slot = inv_mass.get_mut(p as usize).ok_or_else(|| {
+                Error::Mesh(format!("pinned node {p} does not exist ({n} nodes)"))
+            })?;
             *slot = 0.0;
         }
 
@@ -167,9 +192,24 @@ impl<'a> ModelBuilder<'a> {
                 tet_degree[i as usize] += 1;
             }
         }
-        let surface = if mesh.faces.is_empty() { topology::boundary_faces(&tets) } else { mesh.faces.clone() };
+        let surface = if mesh.faces.is_empty() {
+            topology::boundary_faces(&tets)
+        } else {
+            mesh.faces.clone()
+        };
 
-        Ok(Model { positions, mass, inv_mass, springs, rest_length, tets, rest_volume, node_springs, tet_degree, surface })
+        Ok(Model {
+            positions,
+            mass,
+            inv_mass,
+            springs,
+            rest_length,
+            tets,
+            rest_volume,
+            node_springs,
+            tet_degree,
+            surface,
+        })
     }
 }
 
@@ -180,7 +220,9 @@ fn place(nodes: &[DVec3], placement: Placement) -> Result<Vec<DVec3>> {
     if let Some(size) = placement.fit_size {
         let largest = (hi - lo).max_element();
         if largest <= 0.0 {
-            return Err(Error::Mesh("the mesh has zero extent; it cannot be scaled".into()));
+            return Err(Error::Mesh(
+                "the mesh has zero extent; it cannot be scaled".into(),
+            ));
         }
         scale = size / largest;
     }

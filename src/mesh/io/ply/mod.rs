@@ -1,0 +1,135 @@
+//! Stanford PLY: ASCII, binary little-endian and binary big-endian.
+//!
+//! Reading takes any element layout: `x`, `y`, `z` of the `vertex` element in any scalar type,
+//! any further vertex properties (skipped, e.g. the Stanford scans' `confidence` and
+//! `intensity`), the `face` element's `vertex_indices` (or `vertex_index`) list with any
+//! integer count and index types, polygons split into triangle fans, and any other elements
+//! (skipped). ASCII bodies are read one element per line, as every writer produces them, so a
+//! wrong count in the header shows up as a line with too few or too many values. Errors name
+//! the line (ASCII) or the element index (binary).
+//!
+//! Writing uses `double` coordinates (so values read back exactly) and `list uchar int`
+//! faces, the layout every PLY reader accepts.
+
+mod body;
+mod header;
+
+use super::text::{Ctx, Lines};
+use super::{check_surface, fmt_f64, read_bytes, write_atomic};
+use crate::error::Result;
+use crate::mesh::SurfaceMesh;
+use body::{read_body, AsciiSource, BinarySource};
+use header::parse_header;
+use std::io::Write;
+use std::path::Path;
+
+/// How a PLY file is encoded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlyEncoding {
+    /// Text, one element per line.
+    Ascii,
+    /// Binary, little-endian (the usual choice).
+    BinaryLittleEndian,
+    /// Binary, big-endian.
+    BinaryBigEndian,
+}
+
+/// Reads a PLY file.
+pub fn read(path: impl AsRef<Path>) -> Result<SurfaceMesh> {
+    let path = path.as_ref();
+    parse(&read_bytes(path)?, path)
+}
+
+/// Parses the bytes of a PLY file; `path` is used in error messages only.
+pub fn parse(bytes: &[u8], path: &Path) -> Result<SurfaceMesh> {
+    let ctx = Ctx { path };
+    let header = parse_header(bytes, ctx)?;
+    let body = bytes.get(header.body..).unwrap_or(&[]);
+    match header.encoding {
+        PlyEncoding::Ascii => {
+            let lines = Lines::new(body, None);
+            let mut src = AsciiSource {
+                lines,
+                tokens: Vec::new(),
+                next: 0,
+                no: 0,
+                offset: header.lines,
+            };
+            read_body(&mut src, &header, body.len(), ctx)
+        }
+        enc => {
+            let mut src = BinarySource {
+                data: body,
+                pos: 0,
+                big: enc == PlyEncoding::BinaryBigEndian,
+            };
+            read_body(&mut src, &header, body.len(), ctx)
+        }
+    }
+}
+
+/// Writes `mesh` as PLY in `encoding`, atomically.
+pub fn write(path: impl AsRef<Path>, mesh: &SurfaceMesh, encoding: PlyEncoding) -> Result<()> {
+    check_surface(mesh)?;
+    write_atomic(path.as_ref(), |w| write_to(w, mesh, encoding))
+}
+
+fn write_to(w: &mut dyn Write, mesh: &SurfaceMesh, encoding: PlyEncoding) -> std::io::Result<()> {
+    let format = match encoding {
+        PlyEncoding::Ascii => "ascii",
+        PlyEncoding::BinaryLittleEndian => "binary_little_endian",
+        PlyEncoding::BinaryBigEndian => "binary_big_endian",
+    };
+    let index_type = if mesh.vertices.len() <= i32::MAX as usize {
+        "int"
+    } else {
+        "uint"
+    };
+    write!(
+        w,
+        "ply\nformat {format} 1.0\ncomment written by tetrasim\nelement vertex {}\n\
+         property double x\nproperty double y\nproperty double z\nelement face {}\n\
+         property list uchar {index_type} vertex_indices\nend_header\n",
+        mesh.vertices.len(),
+        mesh.triangles.len()
+    )?;
+    let big = encoding == PlyEncoding::BinaryBigEndian;
+    let f64_bytes = |x: f64| {
+        if big {
+            x.to_be_bytes()
+        } else {
+            x.to_le_bytes()
+        }
+    };
+    let u32_bytes = |x: u32| {
+        if big {
+            x.to_be_bytes()
+        } else {
+            x.to_le_bytes()
+        }
+    };
+    for v in &mesh.vertices {
+        match encoding {
+            PlyEncoding::Ascii => {
+                writeln!(w, "{} {} {}", fmt_f64(v.x), fmt_f64(v.y), fmt_f64(v.z))?
+            }
+            _ => {
+                for c in v.to_array() {
+                    w.write_all(&f64_bytes(c))?;
+                }
+            }
+        }
+    }
+    for t in &mesh.triangles {
+        match encoding {
+            PlyEncoding::Ascii => writeln!(w, "3 {} {} {}", t[0], t[1], t[2])?,
+            _ => {
+                w.write_all(&[3])?;
+                for i in t {
+                    w.write_all(&u32_bytes(*i))?;
+                }
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,485 @@
+//! Scene files (TOML): objects, colliders, solver settings and outputs in one place.
+//! `tetrasim run --scene FILE` reads one; the command-line flags are shorthand for a
+//! one-object scene. Unknown keys and out-of-range values are errors naming the key's path
+//! (e.g. `object[0].material.ks`).
+//!
+//! ```toml
+//! [solver]
+//! dt = 0.001          # s
+//! substeps = 1
+//! iterations = 10
+//! omega = 1.0
+//! combine = "average" # or "sum"
+//! atomics = "auto"    # or "ext", "cas"
+//! gravity = 9.81      # m/s^2, along -Y
+//! frames = 400
+//!
+//! [[object]]
+//! mesh = "meshes/sphere"     # .node/.ele prefix (relative to the scene file)
+//! method = "volume"
+//! fit_size = 1.0             # m, largest bounding-box side (omit to keep the mesh's size)
+//! drop_height = 0.1          # m, lowest node above y = 0 (omit to keep the position)
+//! velocity = [0.0, 0.0, 0.0] # m/s, initial
+//! material = { ks = 5000.0, kd = 15.0, node_mass = 1.0 }   # or density = 1000.0 (kg/m^3)
+//! pin = { nodes = [0, 1], box = { min = [-1, 0, -1], max = [1, 0.12, 1] } }
+//!
+//! [[collider]]
+//! type = "floor"             # the plane y = 0
+//! friction = 0.0
+//!
+//! [output]
+//! metrics = "out/metrics.json"
+//! surface_dir = "out/frames"
+//! every = 10
+//! ```
+
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+use serde::Deserialize;
+
+use crate::error::{Error, Result};
+use crate::params::{
+    AtomicsMode, ConstraintCombine, MassMode, Method, Placement, SimParams, SEED_FRAMES,
+};
+
+/// A whole scene as read from a file (paths already resolved against the file's folder).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Solver settings shared by all objects.
+    #[serde(default)]
+    pub solver: Solver,
+    /// The simulated objects (at least one).
+    #[serde(rename = "object", default)]
+    pub objects: Vec<Object>,
+    /// Collision shapes.
+    #[serde(rename = "collider", default)]
+    pub colliders: Vec<Collider>,
+    /// What to write.
+    #[serde(default)]
+    pub output: Output,
+}
+
+/// `[solver]`: time stepping, shared by all objects.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Solver {
+    /// Time step [s].
+    pub dt: f64,
+    /// Time steps per frame.
+    pub substeps: u32,
+    /// Constraint iterations per time step.
+    pub iterations: u32,
+    /// Relaxation of averaged constraint forces.
+    pub omega: f64,
+    /// Per-node combination of constraint forces.
+    pub combine: ConstraintCombine,
+    /// Float-atomic path on the GPU.
+    pub atomics: AtomicsMode,
+    /// Gravity along -Y [m/s^2].
+    pub gravity: f64,
+    /// Frames to simulate.
+    pub frames: u32,
+}
+
+impl Default for Solver {
+    fn default() -> Self {
+        let p = SimParams::default();
+        Solver {
+            dt: p.dt,
+            substeps: p.substeps,
+            iterations: p.iterations,
+            omega: p.omega,
+            combine: p.combine,
+            atomics: p.atomics,
+            gravity: p.gravity,
+            frames: SEED_FRAMES,
+        }
+    }
+}
+
+/// `[[object]]`: one tet mesh with its placement, material and pins.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Object {
+    /// `.node/.ele` prefix or surface file.
+    pub mesh: PathBuf,
+    /// Simulation method.
+    #[serde(default = "default_method")]
+    pub method: Method,
+    /// Largest bounding-box side after scaling [m]; absent keeps the mesh's size.
+    #[serde(default)]
+    pub fit_size: Option<f64>,
+    /// Height of the lowest node above `y = 0` [m], centred in X and Z; absent keeps the
+    /// mesh where it is.
+    #[serde(default)]
+    pub drop_height: Option<f64>,
+    /// Initial velocity [m/s].
+    #[serde(default)]
+    pub velocity: [f64; 3],
+    /// Material.
+    #[serde(default)]
+    pub material: Material,
+    /// Pinned nodes.
+    #[serde(default)]
+    pub pin: Pin,
+}
+
+fn default_method() -> Method {
+    Method::Volume
+}
+
+/// `material`: spring constants and mass.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Material {
+    /// Spring stiffness [N/m].
+    pub ks: f64,
+    /// Spring damping [N s/m].
+    pub kd: f64,
+    /// Mass of every node [kg] (exclusive with `density`).
+    pub node_mass: Option<f64>,
+    /// Density [kg/m^3] for lumped masses (exclusive with `node_mass`).
+    pub density: Option<f64>,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        let p = SimParams::default();
+        Material {
+            ks: p.ks,
+            kd: p.kd,
+            node_mass: None,
+            density: None,
+        }
+    }
+}
+
+/// `pin`: nodes that never move, by index and/or inside an axis-aligned box (in placed
+/// coordinates, metres).
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Pin {
+    /// Node indices.
+    #[serde(default)]
+    pub nodes: Vec<u32>,
+    /// Box whose nodes are pinned.
+    #[serde(default, rename = "box")]
+    pub region: Option<Aabb>,
+}
+
+/// An axis-aligned box [m].
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Aabb {
+    /// Lowest corner.
+    pub min: [f64; 3],
+    /// Highest corner.
+    pub max: [f64; 3],
+}
+
+impl Aabb {
+    /// Whether `p` lies inside or on the box.
+    pub fn contains(&self, p: DVec3) -> bool {
+        p.cmpge(DVec3::from(self.min)).all() && p.cmple(DVec3::from(self.max)).all()
+    }
+}
+
+/// `[[collider]]`: a collision shape.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, tag = "type", rename_all = "kebab-case")]
+pub enum Collider {
+    /// The plane `y = 0`.
+    Floor {
+        /// Fraction of tangential velocity removed on contact, in [0, 1].
+        #[serde(default)]
+        friction: f64,
+    },
+}
+
+/// `[output]`: files to write.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Output {
+    /// Metrics JSON file.
+    pub metrics: Option<PathBuf>,
+    /// Folder for the deformed surface every `every` frames.
+    pub surface_dir: Option<PathBuf>,
+    /// Frames between surface files.
+    #[serde(default = "default_every")]
+    pub every: u32,
+}
+
+fn default_every() -> u32 {
+    10
+}
+
+impl Default for Output {
+    fn default() -> Self {
+        Output {
+            metrics: None,
+            surface_dir: None,
+            every: default_every(),
+        }
+    }
+}
+
+impl Scene {
+    /// Reads, parses and validates a scene file; relative paths in it are taken relative
+    /// to the file's folder.
+    pub fn load(path: &Path) -> Result<Scene> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let mut scene = Scene::parse(&text).map_err(|e| match e {
+            Error::Param { key, message } => {
+                Error::param(key, format!("{message} (in {})", path.display()))
+            }
+            other => other,
+        })?;
+        let base = path.parent().unwrap_or(Path::new("."));
+        for object in &mut scene.objects {
+            object.mesh = base.join(&object.mesh);
+        }
+        let output = &mut scene.output;
+        for p in [&mut output.metrics, &mut output.surface_dir]
+            .into_iter()
+            .flatten()
+        {
+            *p = base.join(&*p);
+        }
+        Ok(scene)
+    }
+
+    /// Parses and validates scene text.
+    pub fn parse(text: &str) -> Result<Scene> {
+        let deserializer = toml::Deserializer::new(text);
+        let scene: Scene = serde_path_to_error::deserialize(deserializer).map_err(|e| {
+            let key = e.path().to_string();
+            let inner = e.into_inner();
+            let message = inner.message().to_string();
+            let at = inner
+                .span()
+                .map(|s| format!(" (line {})", line_of(text, s.start)))
+                .unwrap_or_default();
+            Error::param(
+                if key == "." { "scene".to_string() } else { key },
+                format!("{message}{at}"),
+            )
+        })?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// Checks ranges; errors name the key's path.
+    pub fn validate(&self) -> Result<()> {
+        if self.objects.is_empty() {
+            return Err(Error::param("object", "the scene has no [[object]]"));
+        }
+        if self.solver.frames == 0 {
+            return Err(Error::param("solver.frames", "must be at least 1"));
+        }
+        if self.output.every == 0 {
+            return Err(Error::param("output.every", "must be at least 1"));
+        }
+        for i in 0..self.objects.len() {
+            let o = &self.objects[i];
+            let key = |k: &str| format!("object[{i}].{k}");
+            for (name, value) in [("fit_size", o.fit_size), ("drop_height", o.drop_height)] {
+                if let Some(v) = value {
+                    if !v.is_finite() || (name == "fit_size" && v <= 0.0) {
+                        return Err(Error::param(key(name), format!("out of range: {v}")));
+                    }
+                }
+            }
+            if o.velocity.iter().any(|v| !v.is_finite()) {
+                return Err(Error::param(key("velocity"), "must be finite"));
+            }
+            if o.material.node_mass.is_some() && o.material.density.is_some() {
+                return Err(Error::param(
+                    key("material"),
+                    "give node_mass or density, not both",
+                ));
+            }
+            if let Some(b) = o.pin.region {
+                if (0..3).any(|a| b.min[a] > b.max[a] || b.min[a].is_nan() || b.max[a].is_nan()) {
+                    return Err(Error::param(
+                        key("pin.box"),
+                        "min must not exceed max on any axis",
+                    ));
+                }
+            }
+            self.params_for(i).validate().map_err(|e| match e {
+                Error::Param { key: k, message } => Error::param(scene_key(i, &k), message),
+                other => other,
+            })?;
+        }
+        Ok(())
+    }
+
+    /// The solver parameters of object `index` (solver section + its material and method).
+    pub fn params_for(&self, index: usize) -> SimParams {
+        let s = &self.solver;
+        let o = &self.objects[index];
+        let mut floors = self.colliders.iter().map(|c| match c {
+            Collider::Floor { friction } => *friction,
+        });
+        let floor = floors.next();
+        let mass = match (o.material.node_mass, o.material.density) {
+            (_, Some(density)) => MassMode::Density { density },
+            (Some(mass), None) => MassMode::PerNode { mass },
+            (None, None) => SimParams::default().mass,
+        };
+        SimParams {
+            method: o.method,
+            dt: s.dt,
+            substeps: s.substeps,
+            iterations: s.iterations,
+            omega: s.omega,
+            ks: o.material.ks,
+            kd: o.material.kd,
+            gravity: s.gravity,
+            floor: floor.is_some(),
+            friction: floor.unwrap_or(0.0),
+            mass,
+            combine: s.combine,
+            atomics: s.atomics,
+        }
+    }
+
+    /// Placement of object `index`.
+    pub fn placement_for(&self, index: usize) -> Placement {
+        let o = &self.objects[index];
+        Placement {
+            fit_size: o.fit_size,
+            drop_height: o.drop_height,
+        }
+    }
+}
+
+/// Where a [`SimParams`] key lives in a scene file.
+fn scene_key(object: usize, key: &str) -> String {
+    match key {
+        "dt" | "substeps" | "iterations" | "omega" | "gravity" => format!("solver.{key}"),
+        "friction" => "collider.friction".to_string(),
+        "ks" | "kd" => format!("object[{object}].material.{key}"),
+        "mass" => format!("object[{object}].material.node_mass"),
+        "density" => format!("object[{object}].material.density"),
+        other => format!("object[{object}].{other}"),
+    }
+}
+
+/// 1-based line of byte offset `at` in `text`.
+fn line_of(text: &str, at: usize) -> usize {
+    text[..at.min(text.len())]
+        .bytes()
+        .filter(|&b| b == b'\n')
+        .count()
+        + 1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const MINIMAL: &str = "[[object]]\nmesh = \"meshes/sphere\"\n";
+
+    #[test]
+    fn minimal_scene_gets_seed_defaults_without_floor() {
+        let scene = Scene::parse(MINIMAL).unwrap();
+        let p = scene.params_for(0);
+        assert_eq!((p.dt, p.iterations, p.ks, p.kd), (1e-3, 10, 5000.0, 15.0));
+        assert!(!p.floor, "no collider means no floor");
+        assert_eq!(scene.solver.frames, 400);
+        assert_eq!(
+            scene.placement_for(0),
+            Placement {
+                fit_size: None,
+                drop_height: None
+            }
+        );
+    }
+
+    #[test]
+    fn full_scene_maps_onto_params() {
+        let text = r#"
+            [solver]
+            dt = 0.0005
+            substeps = 2
+            iterations = 5
+            [[object]]
+            mesh = "a"
+            method = "distance"
+            material = { ks = 100.0, kd = 1.0, density = 1000.0 }
+            pin = { nodes = [3], box = { min = [0, 0, 0], max = [1, 1, 1] } }
+            [[collider]]
+            type = "floor"
+            friction = 0.5
+        "#;
+        let scene = Scene::parse(text).unwrap();
+        let p = scene.params_for(0);
+        assert_eq!(
+            (p.dt, p.substeps, p.iterations, p.ks, p.kd),
+            (0.0005, 2, 5, 100.0, 1.0)
+        );
+        assert_eq!(p.method, Method::Distance);
+        assert_eq!(p.mass, MassMode::Density { density: 1000.0 });
+        assert!(p.floor);
+        assert_eq!(p.friction, 0.5);
+        assert!(scene.objects[0]
+            .pin
+            .region
+            .unwrap()
+            .contains(DVec3::splat(0.5)));
+    }
+
+    #[test]
+    fn unknown_key_names_its_path() {
+        let err = Scene::parse("[[object]]\nmesh = \"a\"\nmaterial = { kss = 1.0 }\n")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("object[0].material"), "{err}");
+        assert!(err.contains("kss"), "{err}");
+        assert!(err.contains("line 3"), "{err}");
+    }
+
+    #[test]
+    fn out_of_range_values_name_their_key() {
+        for (text, key) in [
+            (
+                "[solver]\ndt = -1.0\n[[object]]\nmesh = \"a\"\n",
+                "solver.dt",
+            ),
+            (
+                "[[object]]\nmesh = \"a\"\nmaterial = { ks = -5.0 }\n",
+                "object[0].material.ks",
+            ),
+            (
+                "[[object]]\nmesh = \"a\"\n[[collider]]\ntype = \"floor\"\nfriction = 2.0\n",
+                "collider.friction",
+            ),
+            (
+                "[[object]]\nmesh = \"a\"\npin = { box = { min = [1, 0, 0], max = [0, 1, 1] } }\n",
+                "object[0].pin.box",
+            ),
+            (
+                "[solver]\nframes = 0\n[[object]]\nmesh = \"a\"\n",
+                "solver.frames",
+            ),
+            ("[solver]\n", "object"),
+        ] {
+            let err = Scene::parse(text).unwrap_err().to_string();
+            assert!(
+                err.contains(&format!("`{key}`")),
+                "expected key {key} in: {err}"
+            );
+        }
+    }
+
+    #[test]
+    fn wrong_type_names_its_path() {
+        let err = Scene::parse("[solver]\niterations = \"ten\"\n[[object]]\nmesh = \"a\"\n")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("solver.iterations"), "{err}");
+    }
+}
