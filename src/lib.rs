@@ -11,6 +11,7 @@ pub mod error;
 pub mod mesh;
 pub mod model;
 pub mod params;
+pub mod prep;
 pub mod scene;
 
 pub use backend::{Backend, State, VolumeSample};

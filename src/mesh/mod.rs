@@ -5,6 +5,7 @@ pub mod grid;
 pub mod io;
 pub mod repair;
 pub mod shapes;
+pub mod simplify;
 pub mod topology;
 pub mod voxel;
 

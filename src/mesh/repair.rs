@@ -2,13 +2,15 @@
 //! faces and unreferenced vertices, orient faces consistently and outward, fill holes, and
 //! report what cannot be fixed here (non-manifold edges, self-intersections) in words.
 //!
-//! Order: clean -> consistent orientation -> fill holes -> outward -> checks. Holes are filled
-//! after the orientation walk so each patch takes its surroundings' winding.
+//! Order: clean -> consistent orientation -> fill holes -> cut out crossing faces and refill
+//! -> outward -> checks. Holes are filled after the orientation walk so each patch takes its
+//! surroundings' winding.
 
 pub mod clean;
 pub mod holes;
 pub mod intersect;
 pub mod orient;
+pub mod untangle;
 
 use serde::Serialize;
 
@@ -27,6 +29,8 @@ pub struct RepairOptions {
     pub fill_holes: bool,
     /// Look for crossing faces (costs about as much as the rest together on large scans).
     pub check_self_intersections: bool,
+    /// Cut out crossing faces (when checked) and faces on non-manifold edges, and refill.
+    pub cut_and_refill: bool,
 }
 
 impl Default for RepairOptions {
@@ -35,6 +39,7 @@ impl Default for RepairOptions {
             weld_tolerance: 1e-7,
             fill_holes: true,
             check_self_intersections: true,
+            cut_and_refill: true,
         }
     }
 }
@@ -70,7 +75,15 @@ pub struct RepairReport {
     pub boundary_edges: usize,
     /// Edges shared by more than two faces.
     pub non_manifold_edges: usize,
-    /// Pairs of faces that cross each other (`None` when not checked).
+    /// Edges shared by more than two faces before cutting and refilling.
+    pub non_manifold_edges_found: usize,
+    /// Pairs of faces that crossed each other before fixing (`None` when not checked).
+    pub self_intersections_found: Option<usize>,
+    /// Faces cut out to remove crossings and non-manifold edges, and faces added refilling
+    /// the cuts.
+    pub cut_faces_removed: usize,
+    pub cut_faces_added: usize,
+    /// Pairs of faces that still cross each other (`None` when not checked).
     pub self_intersections: Option<usize>,
     /// Vertices and faces after repair.
     pub vertices_out: usize,
@@ -167,6 +180,28 @@ pub fn repair(mesh: &SurfaceMesh, options: &RepairOptions) -> Result<(SurfaceMes
         }
     } else {
         r.holes = holes::boundary_loops(&m.triangles).len();
+    }
+    if options.cut_and_refill {
+        let u = untangle::untangle(&mut m, options.check_self_intersections);
+        r.non_manifold_edges_found = u.non_manifold_before;
+        r.self_intersections_found = options
+            .check_self_intersections
+            .then_some(u.crossings_before);
+        (r.cut_faces_removed, r.cut_faces_added) = (u.faces_removed, u.faces_added);
+        if u.faces_removed > 0 {
+            orientation = orient::orient_consistently(&mut m);
+            r.flipped_faces += orientation.flipped;
+        }
+        r.unreferenced_vertices += clean::drop_unreferenced(&mut m);
+    }
+    if r.cut_faces_removed > 0 {
+        r.warnings.push(format!(
+            "{} pairs of crossing faces and {} non-manifold edges: cut out {} faces, refilled with {}",
+            r.self_intersections_found.unwrap_or(0),
+            r.non_manifold_edges_found,
+            r.cut_faces_removed,
+            r.cut_faces_added
+        ));
     }
     r.components = orientation.components;
     r.orientation_conflicts = orientation.conflicts;

@@ -1,7 +1,7 @@
 //! Cleaning steps: weld duplicate vertices, drop degenerate and duplicate faces, drop
 //! unreferenced vertices.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 
 use glam::DVec3;
 
@@ -82,16 +82,42 @@ pub fn drop_degenerate(mesh: &mut SurfaceMesh, min_area: f64) -> usize {
     before - mesh.triangles.len()
 }
 
-/// Drops triangles that use the same three vertices as an earlier one (in any order or
-/// orientation). Returns the count.
+/// Resolves faces that use the same three vertices. Copies with opposite windings cancel in
+/// pairs (an opposite pair is a zero-volume double wall, as decimation leaves in scans); of
+/// what is left, one copy with the prevailing winding is kept. Returns the number of faces
+/// removed.
 pub fn drop_duplicates(mesh: &mut SurfaceMesh) -> usize {
     let before = mesh.triangles.len();
-    let mut seen = HashSet::with_capacity(before);
-    mesh.triangles.retain(|t| {
+    // Net winding per vertex set: +1 for a winding that is an even permutation of the
+    // sorted vertices, -1 otherwise; and the first face seen.
+    let mut net: HashMap<[u32; 3], (i32, usize)> = HashMap::with_capacity(before);
+    for (f, t) in mesh.triangles.iter().enumerate() {
         let mut key = *t;
         key.sort_unstable();
-        seen.insert(key)
-    });
+        let even = [key, [key[1], key[2], key[0]], [key[2], key[0], key[1]]].contains(t);
+        let entry = net.entry(key).or_insert((0, f));
+        entry.0 += if even { 1 } else { -1 };
+    }
+    let mut kept = Vec::with_capacity(before);
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        let mut key = *t;
+        key.sort_unstable();
+        let Some(&(n, first)) = net.get(&key) else {
+            continue;
+        };
+        if n == 0 {
+            continue;
+        }
+        if first == f {
+            let even = [key, [key[1], key[2], key[0]], [key[2], key[0], key[1]]].contains(t);
+            kept.push(if even == (n > 0) {
+                *t
+            } else {
+                [t[0], t[2], t[1]]
+            });
+        }
+    }
+    mesh.triangles = kept;
     before - mesh.triangles.len()
 }
 
@@ -145,9 +171,22 @@ mod tests {
     fn degenerate_and_duplicates() {
         let mut m = SurfaceMesh {
             vertices: vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(2.0, 0.0, 0.0)],
-            triangles: vec![[0, 1, 2], [0, 0, 1], [0, 1, 3], [2, 1, 0], [1, 2, 0]],
+            triangles: vec![
+                [0, 1, 2],
+                [0, 0, 1],
+                [0, 1, 3],
+                [1, 2, 0],
+                [0, 2, 3],
+                [3, 2, 0],
+                [2, 0, 1],
+            ],
         };
         assert_eq!(drop_degenerate(&mut m, 0.0), 2); // repeated index, collinear
+                                                     // [0,1,2] three times the same way: one kept; [0,2,3] and [3,2,0] cancel.
+        assert_eq!(drop_duplicates(&mut m), 4);
+        assert_eq!(m.triangles, vec![[0, 1, 2]]);
+        // Two one way, one the other: one copy of the prevailing winding stays.
+        m.triangles = vec![[0, 2, 1], [0, 1, 2], [1, 2, 0]];
         assert_eq!(drop_duplicates(&mut m), 2);
         assert_eq!(m.triangles, vec![[0, 1, 2]]);
     }

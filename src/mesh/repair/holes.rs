@@ -5,7 +5,7 @@
 //! of up to [`MAX_DP_LOOP`] vertices get a minimum-area triangulation (dynamic programming
 //! over the loop, no new vertices); longer ones a fan around a new vertex at their centroid.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use glam::DVec3;
 
@@ -71,14 +71,22 @@ pub fn boundary_loops(triangles: &[[u32; 3]]) -> Vec<Vec<u32>> {
 pub fn fill_holes(mesh: &mut SurfaceMesh) -> (usize, usize, usize) {
     let loops = boundary_loops(&mesh.triangles);
     let (mut faces_added, mut vertices_added) = (0, 0);
+    let key = |a: u32, b: u32| [a.min(b), a.max(b)];
+    let mut edges: HashSet<[u32; 2]> = mesh
+        .triangles
+        .iter()
+        .flat_map(|t| (0..3).map(move |k| key(t[k], t[(k + 1) % 3])))
+        .collect();
     for lp in &loops {
         // Reverse so that the patch walks each boundary edge against its face.
         let polygon: Vec<u32> = lp.iter().rev().copied().collect();
-        let before = mesh.triangles.len();
-        if polygon.len() <= MAX_DP_LOOP {
-            let tris = min_area_triangulation(&mesh.vertices, &polygon);
-            mesh.triangles.extend(tris);
+        // A chord that is already an edge elsewhere would make it non-manifold.
+        let tris = if polygon.len() <= MAX_DP_LOOP {
+            min_area_triangulation(&mesh.vertices, &polygon, |a, b| edges.contains(&key(a, b)))
         } else {
+            None
+        };
+        let tris = tris.unwrap_or_else(|| {
             let centroid = polygon
                 .iter()
                 .map(|&v| mesh.vertices[v as usize])
@@ -87,22 +95,31 @@ pub fn fill_holes(mesh: &mut SurfaceMesh) -> (usize, usize, usize) {
             let c = mesh.vertices.len() as u32;
             mesh.vertices.push(centroid);
             vertices_added += 1;
-            for k in 0..polygon.len() {
-                mesh.triangles
-                    .push([polygon[k], polygon[(k + 1) % polygon.len()], c]);
-            }
-        }
-        faces_added += mesh.triangles.len() - before;
+            (0..polygon.len())
+                .map(|k| [polygon[k], polygon[(k + 1) % polygon.len()], c])
+                .collect()
+        });
+        edges.extend(
+            tris.iter()
+                .flat_map(|t| (0..3).map(move |k| key(t[k], t[(k + 1) % 3]))),
+        );
+        faces_added += tris.len();
+        mesh.triangles.extend(tris);
     }
     (loops.len(), faces_added, vertices_added)
 }
 
 /// Triangulates the closed polygon `poly` (vertex indices, walked in order) minimizing the
-/// total area; triangles keep the polygon's orientation.
-pub fn min_area_triangulation(vertices: &[DVec3], poly: &[u32]) -> Vec<[u32; 3]> {
+/// total area, without using a chord for which `forbidden(a, b)` holds; triangles keep the
+/// polygon's orientation. `None` when every triangulation needs a forbidden chord.
+pub fn min_area_triangulation(
+    vertices: &[DVec3],
+    poly: &[u32],
+    forbidden: impl Fn(u32, u32) -> bool,
+) -> Option<Vec<[u32; 3]>> {
     let n = poly.len();
     if n < 3 {
-        return Vec::new();
+        return Some(Vec::new());
     }
     let p = |i: usize| vertices[poly[i] as usize];
     let area = |i: usize, m: usize, j: usize| 0.5 * (p(m) - p(i)).cross(p(j) - p(i)).length();
@@ -112,6 +129,10 @@ pub fn min_area_triangulation(vertices: &[DVec3], poly: &[u32]) -> Vec<[u32; 3]>
     for len in 2..n {
         for i in 0..n - len {
             let j = i + len;
+            if (j != n - 1 || i != 0) && forbidden(poly[i], poly[j]) {
+                cost[i * n + j] = f64::INFINITY;
+                continue;
+            }
             let mut min = f64::INFINITY;
             let mut arg = i + 1;
             for m in i + 1..j {
@@ -125,6 +146,9 @@ pub fn min_area_triangulation(vertices: &[DVec3], poly: &[u32]) -> Vec<[u32; 3]>
             best[i * n + j] = arg;
         }
     }
+    if !cost[n - 1].is_finite() {
+        return None;
+    }
     let mut tris = Vec::with_capacity(n - 2);
     let mut stack = vec![(0, n - 1)];
     while let Some((i, j)) = stack.pop() {
@@ -136,7 +160,7 @@ pub fn min_area_triangulation(vertices: &[DVec3], poly: &[u32]) -> Vec<[u32; 3]>
         stack.push((i, m));
         stack.push((m, j));
     }
-    tris
+    Some(tris)
 }
 
 #[cfg(test)]
@@ -174,6 +198,20 @@ mod tests {
     }
 
     #[test]
+    fn existing_edges_are_not_used_as_chords() {
+        let v = vec![
+            DVec3::ZERO,
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.5),
+            DVec3::new(0.0, 1.0, 0.0),
+        ];
+        let t = min_area_triangulation(&v, &[0, 1, 2, 3], |a, b| (a.min(b), a.max(b)) == (1, 3))
+            .unwrap();
+        assert!(t.iter().all(|t| t.contains(&0) && t.contains(&2)), "{t:?}");
+        assert!(min_area_triangulation(&v, &[0, 1, 2, 3], |_, _| true).is_none());
+    }
+
+    #[test]
     fn min_area_prefers_the_short_diagonal() {
         let v = vec![
             DVec3::ZERO,
@@ -181,7 +219,7 @@ mod tests {
             DVec3::new(1.0, 1.0, 0.5),
             DVec3::new(0.0, 1.0, 0.0),
         ];
-        let t = min_area_triangulation(&v, &[0, 1, 2, 3]);
+        let t = min_area_triangulation(&v, &[0, 1, 2, 3], |_, _| false).unwrap();
         assert_eq!(t.len(), 2);
         // The fold along 1-3 (area 0.5 + sqrt(1.5)/2) beats 0-2 (sqrt(1.25)).
         let area: f64 = t
