@@ -184,6 +184,13 @@ pub fn repair(mesh: &SurfaceMesh, options: &RepairOptions) -> Result<(SurfaceMes
     if options.cut_and_refill {
         let u = untangle::untangle(&mut m, options.check_self_intersections);
         r.non_manifold_edges_found = u.non_manifold_before;
+        if u.crossings_left {
+            r.warnings.push(format!(
+                "{} pairs of faces cross: more than {} % of the faces, so parts of the surface overlap at large; left as they are",
+                u.crossings_before,
+                100.0 * untangle::MAX_CROSSING_FRACTION
+            ));
+        }
         r.self_intersections_found = options
             .check_self_intersections
             .then_some(u.crossings_before);

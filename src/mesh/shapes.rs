@@ -7,6 +7,32 @@ use glam::DVec3;
 
 use super::SurfaceMesh;
 
+/// The shapes the project ships (`meshes/`), at the size they are shipped: about 1 m across.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Shape {
+    /// Sphere of radius 0.5 m, 1280 faces.
+    Sphere,
+    /// Box 1 x 0.5 x 0.5 m, 4 x 4 squares per side (192 faces).
+    Box,
+    /// Torus: tube centre 0.35 m from the axis, tube radius 0.15 m, 32 x 16 (1024 faces).
+    Torus,
+}
+
+impl Shape {
+    /// The surface of this shape.
+    pub fn surface(self) -> SurfaceMesh {
+        match self {
+            Shape::Sphere => sphere(0.5, 3),
+            Shape::Box => box_surface(
+                DVec3::new(-0.5, -0.25, -0.25),
+                DVec3::new(0.5, 0.25, 0.25),
+                4,
+            ),
+            Shape::Torus => torus(0.35, 0.15, 32, 16),
+        }
+    }
+}
+
 /// A sphere of `radius` centred at the origin: an icosahedron subdivided `subdivisions`
 /// times, vertices projected onto the sphere (`20 * 4^subdivisions` faces).
 pub fn sphere(radius: f64, subdivisions: u32) -> SurfaceMesh {

@@ -26,10 +26,12 @@ const MAX_SIMPLIFY_RETRIES: usize = 3;
 const GOOD_ENOUGH: f64 = 0.10;
 /// Face budget as a fraction of the target tet count. With the surface kept (`-Y`) TetGen
 /// makes about two tets per face before volume refinement (measured on the bunny and the
-/// horse simplified to 1.2k-5k faces with `-pq2Y`), which leaves about half of the target to
-/// the volume bound. Without `-Y` the quality bound adds Steiner points on the surface:
+/// horse simplified to 1.2k-5k faces with `-pq2Y`), which leaves about a third of the target
+/// to the volume bound. Without `-Y` the quality bound adds Steiner points on the surface:
 /// 7-14 tets per face on the same surfaces.
-const FACES_PER_TET: f64 = 1.0 / 4.0;
+const FACES_PER_TET: f64 = 1.0 / 3.0;
+/// A surface with at most this many faces per target tet is not simplified (it fits as is).
+const MAX_FACES_PER_TET: f64 = 1.0 / 2.0;
 
 /// A TetGen result and how it was reached.
 #[derive(Debug, Clone)]
@@ -118,7 +120,11 @@ pub fn mesh_for_target(
         preserve_surface: true,
         ..options.clone()
     };
-    let mut face_budget = ((n * FACES_PER_TET) as usize).max(4);
+    let mut face_budget = if surface.triangles.len() as f64 <= n * MAX_FACES_PER_TET {
+        surface.triangles.len()
+    } else {
+        ((n * FACES_PER_TET) as usize).max(4)
+    };
     let mut best: Option<TetgenResult> = None;
     let mut runs = 0;
     let off = |t: usize| (t as f64 - n).abs() / n;

@@ -9,6 +9,10 @@ use std::collections::{HashMap, HashSet};
 use super::{holes, intersect, orient};
 use crate::mesh::SurfaceMesh;
 
+/// Largest fraction of faces in crossing pairs that is cut and refilled; beyond it the
+/// surface overlaps itself at large (e.g. two interpenetrating parts) and is left as it is.
+pub const MAX_CROSSING_FRACTION: f64 = 0.01;
+
 /// Rounds of cutting and refilling before giving up.
 pub const MAX_ROUNDS: usize = 4;
 
@@ -24,6 +28,9 @@ pub struct Untangled {
     /// Crossing face pairs and non-manifold edges left at the end (0 unless it gave up).
     pub crossings_after: usize,
     pub non_manifold_after: usize,
+    /// Whether crossings were left alone because there were too many (more than
+    /// [`MAX_CROSSING_FRACTION`] of the faces cross).
+    pub crossings_left: bool,
 }
 
 /// The faces to cut: those of crossing pairs (when `crossings`) and those on non-manifold
@@ -62,6 +69,25 @@ pub fn untangle(mesh: &mut SurfaceMesh, crossings: bool) -> Untangled {
         non_manifold_before: n,
         ..Default::default()
     };
+    // Parts overlapping at large are no local defect: leave them (and report them).
+    let crossing_faces = if crossings {
+        let pairs = intersect::self_intersections(&mesh.vertices, &mesh.triangles);
+        pairs
+            .iter()
+            .flat_map(|&(f, g)| [f, g])
+            .collect::<HashSet<u32>>()
+            .len()
+    } else {
+        0
+    };
+    let crossings = if crossing_faces as f64 > MAX_CROSSING_FRACTION * mesh.triangles.len() as f64 {
+        result.crossings_left = true;
+        let (bad, _, _) = bad_faces(mesh, false);
+        cut = bad;
+        false
+    } else {
+        crossings
+    };
     let mut counts = (c, n);
     for round in 0..MAX_ROUNDS {
         if cut.is_empty() {
@@ -95,6 +121,10 @@ pub fn untangle(mesh: &mut SurfaceMesh, crossings: bool) -> Untangled {
         counts = (c, n);
     }
     (result.crossings_after, result.non_manifold_after) = counts;
+    if result.crossings_left {
+        result.crossings_after =
+            intersect::self_intersections(&mesh.vertices, &mesh.triangles).len();
+    }
     result
 }
 
@@ -108,14 +138,14 @@ mod tests {
     fn vertex_pushed_through_the_far_side_is_cut_and_refilled() {
         // A box whose top-centre vertex is pushed down through the bottom face: the faces
         // around it cross the bottom faces.
-        let mut m = crate::mesh::shapes::box_surface(DVec3::ZERO, DVec3::ONE, 2);
+        let mut m = crate::mesh::shapes::box_surface(DVec3::ZERO, DVec3::ONE, 12);
         let top = m
             .vertices
             .iter()
             .position(|p| (*p - DVec3::new(0.5, 0.5, 1.0)).length() < 1e-12)
             .unwrap();
         // Off the grid's symmetry lines, so faces cross in general position.
-        m.vertices[top] = DVec3::new(0.45, 0.58, -0.5);
+        m.vertices[top] = DVec3::new(0.47, 0.53, -0.5);
         let u = untangle(&mut m, true);
         assert!(u.crossings_before >= 4, "{u:?}");
         assert_eq!(u.crossings_after, 0, "{u:?}");
@@ -125,5 +155,24 @@ mod tests {
             "closed after refill"
         );
         assert!(intersect::self_intersections(&m.vertices, &m.triangles).is_empty());
+    }
+
+    #[test]
+    fn overlapping_parts_are_left_alone() {
+        let mut m = crate::mesh::shapes::sphere(1.0, 2);
+        let mut other = crate::mesh::shapes::sphere(1.0, 2);
+        for p in &mut other.vertices {
+            *p += DVec3::new(0.7, 0.1, 0.05);
+        }
+        let base = m.vertices.len() as u32;
+        m.vertices.extend(other.vertices);
+        m.triangles
+            .extend(other.triangles.iter().map(|t| t.map(|v| v + base)));
+        let faces = m.triangles.len();
+        let u = untangle(&mut m, true);
+        assert!(u.crossings_left, "{u:?}");
+        assert!(u.crossings_before > 0);
+        assert_eq!(u.crossings_after, u.crossings_before);
+        assert_eq!((u.faces_removed, m.triangles.len()), (0, faces));
     }
 }

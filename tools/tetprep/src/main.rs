@@ -5,9 +5,11 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::Parser;
-use tetrasim::mesh::io::{write_tetgen, write_vtk};
-use tetrasim::prep::{prep_file, Mesher, PrepOptions};
+use clap::{Parser, ValueEnum};
+use tetrasim::mesh::io::{read_surface, write_surface, write_tetgen, write_vtk};
+use tetrasim::mesh::shapes::Shape;
+use tetrasim::prep::{prep_surface, Mesher, PrepOptions};
+use tetrasim::SurfaceMesh;
 
 /// Converts a triangle surface (PLY, OBJ, OFF, STL) into a tetrahedral mesh: repairs it
 /// (welds, drops degenerate/duplicate faces, orients, fills holes), simplifies it when the
@@ -16,7 +18,14 @@ use tetrasim::prep::{prep_file, Mesher, PrepOptions};
 #[command(version)]
 struct Args {
     /// The surface file (.ply, .obj, .off, .stl).
-    input: PathBuf,
+    #[arg(required_unless_present = "shape")]
+    input: Option<PathBuf>,
+    /// Mesh a surface made by code instead of reading one (the shapes in meshes/).
+    #[arg(long, value_enum, conflicts_with = "input")]
+    shape: Option<Shape>,
+    /// Also write the input surface (after --scale) to this file (.ply, .obj, .off, .stl).
+    #[arg(long)]
+    save_surface: Option<PathBuf>,
     /// Output prefix: writes PREFIX.node, PREFIX.ele, PREFIX.face.
     #[arg(short, long)]
     output: PathBuf,
@@ -29,7 +38,8 @@ struct Args {
     /// Keep the surface as given: no Steiner points on it (TetGen -Y).
     #[arg(long)]
     preserve_surface: bool,
-    /// Aim for about this many tets (within 25 %).
+    /// Aim for about this many tets (within 25 %). Keeps the surface as given (TetGen -Y)
+    /// and simplifies it first when it has more than N/4 faces.
     #[arg(long)]
     target_tets: Option<usize>,
     /// Multiply the input coordinates by this factor first.
@@ -60,9 +70,44 @@ fn run(args: &Args) -> tetrasim::Result<()> {
         fallback: args.fallback,
         ..Default::default()
     };
-    let out = prep_file(&args.input, &options, &mut |stage| {
-        eprintln!("tetprep: {stage}")
+    let mut progress = |stage: &str| eprintln!("tetprep: {stage}");
+    let surface = match (&args.input, args.shape) {
+        (_, Some(shape)) => shape.surface(),
+        (Some(path), None) => {
+            progress(&format!("reading {}", path.display()));
+            read_surface(path)?
+        }
+        (None, None) => {
+            return Err(tetrasim::Error::param(
+                "input",
+                "give an input file or --shape",
+            ))
+        }
+    };
+    if let Some(path) = &args.save_surface {
+        let scaled = SurfaceMesh {
+            vertices: surface.vertices.iter().map(|p| *p * args.scale).collect(),
+            triangles: surface.triangles.clone(),
+        };
+        write_surface(path, &scaled)?;
+        progress(&format!("wrote the surface to {}", path.display()));
+    }
+    let name = match (&args.input, args.shape) {
+        (Some(path), _) => path.display().to_string(),
+        (None, shape) => format!(
+            "--shape {}",
+            shape
+                .and_then(|s| s.to_possible_value())
+                .map(|v| v.get_name().to_string())
+                .unwrap_or_default()
+        ),
+    };
+    let mut out = prep_surface(&surface, &options, &mut progress).map_err(|e| match e {
+        tetrasim::Error::Mesh(m) => tetrasim::Error::Mesh(format!("{name}: {m}")),
+        tetrasim::Error::Meshing(m) => tetrasim::Error::Meshing(format!("{name}: {m}")),
+        e => e,
     })?;
+    out.stats.input = Some(name);
     let mut written = vec![];
     write_tetgen(&args.output, &out.mesh)?;
     written.push(format!("{}.{{node,ele,face}}", args.output.display()));
