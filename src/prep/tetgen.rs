@@ -2,8 +2,10 @@
 //! (and, when the surface alone would give too many tets, a simplification) that lands near
 //! `--target-tets`.
 //!
-//! The target mode always keeps the surface as given (`-Y`): otherwise the quality bound
-//! refines the surface itself and the count depends mostly on the face count.
+//! The target mode keeps the surface as given (`-Y`): otherwise the quality bound refines
+//! the surface itself and the count depends mostly on the face count. Only when a volume
+//! bound adds no tet at all under `-Y` (it happens on very coarse surfaces) does it go on
+//! without `-Y`, unless `--preserve-surface` was asked for.
 //!
 //! Model: TetGen's count is about `T(a) = T0 + C * a^s` (`s` near -1), where `T0` is what
 //! the surface alone needs (no volume bound) and `a` the max volume. One run without a bound
@@ -116,8 +118,13 @@ pub fn mesh_for_target(
     progress: &mut dyn FnMut(&str),
 ) -> Result<TetgenResult> {
     let n = target as f64;
-    let options = &PrepOptions {
+    let user_asked_y = options.preserve_surface;
+    let mut options = &PrepOptions {
         preserve_surface: true,
+        ..options.clone()
+    };
+    let without_y = PrepOptions {
+        preserve_surface: false,
         ..options.clone()
     };
     let mut face_budget = if surface.triangles.len() as f64 <= n * MAX_FACES_PER_TET {
@@ -229,7 +236,14 @@ pub fn mesh_for_target(
                 break;
             }
             if t <= t0 {
-                a /= 4.0;
+                if options.preserve_surface && !user_asked_y {
+                    // With -Y TetGen may find no admissible point at all (e.g. the 12-face
+                    // cube, whose tets all share one circumsphere): let it refine the surface.
+                    progress("the volume bound added no tets with -Y; meshing without -Y");
+                    options = &without_y;
+                } else {
+                    a /= 4.0;
+                }
                 continue;
             }
             history.push((a.ln(), ((t - t0) as f64).ln()));
