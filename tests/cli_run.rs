@@ -121,3 +121,39 @@ fn unknown_backend_lists_the_known_ones() {
         "{stderr}"
     );
 }
+
+#[test]
+fn surface_file_is_meshed_in_process() {
+    let surface =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/sphere_surface.off");
+    let dir = tempfile::tempdir().unwrap();
+    let metrics = dir.path().join("run.json");
+    let output = tetrasim()
+        .args([
+            "run",
+            "--method",
+            "volume",
+            "--frames",
+            "3",
+            "--quiet",
+            "--target-tets",
+            "1500",
+        ])
+        .arg("--mesh")
+        .arg(&surface)
+        .arg("--metrics")
+        .arg(&metrics)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(stderr.contains("meshed in-process"), "{stderr}");
+    let records: Vec<RunRecord> =
+        serde_json::from_str(&std::fs::read_to_string(&metrics).unwrap()).unwrap();
+    // Within tetprep's 25 % of the target.
+    assert!(
+        (1125..=1875).contains(&records[0].tets),
+        "{} tets",
+        records[0].tets
+    );
+}

@@ -1,6 +1,7 @@
 //! The paper's experiment (preset `seed`: fit to 1 m, dropped from 0.1 m onto the floor, 1 kg
 //! per node, dt 1 ms, 10 iterations, ks 5000, kd 15, 400 frames) on a generated ball of a few
-//! thousand tets, through the shared frame loop: plain springs lose clearly more volume than
+//! thousand tets and on the bundled TetGen sphere (`meshes/sphere`), through the shared frame
+//! loop: plain springs lose clearly more volume than
 //! both constraint methods, and the volume constraint averages at least the paper's 98.70 %.
 
 mod common;
@@ -12,9 +13,12 @@ use tetrasim::preset::Preset;
 use tetrasim::runner::{build_model, run_methods, RunOptions};
 
 fn seed_records(backend: &str) -> Vec<RunRecord> {
+    seed_records_on(&ball_mesh(4.5), "ball(4.5)", backend)
+}
+
+fn seed_records_on(mesh: &tetrasim::TetMesh, label: &str, backend: &str) -> Vec<RunRecord> {
     let preset = Preset::seed();
-    let mesh = ball_mesh(4.5);
-    let model = build_model(&mesh, &preset.params, preset.placement).unwrap();
+    let model = build_model(mesh, &preset.params, preset.placement).unwrap();
     assert!(
         (1000..5000).contains(&model.tets.len()),
         "{} tets",
@@ -23,7 +27,7 @@ fn seed_records(backend: &str) -> Vec<RunRecord> {
     let options = RunOptions {
         backend: backend.to_string(),
         frames: preset.frames,
-        mesh_label: "ball(4.5)".into(),
+        mesh_label: label.into(),
         progress: false,
         output: None,
         gpu: Default::default(),
@@ -78,4 +82,11 @@ fn seed_experiment_on_reference_backend() {
 #[test]
 fn seed_experiment_on_parallel_backend() {
     check(&seed_records("cpu"));
+}
+
+#[test]
+fn seed_experiment_on_bundled_sphere() {
+    let prefix = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/sphere");
+    let mesh = tetrasim::mesh::io::read_tetgen(&prefix).unwrap();
+    check(&seed_records_on(&mesh, "meshes/sphere", "cpu"));
 }

@@ -10,6 +10,7 @@ use crate::params::{AtomicsMode, ConstraintCombine, MassMode, Method};
 use crate::preset::{Preset, PresetName};
 use crate::runner::{
     build_model, load_mesh, run_methods, OutputFormat, RunOptions, SurfaceOutput, DEFAULT_MESH,
+    DEFAULT_TARGET_TETS,
 };
 
 /// `--method` values: one method or `all`.
@@ -45,6 +46,9 @@ pub struct RunArgs {
     /// TetGen prefix (PREFIX.node + PREFIX.ele) or a surface file (.ply/.obj/.off/.stl).
     #[arg(long, default_value = DEFAULT_MESH)]
     pub mesh: PathBuf,
+    /// When --mesh is a surface: tets to aim at when meshing it in-process.
+    #[arg(long, default_value_t = DEFAULT_TARGET_TETS)]
+    pub target_tets: usize,
     /// Method to run.
     #[arg(long, value_enum, default_value = "all")]
     pub method: MethodChoice,
@@ -169,7 +173,7 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
     if preset.frames == 0 {
         return Err(crate::Error::param("frames", "must be at least 1").into());
     }
-    let loaded = load_mesh(&args.mesh)?;
+    let loaded = load_mesh(&args.mesh, args.target_tets)?;
     if let Some(note) = &loaded.note {
         eprintln!("{note}");
     }

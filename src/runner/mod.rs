@@ -7,7 +7,7 @@ mod load;
 mod output;
 
 pub use factory::{create_backend, create_backend_with, BACKENDS};
-pub use load::{load_mesh, LoadedMesh, DEFAULT_MESH};
+pub use load::{load_mesh, LoadedMesh, DEFAULT_MESH, DEFAULT_TARGET_TETS};
 pub use output::{write_atomically, OutputFormat, SurfaceOutput};
 
 use std::time::Instant;
