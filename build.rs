@@ -39,27 +39,32 @@ fn main() {
             .replace('\\', "/");
         let source =
             fs::read_to_string(path).unwrap_or_else(|e| panic!("reading {}: {e}", path.display()));
-        let mut options = shaderc::CompileOptions::new().expect("shaderc options");
-        options.set_target_env(
-            shaderc::TargetEnv::Vulkan,
-            shaderc::EnvVersion::Vulkan1_2 as u32,
-        );
-        options.set_optimization_level(shaderc::OptimizationLevel::Performance);
-        options.set_generate_debug_info();
-        let glsl_root = glsl.clone();
-        options.set_include_callback(move |name, _ty, from, _depth| {
-            resolve_include(&glsl_root, name, from)
-        });
-        match compiler.compile_into_spirv(&source, kind, &rel, "main", Some(&options)) {
-            Ok(artifact) => {
-                let spv_name = rel.replace('/', "__") + ".spv";
-                let spv_path = out.join(&spv_name);
-                fs::write(&spv_path, artifact.as_binary_u8()).expect("writing SPIR-V");
-                table.push_str(&format!(
-                    "    ({rel:?}, include_bytes!(concat!(env!(\"OUT_DIR\"), \"/{spv_name}\"))),\n"
-                ));
+        for (key, defines) in variants(&rel, &source) {
+            let mut options = shaderc::CompileOptions::new().expect("shaderc options");
+            options.set_target_env(
+                shaderc::TargetEnv::Vulkan,
+                shaderc::EnvVersion::Vulkan1_2 as u32,
+            );
+            options.set_optimization_level(shaderc::OptimizationLevel::Performance);
+            options.set_generate_debug_info();
+            for (name, value) in &defines {
+                options.add_macro_definition(name, value.as_deref());
             }
-            Err(e) => errors.push(format!("{rel}: {e}")),
+            let glsl_root = glsl.clone();
+            options.set_include_callback(move |name, _ty, from, _depth| {
+                resolve_include(&glsl_root, name, from)
+            });
+            match compiler.compile_into_spirv(&source, kind, &rel, "main", Some(&options)) {
+                Ok(artifact) => {
+                    let spv_name = key.replace(['/', '#'], "__") + ".spv";
+                    let spv_path = out.join(&spv_name);
+                    fs::write(&spv_path, artifact.as_binary_u8()).expect("writing SPIR-V");
+                    table.push_str(&format!(
+                        "    ({key:?}, include_bytes!(concat!(env!(\"OUT_DIR\"), \"/{spv_name}\"))),\n"
+                    ));
+                }
+                Err(e) => errors.push(format!("{key}: {e}")),
+            }
         }
     }
     if !errors.is_empty() {
@@ -67,6 +72,35 @@ fn main() {
     }
     table.push_str("];\n");
     fs::write(out.join("shaders.rs"), table).expect("writing shaders.rs");
+}
+
+/// Macro definitions of one variant: `(name, value)`.
+type Defines = Vec<(String, Option<String>)>;
+
+/// The variants a shader declares with `// @variant NAME: DEFINE[=VALUE] ...` lines, as
+/// `(key, defines)`; a shader without any is compiled once under its own path.
+fn variants(rel: &str, source: &str) -> Vec<(String, Defines)> {
+    let mut out = Vec::new();
+    for line in source.lines() {
+        let Some(rest) = line.trim().strip_prefix("// @variant ") else {
+            continue;
+        };
+        let (name, defs) = rest
+            .split_once(':')
+            .unwrap_or_else(|| panic!("{rel}: `// @variant` needs `NAME: DEFINES`"));
+        let defines = defs
+            .split_whitespace()
+            .map(|d| match d.split_once('=') {
+                Some((k, v)) => (k.to_string(), Some(v.to_string())),
+                None => (d.to_string(), None),
+            })
+            .collect();
+        out.push((format!("{rel}#{}", name.trim()), defines));
+    }
+    if out.is_empty() {
+        out.push((rel.to_string(), Vec::new()));
+    }
+    out
 }
 
 fn collect(dir: &Path, files: &mut Vec<PathBuf>) {

@@ -53,6 +53,21 @@ impl std::fmt::Display for Divergence {
     }
 }
 
+/// What a GPU backend reports about a run besides the physics (`vulkan` only).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GpuReport {
+    /// Device name.
+    pub device: String,
+    /// Float-atomic path of the scatter passes: `ext` or `cas`.
+    pub atomics: String,
+    /// Invocations per workgroup.
+    pub workgroup_size: u32,
+    /// GPU time per frame of each pass [ms], in execution order (empty without timestamps).
+    pub passes: Vec<(String, f64)>,
+    /// Validation-layer warnings and errors (empty when validation is off).
+    pub validation_messages: Vec<String>,
+}
+
 /// A solver backend advancing one model in time.
 pub trait Backend {
     /// Short name used on the command line and in reports (`cpu-ref`, `cpu`, `vulkan`).
@@ -63,4 +78,8 @@ pub trait Backend {
     fn volume(&mut self) -> Result<VolumeSample>;
     /// Copies the current state out (a full readback on the GPU: not for every frame).
     fn state(&mut self) -> Result<State>;
+    /// Device, atomic path and per-pass GPU times; `None` for CPU backends.
+    fn gpu_report(&mut self) -> Result<Option<GpuReport>> {
+        Ok(None)
+    }
 }

@@ -7,11 +7,19 @@
 //! ```
 
 pub mod backend;
+pub mod cli;
+pub mod cpu;
+pub mod engine;
 pub mod error;
+pub mod gpu;
 pub mod mesh;
+pub mod metrics;
 pub mod model;
 pub mod params;
+pub mod physics;
 pub mod prep;
+pub mod preset;
+pub mod runner;
 pub mod scene;
 
 pub use backend::{Backend, State, VolumeSample};

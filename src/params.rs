@@ -108,6 +108,11 @@ pub struct SimParams {
     pub mass: MassMode,
     /// Per-node combination of constraint forces.
     pub combine: ConstraintCombine,
+    /// A constraint is skipped when its `A = sum_k w_k |grad_k C|^2` is at or below this
+    /// (units of `A`: 1/kg m^2 for distance, 1/kg m^4 for volume constraints); guards
+    /// collapsed elements, whose multiplier would be unbounded. Not in physics.md.
+    #[serde(default = "default_constraint_epsilon")]
+    pub constraint_epsilon: f64,
     /// Float-atomic path on the GPU.
     pub atomics: AtomicsMode,
 }
@@ -128,6 +133,7 @@ impl Default for SimParams {
             friction: 0.0,
             mass: MassMode::PerNode { mass: 1.0 },
             combine: ConstraintCombine::Average,
+            constraint_epsilon: default_constraint_epsilon(),
             atomics: AtomicsMode::Auto,
         }
     }
@@ -178,12 +184,19 @@ impl SimParams {
                 format!("must be in [0, 1], got {}", self.friction),
             ));
         }
+        non_negative_finite("constraint_epsilon", self.constraint_epsilon)?;
         match self.mass {
             MassMode::PerNode { mass } => positive_finite("mass", mass)?,
             MassMode::Density { density } => positive_finite("density", density)?,
         }
         Ok(())
     }
+}
+
+/// Default of [`SimParams::constraint_epsilon`]: far below any real element's `A` at the
+/// `seed` scale (about 1e-7 for a tet of 20k at 1 m), representable in f32.
+pub fn default_constraint_epsilon() -> f64 {
+    1e-20
 }
 
 /// Where the mesh is put before the run (physics.md, preset `seed`).

@@ -11,6 +11,7 @@
 //! omega = 1.0
 //! combine = "average" # or "sum"
 //! atomics = "auto"    # or "ext", "cas"
+//! epsilon = 1e-20     # skip a constraint whose denominator A is at or below this
 //! gravity = 9.81      # m/s^2, along -Y
 //! frames = 400
 //!
@@ -77,6 +78,9 @@ pub struct Solver {
     pub combine: ConstraintCombine,
     /// Float-atomic path on the GPU.
     pub atomics: AtomicsMode,
+    /// Skip a constraint whose denominator `A` is at or below this
+    /// ([`SimParams::constraint_epsilon`]).
+    pub epsilon: f64,
     /// Gravity along -Y [m/s^2].
     pub gravity: f64,
     /// Frames to simulate.
@@ -93,6 +97,7 @@ impl Default for Solver {
             omega: p.omega,
             combine: p.combine,
             atomics: p.atomics,
+            epsilon: p.constraint_epsilon,
             gravity: p.gravity,
             frames: SEED_FRAMES,
         }
@@ -342,6 +347,7 @@ impl Scene {
             friction: floor.unwrap_or(0.0),
             mass,
             combine: s.combine,
+            constraint_epsilon: s.epsilon,
             atomics: s.atomics,
         }
     }
@@ -360,6 +366,7 @@ impl Scene {
 fn scene_key(object: usize, key: &str) -> String {
     match key {
         "dt" | "substeps" | "iterations" | "omega" | "gravity" => format!("solver.{key}"),
+        "constraint_epsilon" => "solver.epsilon".to_string(),
         "friction" => "collider.friction".to_string(),
         "ks" | "kd" => format!("object[{object}].material.{key}"),
         "mass" => format!("object[{object}].material.node_mass"),

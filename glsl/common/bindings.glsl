@@ -1,0 +1,62 @@
+// Descriptor bindings (set 0) and the push-constant block shared by every pass.
+// The host side is src/gpu/layout.rs (`binding::*`, `PushConstants`, `GpuSpring`,
+// `VolumePartial`); a test there checks these numbers and offsets in the compiled SPIR-V.
+#ifndef COMMON_BINDINGS_GLSL
+#define COMMON_BINDINGS_GLSL
+
+// Per node, vec4: xyz = position [m], w = inverse mass [1/kg].
+#define B_POSITIONS 0
+// Per node, vec4: xyz = velocity [m/s], w = mass [kg].
+#define B_VELOCITIES 1
+// Per node, vec4: xyz = force F of the current step [N] (float view for atomics).
+#define B_FORCES 2
+// Per node, vec4: xyz = this iteration's summed constraint forces [N].
+#define B_CONSTRAINT_SUM 3
+// Per spring: GpuSpring.
+#define B_SPRINGS 4
+// Per tet: uvec4 node indices, positively oriented.
+#define B_TETS 5
+// Per tet: rest volume [m^3].
+#define B_REST_VOLUMES 6
+// Per node: weight applied to the constraint sum (1 / constraint count, or 1 for `sum`).
+#define B_CONSTRAINT_WEIGHT 7
+// Node -> springs CSR: N + 1 offsets, then the spring indices.
+#define B_NODE_SPRING_OFFSETS 8
+#define B_NODE_SPRING_ITEMS 9
+// Per volume_sum workgroup: VolumePartial.
+#define B_VOLUME_PARTIALS 10
+
+// One spring: its two nodes and rest length [m] (16 bytes, one 128-bit load).
+struct Spring {
+    uint a;
+    uint b;
+    float rest;
+    float pad;
+};
+
+// Partial result of one volume_sum workgroup.
+struct VolumePartial {
+    float volume;
+    uint inverted;
+};
+
+// Derived from SimParams (src/gpu/layout.rs, `PushConstants::from_params`).
+layout(push_constant, std430) uniform PushConstants {
+    float dt;        // time step [s]
+    float omega;     // relaxation of the averaged constraint forces
+    float ks;        // spring stiffness [N/m]
+    float kd;        // spring damping [N s/m]
+    float gravity;   // gravity magnitude along -Y [m/s^2]
+    float friction;  // tangential velocity fraction removed on floor contact
+    uint floor_on;   // 1 when the floor y = 0 exists
+    uint node_count;
+    uint spring_count;
+    uint tet_count;
+    float epsilon;   // constraints with A <= epsilon are skipped (constraint_epsilon)
+    uint pad1;
+} pc;
+
+// Workgroup size along X, chosen by the host from the device limits.
+layout(local_size_x_id = 0) in;
+
+#endif

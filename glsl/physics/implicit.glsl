@@ -1,0 +1,22 @@
+// Implicit constraint multiplier (physics.md Eqs. 13-17), mirroring src/physics:
+//   A = sum_k w_k |grad_k C|^2,  B = C / dt^2 + sum_k grad_k C . (v_k / dt + w_k F_k),
+//   lambda = B / A; the force on node k is -lambda grad_k C. The constraint is skipped
+//   (lambda = 0) when A <= epsilon or A is not finite, as src/physics/constraint.rs does.
+#ifndef PHYSICS_IMPLICIT_GLSL
+#define PHYSICS_IMPLICIT_GLSL
+
+// Adds node k's terms to A and to the sum part of B.
+void implicit_accumulate(inout float a, inout float b, vec3 grad, float w, vec3 v, vec3 f, float dt) {
+    a += w * dot(grad, grad);
+    b += dot(grad, v / dt + w * f);
+}
+
+// lambda from the constraint value and the accumulated A and B sums.
+float implicit_lambda(float c, float a, float b, float dt, float epsilon) {
+    if (!(a > epsilon) || isinf(a)) {
+        return 0.0;
+    }
+    return (c / (dt * dt) + b) / a;
+}
+
+#endif

@@ -1,0 +1,35 @@
+//! The command line of `tetrasim`: clap structures and the glue from arguments to the library.
+//! `main.rs` only parses and dispatches to [`execute`].
+
+mod info;
+mod run;
+
+pub use run::RunArgs;
+
+/// `tetrasim`: volume-preserving mass-spring simulation of tetrahedral meshes.
+#[derive(Debug, clap::Parser)]
+#[command(name = "tetrasim", version, about)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Subcommands.
+#[derive(Debug, clap::Subcommand)]
+pub enum Command {
+    /// Simulate a mesh dropped on the floor and report volume preservation (the paper's
+    /// experiment with `--preset seed`).
+    Run(Box<RunArgs>),
+    /// List the Vulkan devices: driver, limits, timestamps, float atomics and the atomic
+    /// path and workgroup size the engine would use on each.
+    Info,
+}
+
+/// Runs a parsed command line.
+pub fn execute(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Run(args) => run::execute(*args),
+        Command::Info => info::execute(),
+    }
+}

@@ -1,0 +1,74 @@
+//! CPU backends: [`ReferenceBackend`] (`cpu-ref`: f64, single-threaded, the oracle every other
+//! backend is tested against) and [`ParallelBackend`] (`cpu`: f32, rayon, the fast CPU
+//! competitor of the Vulkan engine). Both call the same math in [`crate::physics`].
+
+mod parallel;
+mod reference;
+
+pub use parallel::ParallelBackend;
+pub use reference::{Forces, ReferenceBackend};
+
+use crate::backend::{Divergence, State};
+use crate::error::{Error, Result};
+use crate::model::{Csr, Model};
+use crate::params::Method;
+
+/// For each node, the `(tet, corner)` slots it occupies, encoded as `4 * tet + corner`
+/// (node-centric gather of per-tet results, no atomics).
+pub fn node_tet_corners(model: &Model) -> Csr {
+    let n = model.node_count();
+    let mut offsets = vec![0u32; n + 1];
+    for tet in &model.tets {
+        for &v in tet {
+            offsets[v as usize + 1] += 1;
+        }
+    }
+    for i in 0..n {
+        offsets[i + 1] += offsets[i];
+    }
+    let mut fill = offsets.clone();
+    let mut items = vec![0u32; model.tets.len() * 4];
+    for (t, tet) in model.tets.iter().enumerate() {
+        for (corner, &v) in tet.iter().enumerate() {
+            items[fill[v as usize] as usize] = (4 * t + corner) as u32;
+            fill[v as usize] += 1;
+        }
+    }
+    Csr { offsets, items }
+}
+
+/// Checks that `state` has `n` nodes and is finite.
+fn check_state(n: usize, state: &State) -> Result<()> {
+    if state.positions.len() != n || state.velocities.len() != n {
+        return Err(Error::param(
+            "state",
+            format!(
+                "has {} positions and {} velocities, the model has {n} nodes",
+                state.positions.len(),
+                state.velocities.len()
+            ),
+        ));
+    }
+    let bad = state
+        .positions
+        .iter()
+        .zip(&state.velocities)
+        .position(|(x, v)| !x.is_finite() || !v.is_finite());
+    match bad {
+        Some(i) => Err(Error::param("state", format!("node {i} is not finite"))),
+        None => Ok(()),
+    }
+}
+
+/// The error for a state that went non-finite at `node`.
+fn diverged(frame: u32, substep: u32, method: Method, node: u32) -> Error {
+    Error::Diverged(Box::new(Divergence {
+        frame,
+        substep: Some(substep),
+        method: method.name().to_string(),
+        node: Some(node),
+        cause: "a position or velocity became non-finite; try a smaller --dt, more --substeps, \
+                a smaller --omega or --combine average"
+            .to_string(),
+    }))
+}

@@ -1,0 +1,269 @@
+//! Backend `cpu-ref`: the oracle. Double precision, one thread, deterministic, and written to
+//! read like physics.md: every stage is a plain loop over springs, tets or nodes.
+
+use glam::DVec3;
+
+use super::{check_state, diverged};
+use crate::backend::{Backend, State, VolumeSample};
+use crate::error::Result;
+use crate::model::Model;
+use crate::params::{ConstraintCombine, Method, SimParams};
+use crate::physics::{
+    distance_constraint, implicit_lambda, resolve_floor, spring_force, symplectic_euler,
+    tet_volume, volume_constraint,
+};
+
+/// The forces of steps 1 and 2 of one time step, per node [N]; their sum is the `F` that is
+/// integrated.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Forces {
+    /// `m g` along -Y.
+    pub gravity: Vec<DVec3>,
+    /// Spring forces (zero for methods without springs).
+    pub springs: Vec<DVec3>,
+    /// Constraint forces of all iterations, combined and relaxed.
+    pub constraints: Vec<DVec3>,
+}
+
+impl Forces {
+    /// The total force on each node.
+    pub fn total(&self) -> Vec<DVec3> {
+        (0..self.gravity.len())
+            .map(|i| self.gravity[i] + self.springs[i] + self.constraints[i])
+            .collect()
+    }
+}
+
+/// The reference solver (`cpu-ref`).
+#[derive(Debug, Clone)]
+pub struct ReferenceBackend {
+    model: Model,
+    params: SimParams,
+    x: Vec<DVec3>,
+    v: Vec<DVec3>,
+    frame: u32,
+}
+
+impl ReferenceBackend {
+    /// A solver at the model's initial positions, at rest. Fails on invalid parameters.
+    pub fn new(model: &Model, params: &SimParams) -> Result<Self> {
+        params.validate()?;
+        let n = model.node_count();
+        Ok(ReferenceBackend {
+            model: model.clone(),
+            params: params.clone(),
+            x: model.positions.clone(),
+            v: vec![DVec3::ZERO; n],
+            frame: 0,
+        })
+    }
+
+    /// Replaces positions and velocities (e.g. to start from a moving or deformed state).
+    pub fn set_state(&mut self, state: &State) -> Result<()> {
+        check_state(self.model.node_count(), state)?;
+        self.x.clone_from(&state.positions);
+        self.v.clone_from(&state.velocities);
+        Ok(())
+    }
+
+    /// Steps 1 and 2 of a time step at the current state: gravity, springs (spring-centric
+    /// for every method but `mss-node`, which gathers per node), then `iterations` Jacobi
+    /// sweeps of the method's constraints.
+    pub fn forces(&self) -> Forces {
+        let n = self.model.node_count();
+        let down = DVec3::new(0.0, -self.params.gravity, 0.0);
+        let gravity: Vec<DVec3> = self.model.mass.iter().map(|&m| down * m).collect();
+        let springs = match self.params.method {
+            Method::MssNode => self.spring_forces_gather(),
+            _ => self.spring_forces_scatter(),
+        };
+        let mut total: Vec<DVec3> = (0..n).map(|i| gravity[i] + springs[i]).collect();
+        let mut constraints = vec![DVec3::ZERO; n];
+        let degree = match self.params.method {
+            Method::Mss | Method::MssNode => {
+                return Forces {
+                    gravity,
+                    springs,
+                    constraints,
+                }
+            }
+            Method::Distance => (0..n).map(|i| self.model.spring_degree(i)).collect(),
+            Method::Volume => self.model.tet_degree.clone(),
+        };
+        for _ in 0..self.params.iterations {
+            let sum = match self.params.method {
+                Method::Distance => self.distance_sweep(&total),
+                _ => self.volume_sweep(&total),
+            };
+            for i in 0..n {
+                let combined = match self.params.combine {
+                    ConstraintCombine::Average if degree[i] > 0 => sum[i] / f64::from(degree[i]),
+                    _ => sum[i],
+                };
+                let delta = combined * self.params.omega;
+                total[i] += delta;
+                constraints[i] += delta;
+            }
+        }
+        Forces {
+            gravity,
+            springs,
+            constraints,
+        }
+    }
+
+    /// Spring forces, one spring at a time, added to both ends.
+    pub fn spring_forces_scatter(&self) -> Vec<DVec3> {
+        let mut f = vec![DVec3::ZERO; self.model.node_count()];
+        for (s, &[i, j]) in self.model.springs.iter().enumerate() {
+            let (i, j) = (i as usize, j as usize);
+            let fi = self.spring(i, j, s);
+            f[i] += fi;
+            f[j] -= fi;
+        }
+        f
+    }
+
+    /// Spring forces, one node at a time, gathered over its springs (`node_springs`).
+    pub fn spring_forces_gather(&self) -> Vec<DVec3> {
+        (0..self.model.node_count())
+            .map(|i| {
+                let mut f = DVec3::ZERO;
+                for &s in self.model.node_springs.row(i) {
+                    let [a, b] = self.model.springs[s as usize];
+                    let other = if a as usize == i { b } else { a };
+                    f += self.spring(i, other as usize, s as usize);
+                }
+                f
+            })
+            .collect()
+    }
+
+    /// Force on node `i` of spring `s`, whose other end is `j`.
+    fn spring(&self, i: usize, j: usize, s: usize) -> DVec3 {
+        let p = &self.params;
+        spring_force(
+            self.x[i],
+            self.x[j],
+            self.v[i],
+            self.v[j],
+            self.model.rest_length[s],
+            p.ks,
+            p.kd,
+        )
+    }
+
+    /// One Jacobi sweep of distance constraints against the force `f`: per-node sums of
+    /// `-lambda grad C`.
+    fn distance_sweep(&self, f: &[DVec3]) -> Vec<DVec3> {
+        let mut sum = vec![DVec3::ZERO; self.model.node_count()];
+        for (s, &[i, j]) in self.model.springs.iter().enumerate() {
+            let ids = [i as usize, j as usize];
+            let (c, grad) =
+                distance_constraint(self.x[ids[0]], self.x[ids[1]], self.model.rest_length[s]);
+            if let Some(lambda) = self.lambda(c, &grad, ids, f) {
+                for k in 0..2 {
+                    sum[ids[k]] -= grad[k] * lambda;
+                }
+            }
+        }
+        sum
+    }
+
+    /// One Jacobi sweep of volume constraints against the force `f`.
+    fn volume_sweep(&self, f: &[DVec3]) -> Vec<DVec3> {
+        let mut sum = vec![DVec3::ZERO; self.model.node_count()];
+        for (t, tet) in self.model.tets.iter().enumerate() {
+            let ids = tet.map(|i| i as usize);
+            let (c, grad) = volume_constraint(ids.map(|i| self.x[i]), self.model.rest_volume[t]);
+            if let Some(lambda) = self.lambda(c, &grad, ids, f) {
+                for k in 0..4 {
+                    sum[ids[k]] -= grad[k] * lambda;
+                }
+            }
+        }
+        sum
+    }
+
+    fn lambda<const K: usize>(
+        &self,
+        c: f64,
+        grad: &[DVec3; K],
+        ids: [usize; K],
+        f: &[DVec3],
+    ) -> Option<f64> {
+        let w = ids.map(|i| self.model.inv_mass[i]);
+        let v = ids.map(|i| self.v[i]);
+        let fk = ids.map(|i| f[i]);
+        implicit_lambda(
+            c,
+            grad,
+            &w,
+            &v,
+            &fk,
+            self.params.dt,
+            self.params.constraint_epsilon,
+        )
+    }
+
+    /// One time step (physics.md steps 1-3). Returns the first non-finite node, if any.
+    fn step(&mut self) -> Option<usize> {
+        let f = self.forces().total();
+        let p = &self.params;
+        let mut bad = None;
+        let nodes = self
+            .x
+            .iter_mut()
+            .zip(self.v.iter_mut())
+            .zip(f.iter().zip(&self.model.inv_mass));
+        for (i, ((x, v), (&f, &w))) in nodes.enumerate() {
+            (*x, *v) = symplectic_euler(*x, *v, f, w, p.dt);
+            if p.floor {
+                (*x, *v) = resolve_floor(*x, *v, p.friction);
+            }
+            if bad.is_none() && !(x.is_finite() && v.is_finite()) {
+                bad = Some(i);
+            }
+        }
+        bad
+    }
+}
+
+impl Backend for ReferenceBackend {
+    fn name(&self) -> &'static str {
+        "cpu-ref"
+    }
+
+    fn step_frame(&mut self) -> Result<()> {
+        for substep in 0..self.params.substeps {
+            if let Some(node) = self.step() {
+                return Err(diverged(
+                    self.frame,
+                    substep,
+                    self.params.method,
+                    node as u32,
+                ));
+            }
+        }
+        self.frame += 1;
+        Ok(())
+    }
+
+    fn volume(&mut self) -> Result<VolumeSample> {
+        let mut volume = 0.0;
+        let mut inverted = 0;
+        for tet in &self.model.tets {
+            let v = tet_volume(tet.map(|i| self.x[i as usize]));
+            volume += v;
+            inverted += u32::from(v <= 0.0);
+        }
+        Ok(VolumeSample { volume, inverted })
+    }
+
+    fn state(&mut self) -> Result<State> {
+        Ok(State {
+            positions: self.x.clone(),
+            velocities: self.v.clone(),
+        })
+    }
+}

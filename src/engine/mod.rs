@@ -1,0 +1,317 @@
+//! The `vulkan` backend: the paper's solver in compute shaders.
+//!
+//! The model is uploaded once; only the buffers and pipelines the method needs are built;
+//! the frame's command buffer (substeps x passes, barriers, timestamps, the volume metric)
+//! is recorded once and replayed by [`Backend::step_frame`], which submits it and waits on
+//! its fence. [`Backend::volume`] then only reads the few volume partials the frame copied
+//! to host-visible memory; only [`Backend::state`] reads back every node.
+
+mod buffers;
+mod passes;
+
+use std::sync::Arc;
+
+use glam::DVec3;
+
+use crate::backend::{Backend, GpuReport, State, VolumeSample};
+use crate::error::{Error, Result};
+use crate::gpu::commands::{self, Access, Recorded};
+use crate::gpu::layout::{PushConstants, VolumePartial};
+use crate::gpu::{
+    AtomicsPath, Buffer, Context, ContextOptions, DeviceInfo, DeviceSelector, PassTime, Timer,
+};
+use crate::model::Model;
+use crate::params::SimParams;
+use buffers::SimBuffers;
+use passes::{Counts, Passes, Recorder};
+
+/// GPU choices that are not physics: which device, validation, workgroup size.
+#[derive(Debug, Clone, Default)]
+pub struct EngineOptions {
+    /// Which device to use (`--device NAME|INDEX`).
+    pub device: DeviceSelector,
+    /// Enable the Khronos validation layer and record its messages.
+    pub validation: bool,
+    /// Invocations per workgroup (a power of two); `None`: from the device limits.
+    pub workgroup_size: Option<u32>,
+}
+
+/// The Vulkan compute backend. Field order is drop order: GPU work is waited for in
+/// `Drop`, then command buffers, pipelines and buffers go, and the context last.
+pub struct VulkanBackend {
+    frame: Recorded,
+    measure: Recorded,
+    timer: Option<Timer>,
+    /// Never read after recording, but the recorded frame uses its pipelines.
+    #[allow(dead_code)]
+    passes: Passes,
+    readback: Option<(Buffer, Buffer)>,
+    buffers: SimBuffers,
+    atomics: AtomicsPath,
+    workgroup_size: u32,
+    counts: Counts,
+    /// Whether `partials_readback` holds the volume of the current positions.
+    partials_fresh: bool,
+    frames: u32,
+    ctx: Arc<Context>,
+}
+
+impl VulkanBackend {
+    /// Creates a context per `options` and the backend on it.
+    pub fn new(model: &Model, params: &SimParams, options: &EngineOptions) -> Result<Self> {
+        let ctx = Arc::new(Context::new(&ContextOptions {
+            device: options.device.clone(),
+            validation: options.validation,
+        })?);
+        Self::with_context(ctx, model, params, options.workgroup_size)
+    }
+
+    /// The backend on an existing context (several backends may share one).
+    pub fn with_context(
+        ctx: Arc<Context>,
+        model: &Model,
+        params: &SimParams,
+        workgroup_size: Option<u32>,
+    ) -> Result<Self> {
+        params.validate()?;
+        let info = ctx.info();
+        let atomics = info.atomics_path(params.atomics)?;
+        let wg = workgroup_size.unwrap_or_else(|| info.default_workgroup_size());
+        info.check_workgroup_size(wg)?;
+        let count = |what: &str, n: usize| {
+            u32::try_from(n)
+                .map_err(|_| Error::Mesh(format!("{n} {what} exceed the GPU engine's u32 indices")))
+        };
+        let counts = Counts {
+            nodes: count("nodes", model.node_count())?,
+            springs: count("springs", model.springs.len())?,
+            tets: count("tets", model.tets.len())?,
+        };
+        let buffers = SimBuffers::new(&ctx, model, params, counts.tets.div_ceil(wg))?;
+        let passes = Passes::new(&ctx, params.method, atomics, wg, &buffers, counts)?;
+        let push = PushConstants::new(
+            params,
+            model.node_count(),
+            model.springs.len(),
+            model.tets.len(),
+        );
+
+        let mut timer = Timer::new(
+            &ctx,
+            passes.dispatches_per_frame(params.substeps, params.iterations),
+        )?;
+        let frame = Recorded::begin(&ctx, "frame", false)?;
+        Recorder {
+            ctx: &ctx,
+            cmd: frame.cmd,
+            push: &push,
+            timer: timer.as_mut(),
+        }
+        .record_frame(&passes, &buffers, params.substeps, params.iterations)?;
+        frame.end()?;
+        let measure = Recorded::begin(&ctx, "volume measure", false)?;
+        Recorder {
+            ctx: &ctx,
+            cmd: measure.cmd,
+            push: &push,
+            timer: None,
+        }
+        .record_volume_sum(&passes, &buffers)?;
+        measure.end()?;
+        Ok(VulkanBackend {
+            frame,
+            measure,
+            timer,
+            passes,
+            readback: None,
+            buffers,
+            atomics,
+            workgroup_size: wg,
+            counts,
+            partials_fresh: false,
+            frames: 0,
+            ctx,
+        })
+    }
+
+    /// The float-atomic path the scatter passes use.
+    pub fn atomics(&self) -> AtomicsPath {
+        self.atomics
+    }
+
+    /// The device in use.
+    pub fn device(&self) -> &DeviceInfo {
+        self.ctx.info()
+    }
+
+    /// Invocations per workgroup.
+    pub fn workgroup_size(&self) -> u32 {
+        self.workgroup_size
+    }
+
+    /// Frames completed on the GPU so far.
+    pub fn frames(&self) -> u32 {
+        self.frames
+    }
+
+    /// GPU time per frame of every pass, averaged over the frames so far (empty when the
+    /// device has no timestamps). Waits for a frame in flight.
+    pub fn pass_times(&mut self) -> Result<Vec<PassTime>> {
+        self.finish_frame()?;
+        Ok(self
+            .timer
+            .as_ref()
+            .map(Timer::per_frame)
+            .unwrap_or_default())
+    }
+
+    /// Forgets the pass times measured so far (e.g. after warm-up frames).
+    pub fn reset_pass_times(&mut self) -> Result<()> {
+        self.finish_frame()?;
+        if let Some(t) = self.timer.as_mut() {
+            t.reset_totals();
+        }
+        Ok(())
+    }
+
+    /// Validation-layer warnings and errors so far (empty when validation is off).
+    pub fn validation_messages(&self) -> Vec<String> {
+        self.ctx.validation_messages()
+    }
+
+    /// The context (shared with other backends or tests).
+    pub fn context(&self) -> &Arc<Context> {
+        &self.ctx
+    }
+
+    /// Waits for a frame in flight and collects its timestamps.
+    fn finish_frame(&mut self) -> Result<()> {
+        if self.frame.wait()? {
+            if let Some(t) = self.timer.as_mut() {
+                t.collect()?;
+            }
+            self.frames += 1;
+            self.partials_fresh = true;
+        }
+        Ok(())
+    }
+}
+
+impl Backend for VulkanBackend {
+    fn name(&self) -> &'static str {
+        "vulkan"
+    }
+
+    /// Submits the recorded frame and waits for it: one fence wait, no data transfer (the
+    /// volume partials are already copied to host-visible memory by the frame itself).
+    fn step_frame(&mut self) -> Result<()> {
+        self.finish_frame()?;
+        self.partials_fresh = false;
+        self.frame.submit()?;
+        self.finish_frame()
+    }
+
+    fn volume(&mut self) -> Result<VolumeSample> {
+        self.finish_frame()?;
+        if !self.partials_fresh {
+            self.measure.submit()?;
+            self.measure.wait()?;
+            self.partials_fresh = true;
+        }
+        let bytes = self.buffers.partials_readback.mapped()?;
+        let groups = self.counts.tets.div_ceil(self.workgroup_size) as usize;
+        let partials: &[VolumePartial] = bytes
+            .get(..groups * std::mem::size_of::<VolumePartial>())
+            .and_then(|b| bytemuck::try_cast_slice(b).ok())
+            .ok_or_else(|| {
+                Error::Gpu(format!(
+                    "volume partials readback holds {} bytes, {groups} partials expected",
+                    bytes.len()
+                ))
+            })?;
+        Ok(VolumeSample {
+            volume: partials.iter().map(|p| f64::from(p.volume)).sum(),
+            inverted: partials.iter().map(|p| p.inverted).sum(),
+        })
+    }
+
+    fn state(&mut self) -> Result<State> {
+        self.finish_frame()?;
+        let size = u64::from(self.counts.nodes) * 16;
+        if self.readback.is_none() {
+            self.readback = Some((
+                Buffer::readback(&self.ctx, "positions (readback)", size)?,
+                Buffer::readback(&self.ctx, "velocities (readback)", size)?,
+            ));
+        }
+        let (pos, vel) = self
+            .readback
+            .as_ref()
+            .ok_or_else(|| Error::Gpu("state readback buffers missing".into()))?;
+        let b = &self.buffers;
+        let ctx = &self.ctx;
+        commands::one_shot(ctx, |cmd| {
+            commands::barrier(
+                ctx,
+                cmd,
+                &[&b.positions, &b.velocities],
+                Access::COMPUTE,
+                Access::TRANSFER_READ,
+            );
+            let region = [ash::vk::BufferCopy::default().size(size)];
+            // SAFETY: `cmd` is recording; all four buffers are alive and `size` long.
+            unsafe {
+                ctx.device()
+                    .cmd_copy_buffer(cmd, b.positions.raw, pos.raw, &region);
+                ctx.device()
+                    .cmd_copy_buffer(cmd, b.velocities.raw, vel.raw, &region);
+            }
+            commands::barrier(
+                ctx,
+                cmd,
+                &[pos, vel],
+                Access::TRANSFER_WRITE,
+                Access::HOST_READ,
+            );
+        })?;
+        let read = |buffer: &Buffer| -> Result<Vec<DVec3>> {
+            let bytes = buffer
+                .mapped()?
+                .get(..size as usize)
+                .ok_or_else(|| Error::Gpu(format!("`{}` is short", buffer.name)))?;
+            let v: &[[f32; 4]] = bytemuck::try_cast_slice(bytes)
+                .map_err(|e| Error::Gpu(format!("reading `{}`: {e}", buffer.name)))?;
+            Ok(v.iter()
+                .map(|p| DVec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2])))
+                .collect())
+        };
+        Ok(State {
+            positions: read(pos)?,
+            velocities: read(vel)?,
+        })
+    }
+
+    fn gpu_report(&mut self) -> Result<Option<GpuReport>> {
+        let passes = self
+            .pass_times()?
+            .into_iter()
+            .map(|t| (t.name, t.ms_per_frame))
+            .collect();
+        Ok(Some(GpuReport {
+            device: self.device().name.clone(),
+            atomics: self.atomics.name().to_string(),
+            workgroup_size: self.workgroup_size,
+            passes,
+            validation_messages: self.validation_messages(),
+        }))
+    }
+}
+
+impl Drop for VulkanBackend {
+    fn drop(&mut self) {
+        // Buffers and pipelines may only go once the GPU is done with them; the fields then
+        // drop in declaration order, the context last.
+        let _ = self.frame.wait();
+        let _ = self.measure.wait();
+    }
+}

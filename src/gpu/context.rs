@@ -1,0 +1,390 @@
+//! The Vulkan context: a headless instance (no surface), one device with one compute queue,
+//! the memory allocator and a command pool, plus the optional validation layer whose
+//! messages are recorded so that tests can assert there were none.
+//!
+//! Teardown order (Drop): command pool, allocator, device, debug messenger, instance. Every
+//! resource made from a context (buffers, kernels, command buffers, query pools) holds an
+//! `Arc<Context>` and frees itself on drop, so the context always goes last.
+
+use std::ffi::{c_void, CStr};
+use std::mem::ManuallyDrop;
+use std::sync::{Arc, Mutex, MutexGuard};
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+
+use super::device::{self, DeviceInfo, DeviceSelector};
+use crate::error::{Error, Result, VkContext};
+
+/// Name of the Khronos validation layer.
+pub const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
+
+/// How to create a [`Context`].
+#[derive(Debug, Clone, Default)]
+pub struct ContextOptions {
+    /// Which device to use.
+    pub device: DeviceSelector,
+    /// Enable `VK_LAYER_KHRONOS_validation` and record its warnings and errors.
+    pub validation: bool,
+}
+
+/// Messages of the validation layer (severity warning or error), in arrival order.
+#[derive(Debug, Default)]
+pub struct MessageLog {
+    messages: Mutex<Vec<String>>,
+}
+
+impl MessageLog {
+    /// A copy of every message so far.
+    pub fn messages(&self) -> Vec<String> {
+        self.messages
+            .lock()
+            .map(|m| m.clone())
+            .unwrap_or_else(|p| p.into_inner().clone())
+    }
+
+    fn push(&self, text: String) {
+        match self.messages.lock() {
+            Ok(mut m) => m.push(text),
+            Err(p) => p.into_inner().push(text),
+        }
+    }
+}
+
+unsafe extern "system" fn on_debug_message(
+    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
+    types: vk::DebugUtilsMessageTypeFlagsEXT,
+    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
+    user: *mut c_void,
+) -> vk::Bool32 {
+    // SAFETY: `user` is the `MessageLog` that the context keeps alive (in an Arc) until the
+    // messenger is destroyed; `data` is valid for the duration of the callback.
+    unsafe {
+        if let (Some(log), Some(data)) = ((user as *const MessageLog).as_ref(), data.as_ref()) {
+            let text = data
+                .message_as_c_str()
+                .map(|c| c.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            log.push(format!("[{severity:?} {types:?}] {text}"));
+        }
+    }
+    vk::FALSE
+}
+
+struct Debug {
+    loader: ash::ext::debug_utils::Instance,
+    messenger: vk::DebugUtilsMessengerEXT,
+}
+
+/// Instance, device, queue, allocator and command pool; see the module doc for teardown.
+pub struct Context {
+    info: DeviceInfo,
+    device: ash::Device,
+    queue: vk::Queue,
+    command_pool: vk::CommandPool,
+    allocator: ManuallyDrop<Mutex<Allocator>>,
+    names: Option<ash::ext::debug_utils::Device>,
+    debug: Option<Debug>,
+    log: Arc<MessageLog>,
+    instance: ash::Instance,
+    _entry: ash::Entry,
+}
+
+fn load_entry() -> Result<ash::Entry> {
+    // SAFETY: loading the system Vulkan loader; nothing else runs during the load.
+    unsafe { ash::Entry::load() }.map_err(|e| {
+        Error::Gpu(format!(
+            "cannot load the Vulkan loader (libvulkan.so.1): {e}"
+        ))
+    })
+}
+
+fn create_instance(
+    entry: &ash::Entry,
+    validation: bool,
+    log: &Arc<MessageLog>,
+) -> Result<(ash::Instance, bool)> {
+    // SAFETY: plain queries and instance creation with create infos that outlive the calls.
+    unsafe {
+        let extensions = entry
+            .enumerate_instance_extension_properties(None)
+            .vk("vkEnumerateInstanceExtensionProperties")?;
+        let has_debug_utils = extensions
+            .iter()
+            .any(|e| e.extension_name_as_c_str() == Ok(ash::ext::debug_utils::NAME));
+        let mut layers = Vec::new();
+        if validation {
+            let available = entry
+                .enumerate_instance_layer_properties()
+                .vk("vkEnumerateInstanceLayerProperties")?;
+            if !available
+                .iter()
+                .any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER))
+            {
+                return Err(Error::Gpu(
+                    "validation requested but VK_LAYER_KHRONOS_validation is not installed (Debian: vulkan-validationlayers)".into(),
+                ));
+            }
+            if !has_debug_utils {
+                return Err(Error::Gpu(
+                    "validation requested but VK_EXT_debug_utils is missing".into(),
+                ));
+            }
+            layers.push(VALIDATION_LAYER.as_ptr());
+        }
+        let ext_names: Vec<*const i8> = if has_debug_utils {
+            vec![ash::ext::debug_utils::NAME.as_ptr()]
+        } else {
+            Vec::new()
+        };
+        let app = vk::ApplicationInfo::default()
+            .application_name(c"tetrasim")
+            .engine_name(c"tetrasim")
+            .api_version(device::REQUIRED_API);
+        let mut messenger_info = messenger_create_info(log);
+        let mut info = vk::InstanceCreateInfo::default()
+            .application_info(&app)
+            .enabled_layer_names(&layers)
+            .enabled_extension_names(&ext_names);
+        if validation {
+            info = info.push_next(&mut messenger_info);
+        }
+        let instance = entry.create_instance(&info, None).vk("vkCreateInstance")?;
+        Ok((instance, has_debug_utils))
+    }
+}
+
+fn messenger_create_info(log: &Arc<MessageLog>) -> vk::DebugUtilsMessengerCreateInfoEXT<'static> {
+    vk::DebugUtilsMessengerCreateInfoEXT::default()
+        .message_severity(
+            vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
+                | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
+        )
+        .message_type(
+            vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
+                | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+        )
+        .pfn_user_callback(Some(on_debug_message))
+        .user_data(Arc::as_ptr(log) as *mut c_void)
+}
+
+fn enumerate(instance: &ash::Instance) -> Result<(Vec<vk::PhysicalDevice>, Vec<DeviceInfo>)> {
+    // SAFETY: the instance is alive.
+    let handles =
+        unsafe { instance.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
+    let infos = handles
+        .iter()
+        .enumerate()
+        .map(|(i, &pd)| DeviceInfo::query(instance, pd, i))
+        .collect::<Result<_>>()?;
+    Ok((handles, infos))
+}
+
+/// Lists every Vulkan device with its limits and features (for `tetrasim info`).
+pub fn list_devices() -> Result<Vec<DeviceInfo>> {
+    let entry = load_entry()?;
+    let (instance, _) = create_instance(&entry, false, &Arc::new(MessageLog::default()))?;
+    let result = enumerate(&instance).map(|(_, infos)| infos);
+    // SAFETY: nothing made from this instance is alive.
+    unsafe { instance.destroy_instance(None) };
+    result
+}
+
+impl Context {
+    /// Creates the instance and the selected device, with float atomics enabled where the
+    /// device has them.
+    pub fn new(options: &ContextOptions) -> Result<Self> {
+        let entry = load_entry()?;
+        let log = Arc::new(MessageLog::default());
+        let (instance, has_debug_utils) = create_instance(&entry, options.validation, &log)?;
+        let mut ctx = PartialContext {
+            instance: instance.clone(),
+            debug: None,
+            armed: true,
+        };
+        if options.validation {
+            let loader = ash::ext::debug_utils::Instance::new(&entry, &instance);
+            // SAFETY: the create info's user data (the log) outlives the messenger.
+            let messenger =
+                unsafe { loader.create_debug_utils_messenger(&messenger_create_info(&log), None) }
+                    .vk("vkCreateDebugUtilsMessengerEXT")?;
+            ctx.debug = Some(Debug { loader, messenger });
+        }
+        let (handles, infos) = enumerate(&instance)?;
+        let chosen = device::select(&infos, &options.device)?;
+        let info = infos[chosen].clone();
+        let pd = handles[chosen];
+        let family = info
+            .compute_family
+            .ok_or_else(|| Error::Gpu(format!("device `{}` has no compute queue", info.name)))?;
+
+        let priorities = [1.0f32];
+        let queues = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(family)
+            .queue_priorities(&priorities)];
+        let mut extensions = Vec::new();
+        let mut atomic = vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT::default()
+            .shader_buffer_float32_atomic_add(true);
+        let mut create = vk::DeviceCreateInfo::default().queue_create_infos(&queues);
+        if info.float_atomic_add {
+            extensions.push(ash::ext::shader_atomic_float::NAME.as_ptr());
+            create = create.push_next(&mut atomic);
+        }
+        create = create.enabled_extension_names(&extensions);
+        // SAFETY: `pd` belongs to `instance`; the create info and its chain outlive the call.
+        let device = unsafe { instance.create_device(pd, &create, None) }.vk("vkCreateDevice")?;
+        // SAFETY: the family and index were requested above.
+        let queue = unsafe { device.get_device_queue(family, 0) };
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        // SAFETY: valid device and create info.
+        let command_pool = match unsafe { device.create_command_pool(&pool_info, None) } {
+            Ok(pool) => pool,
+            Err(e) => {
+                // SAFETY: nothing else was made from the device.
+                unsafe { device.destroy_device(None) };
+                return Err(Error::Vulkan {
+                    call: "vkCreateCommandPool",
+                    result: e,
+                });
+            }
+        };
+        let allocator = Allocator::new(&AllocatorCreateDesc {
+            instance: instance.clone(),
+            device: device.clone(),
+            physical_device: pd,
+            debug_settings: Default::default(),
+            buffer_device_address: false,
+            allocation_sizes: Default::default(),
+        });
+        let allocator = match allocator {
+            Ok(a) => a,
+            Err(e) => {
+                // SAFETY: only the pool was made from the device.
+                unsafe {
+                    device.destroy_command_pool(command_pool, None);
+                    device.destroy_device(None);
+                }
+                return Err(Error::Gpu(format!("creating the memory allocator: {e}")));
+            }
+        };
+        let names = has_debug_utils.then(|| ash::ext::debug_utils::Device::new(&instance, &device));
+        let (instance, debug) = ctx.disarm();
+        Ok(Context {
+            info,
+            device,
+            queue,
+            command_pool,
+            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+            names,
+            debug,
+            log,
+            instance,
+            _entry: entry,
+        })
+    }
+
+    /// The chosen device's properties.
+    pub fn info(&self) -> &DeviceInfo {
+        &self.info
+    }
+
+    /// The logical device.
+    pub fn device(&self) -> &ash::Device {
+        &self.device
+    }
+
+    /// The compute queue.
+    pub fn queue(&self) -> vk::Queue {
+        self.queue
+    }
+
+    /// The pool every command buffer of this context comes from (resettable buffers).
+    pub fn command_pool(&self) -> vk::CommandPool {
+        self.command_pool
+    }
+
+    /// The memory allocator.
+    pub fn allocator(&self) -> Result<MutexGuard<'_, Allocator>> {
+        self.allocator
+            .lock()
+            .map_err(|_| Error::Gpu("the allocator mutex is poisoned (an earlier panic)".into()))
+    }
+
+    /// Gives a Vulkan object a debug name (shown by the validation layer and GPU tools);
+    /// does nothing without `VK_EXT_debug_utils`.
+    pub fn set_name<H: vk::Handle>(&self, handle: H, name: &str) {
+        let Some(names) = &self.names else { return };
+        let Ok(name) = std::ffi::CString::new(name) else {
+            return;
+        };
+        let info = vk::DebugUtilsObjectNameInfoEXT::default()
+            .object_handle(handle)
+            .object_name(&name);
+        // SAFETY: the handle belongs to this device; naming failure is harmless, so ignored.
+        let _ = unsafe { names.set_debug_utils_object_name(&info) };
+    }
+
+    /// Whether the validation layer is on.
+    pub fn validation(&self) -> bool {
+        self.debug.is_some()
+    }
+
+    /// Every validation warning and error recorded so far.
+    pub fn validation_messages(&self) -> Vec<String> {
+        self.log.messages()
+    }
+}
+
+impl Drop for Context {
+    fn drop(&mut self) {
+        // SAFETY: every resource made from the context holds an Arc to it, so all are gone
+        // (see the module doc); the order below is children before parents.
+        unsafe {
+            let _ = self.device.device_wait_idle();
+            self.device.destroy_command_pool(self.command_pool, None);
+            ManuallyDrop::drop(&mut self.allocator);
+            self.device.destroy_device(None);
+            if let Some(debug) = self.debug.take() {
+                debug
+                    .loader
+                    .destroy_debug_utils_messenger(debug.messenger, None);
+            }
+            self.instance.destroy_instance(None);
+        }
+    }
+}
+
+/// Destroys the instance (and messenger) if context creation fails half-way.
+struct PartialContext {
+    instance: ash::Instance,
+    debug: Option<Debug>,
+    armed: bool,
+}
+
+impl PartialContext {
+    /// Hands the instance and messenger over to their final owner.
+    fn disarm(&mut self) -> (ash::Instance, Option<Debug>) {
+        self.armed = false;
+        (self.instance.clone(), self.debug.take())
+    }
+}
+
+impl Drop for PartialContext {
+    fn drop(&mut self) {
+        if !self.armed {
+            return;
+        }
+        // SAFETY: only reached on an error path, before any device was kept.
+        unsafe {
+            if let Some(debug) = self.debug.take() {
+                debug
+                    .loader
+                    .destroy_debug_utils_messenger(debug.messenger, None);
+            }
+            self.instance.destroy_instance(None);
+        }
+    }
+}

@@ -1,0 +1,252 @@
+//! Data layouts shared with the GLSL side (glsl/common/bindings.glsl): `#[repr(C)]` Pod
+//! structs that are std430-safe (vec4, never vec3 arrays), the binding numbers, and the
+//! push-constant block derived from [`SimParams`]. The tests read the compiled SPIR-V and
+//! check every offset and binding against these definitions.
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::params::SimParams;
+
+/// Descriptor binding numbers of set 0 (the `B_*` macros in glsl/common/bindings.glsl).
+pub mod binding {
+    /// vec4 per node: position [m], w = inverse mass [1/kg].
+    pub const POSITIONS: u32 = 0;
+    /// vec4 per node: velocity [m/s], w = mass [kg].
+    pub const VELOCITIES: u32 = 1;
+    /// vec4 per node: the step's force F [N].
+    pub const FORCES: u32 = 2;
+    /// vec4 per node: the current iteration's summed constraint forces [N].
+    pub const CONSTRAINT_SUM: u32 = 3;
+    /// [`super::GpuSpring`] per spring.
+    pub const SPRINGS: u32 = 4;
+    /// uvec4 per tet.
+    pub const TETS: u32 = 5;
+    /// float per tet: rest volume [m^3].
+    pub const REST_VOLUMES: u32 = 6;
+    /// float per node: weight of the constraint sum (1 / count, or 1).
+    pub const CONSTRAINT_WEIGHT: u32 = 7;
+    /// Node -> springs CSR offsets (N + 1).
+    pub const NODE_SPRING_OFFSETS: u32 = 8;
+    /// Node -> springs CSR items.
+    pub const NODE_SPRING_ITEMS: u32 = 9;
+    /// [`super::VolumePartial`] per volume_sum workgroup.
+    pub const VOLUME_PARTIALS: u32 = 10;
+}
+
+/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 48 bytes.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct PushConstants {
+    /// Time step [s].
+    pub dt: f32,
+    /// Relaxation of the combined constraint forces.
+    pub omega: f32,
+    /// Spring stiffness [N/m].
+    pub ks: f32,
+    /// Spring damping [N s/m].
+    pub kd: f32,
+    /// Gravity magnitude along -Y [m/s^2].
+    pub gravity: f32,
+    /// Fraction of tangential velocity removed on floor contact.
+    pub friction: f32,
+    /// 1 when the floor `y = 0` exists.
+    pub floor_on: u32,
+    /// Nodes.
+    pub node_count: u32,
+    /// Springs.
+    pub spring_count: u32,
+    /// Tetrahedra.
+    pub tet_count: u32,
+    /// A constraint is skipped when its `A` is at or below this (`constraint_epsilon`).
+    pub epsilon: f32,
+    /// Padding to 16 bytes.
+    pub pad1: u32,
+}
+
+impl PushConstants {
+    /// The block for `params` and the model's element counts (f64 values rounded to f32).
+    pub fn new(params: &SimParams, nodes: usize, springs: usize, tets: usize) -> Self {
+        PushConstants {
+            dt: params.dt as f32,
+            omega: params.omega as f32,
+            ks: params.ks as f32,
+            kd: params.kd as f32,
+            gravity: params.gravity as f32,
+            friction: params.friction as f32,
+            floor_on: u32::from(params.floor),
+            node_count: nodes as u32,
+            spring_count: springs as u32,
+            tet_count: tets as u32,
+            epsilon: params.constraint_epsilon as f32,
+            pad1: 0,
+        }
+    }
+}
+
+/// One spring (`Spring` in bindings.glsl): node indices and rest length [m], 16 bytes.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuSpring {
+    /// First node.
+    pub a: u32,
+    /// Second node.
+    pub b: u32,
+    /// Rest length [m].
+    pub rest: f32,
+    /// Padding to 16 bytes.
+    pub pad: f32,
+}
+
+/// One volume_sum workgroup's result (`VolumePartial` in bindings.glsl).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct VolumePartial {
+    /// Sum of the group's signed tet volumes [m^3].
+    pub volume: f32,
+    /// Tets of the group with signed volume <= 0.
+    pub inverted: u32,
+}
+
+/// A vec4 of f32 from an f64 vector and a w component.
+pub fn vec4(v: glam::DVec3, w: f64) -> [f32; 4] {
+    [v.x as f32, v.y as f32, v.z as f32, w as f32]
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::HashMap;
+    use std::mem::{offset_of, size_of};
+
+    use super::*;
+    use crate::gpu::spirv::Module;
+
+    fn module(key: &str) -> Module {
+        let bytes = crate::shaders::SHADERS
+            .iter()
+            .find(|(k, _)| *k == key)
+            .map(|(_, b)| *b)
+            .unwrap();
+        Module::parse(bytes).unwrap()
+    }
+
+    #[test]
+    fn sizes_are_std430_multiples_of_16() {
+        assert_eq!(size_of::<PushConstants>(), 48);
+        assert_eq!(size_of::<GpuSpring>(), 16);
+        assert_eq!(size_of::<VolumePartial>(), 8);
+    }
+
+    #[test]
+    fn push_constant_offsets_match_the_shader() {
+        let rust = [
+            ("dt", offset_of!(PushConstants, dt)),
+            ("omega", offset_of!(PushConstants, omega)),
+            ("ks", offset_of!(PushConstants, ks)),
+            ("kd", offset_of!(PushConstants, kd)),
+            ("gravity", offset_of!(PushConstants, gravity)),
+            ("friction", offset_of!(PushConstants, friction)),
+            ("floor_on", offset_of!(PushConstants, floor_on)),
+            ("node_count", offset_of!(PushConstants, node_count)),
+            ("spring_count", offset_of!(PushConstants, spring_count)),
+            ("tet_count", offset_of!(PushConstants, tet_count)),
+            ("epsilon", offset_of!(PushConstants, epsilon)),
+            ("pad1", offset_of!(PushConstants, pad1)),
+        ];
+        // integrate uses floor_on/friction/gravity, volume_sum the tet count: together they
+        // name most members; every member the shader keeps must sit where Rust puts it.
+        let mut checked = 0;
+        for key in [
+            "passes/integrate.comp",
+            "passes/volume.comp#ext",
+            "passes/spring_scatter.comp#cas",
+        ] {
+            let offsets = module(key).struct_offsets("PushConstants");
+            assert!(!offsets.is_empty(), "{key}: no PushConstants block found");
+            for (name, offset) in offsets {
+                let expected = rust
+                    .iter()
+                    .find(|(n, _)| *n == name)
+                    .map(|(_, o)| *o as u32);
+                assert_eq!(Some(offset), expected, "{key}: member `{name}`");
+                checked += 1;
+            }
+        }
+        assert!(checked >= 12);
+    }
+
+    #[test]
+    fn spring_and_partial_offsets_match_the_shader() {
+        let springs: HashMap<_, _> = module("passes/distance.comp#ext")
+            .struct_offsets("Spring")
+            .into_iter()
+            .collect();
+        assert_eq!(springs.get("a"), Some(&(offset_of!(GpuSpring, a) as u32)));
+        assert_eq!(springs.get("b"), Some(&(offset_of!(GpuSpring, b) as u32)));
+        assert_eq!(
+            springs.get("rest"),
+            Some(&(offset_of!(GpuSpring, rest) as u32))
+        );
+        let partials: HashMap<_, _> = module("passes/volume_sum.comp")
+            .struct_offsets("VolumePartial")
+            .into_iter()
+            .collect();
+        assert_eq!(
+            partials.get("volume"),
+            Some(&(offset_of!(VolumePartial, volume) as u32))
+        );
+        assert_eq!(
+            partials.get("inverted"),
+            Some(&(offset_of!(VolumePartial, inverted) as u32))
+        );
+        assert_eq!(
+            module("passes/volume_sum.comp").array_stride("Partials"),
+            Some(size_of::<VolumePartial>() as u32)
+        );
+        assert_eq!(
+            module("passes/distance.comp#ext").array_stride("Springs"),
+            Some(size_of::<GpuSpring>() as u32)
+        );
+        assert_eq!(
+            module("passes/integrate.comp").array_stride("Positions"),
+            Some(16)
+        );
+    }
+
+    #[test]
+    fn every_pass_uses_the_rust_binding_numbers() {
+        let expected: HashMap<&str, u32> = [
+            ("Positions", binding::POSITIONS),
+            ("Velocities", binding::VELOCITIES),
+            ("Forces", binding::FORCES),
+            ("ForcesF", binding::FORCES),
+            ("ForcesU", binding::FORCES),
+            ("Sum", binding::CONSTRAINT_SUM),
+            ("SumF", binding::CONSTRAINT_SUM),
+            ("SumU", binding::CONSTRAINT_SUM),
+            ("Springs", binding::SPRINGS),
+            ("Tets", binding::TETS),
+            ("RestVolumes", binding::REST_VOLUMES),
+            ("Weights", binding::CONSTRAINT_WEIGHT),
+            ("NodeSpringOffsets", binding::NODE_SPRING_OFFSETS),
+            ("NodeSpringItems", binding::NODE_SPRING_ITEMS),
+            ("Partials", binding::VOLUME_PARTIALS),
+        ]
+        .into_iter()
+        .collect();
+        let mut seen = 0;
+        for (key, bytes) in crate::shaders::SHADERS
+            .iter()
+            .filter(|(k, _)| k.starts_with("passes/"))
+        {
+            for (block, number) in Module::parse(bytes).unwrap().block_bindings() {
+                assert_eq!(
+                    expected.get(block.as_str()),
+                    Some(&number),
+                    "{key}: block `{block}`"
+                );
+                seen += 1;
+            }
+        }
+        assert!(seen >= 25, "only {seen} bindings found");
+    }
+}

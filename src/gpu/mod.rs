@@ -1,0 +1,19 @@
+//! Thin, owned wrappers over raw Vulkan (ash + gpu-allocator) for compute work: the
+//! context (instance, device, queue, allocator), named buffers, kernels that know their
+//! workgroup size, command recording with one barrier helper, timestamp timing, and the
+//! data layouts shared with GLSL.
+
+pub mod buffer;
+pub mod commands;
+pub mod context;
+pub mod device;
+pub mod kernel;
+pub mod layout;
+pub mod spirv;
+pub mod timing;
+
+pub use buffer::Buffer;
+pub use context::{list_devices, Context, ContextOptions};
+pub use device::{AtomicsPath, DeviceInfo, DeviceSelector};
+pub use kernel::Kernel;
+pub use timing::{PassTime, Timer};

@@ -1,0 +1,263 @@
+//! Run metrics (physics.md, "Metrics"): volume percentage and inverted tets per frame, their
+//! minimum and average over a run, timings, and the JSON record and table of a run.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::backend::VolumeSample;
+use crate::error::{Error, Result};
+
+/// The paper's average volume percentages over all its models, for comparison:
+/// `(method, percent)`.
+pub const PAPER_AVG_VOLUME_PCT: [(&str, f64); 3] =
+    [("mss", 68.21), ("distance", 89.64), ("volume", 98.70)];
+
+/// The paper's average volume percentage for `method` (`mss-node` shares `mss`'s).
+pub fn paper_avg_volume_pct(method: &str) -> Option<f64> {
+    let key = if method == "mss-node" { "mss" } else { method };
+    PAPER_AVG_VOLUME_PCT
+        .iter()
+        .find(|(m, _)| *m == key)
+        .map(|(_, v)| *v)
+}
+
+/// `100 * V / V0` for a sample against the total rest volume `rest` [m^3].
+pub fn volume_pct(sample: VolumeSample, rest: f64) -> f64 {
+    100.0 * sample.volume / rest
+}
+
+/// Everything recorded about one method's run; serialised as one JSON object. Never holds a
+/// NaN: a run that goes non-finite stops, keeps the frames before, and sets `diverged`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RunRecord {
+    /// Method name (`mss`, `mss-node`, `distance`, `volume`).
+    pub method: String,
+    /// Backend name (`cpu-ref`, `cpu`, `vulkan`).
+    pub backend: String,
+    /// Mesh path or label.
+    pub mesh: String,
+    /// Node count.
+    pub nodes: usize,
+    /// Tetrahedron count.
+    pub tets: usize,
+    /// Spring count.
+    pub springs: usize,
+    /// Frames requested.
+    pub frames: u32,
+    /// Frames completed (less than `frames` when the run diverged).
+    pub frames_run: u32,
+    /// Time step [s].
+    pub dt: f64,
+    /// Time steps per frame.
+    pub substeps: u32,
+    /// Constraint iterations per time step.
+    pub iterations: u32,
+    /// Relaxation factor.
+    pub omega: f64,
+    /// Spring stiffness [N/m].
+    pub ks: f64,
+    /// Spring damping [N s/m].
+    pub kd: f64,
+    /// Floor friction.
+    pub friction: f64,
+    /// Constraint combination (`average` or `sum`).
+    pub combine: String,
+    /// Volume percentage after each completed frame.
+    pub volume_pct: Vec<f64>,
+    /// Inverted tets after each completed frame.
+    pub inverted_tets: Vec<u32>,
+    /// Minimum of `volume_pct` (0 when no frame completed).
+    pub min_volume_pct: f64,
+    /// Average of `volume_pct` (0 when no frame completed).
+    pub avg_volume_pct: f64,
+    /// Inverted tets at the worst frame (the one with the most).
+    pub max_inverted_tets: u32,
+    /// Mean wall time of one frame's simulation (`step_frame`, no volume sampling) [ms].
+    pub ms_per_frame: f64,
+    /// Wall time of the whole run, sampling and output included [s].
+    pub wall_s: f64,
+    /// The run went non-finite and stopped.
+    pub diverged: bool,
+    /// Where and why it diverged.
+    pub divergence: Option<String>,
+    /// GPU device name (`vulkan` only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub device: Option<String>,
+    /// Float-atomic path, `ext` or `cas` (`vulkan` only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub atomics: Option<String>,
+    /// GPU time per frame of each pass [ms] (`vulkan` only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub passes: Option<BTreeMap<String, f64>>,
+}
+
+impl RunRecord {
+    /// Recomputes `min_volume_pct`, `avg_volume_pct`, `max_inverted_tets` and `frames_run`
+    /// from the per-frame series.
+    pub fn summarise(&mut self) {
+        let n = self.volume_pct.len();
+        self.frames_run = n as u32;
+        if n == 0 {
+            self.min_volume_pct = 0.0;
+            self.avg_volume_pct = 0.0;
+        } else {
+            self.min_volume_pct = self
+                .volume_pct
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min);
+            self.avg_volume_pct = self.volume_pct.iter().sum::<f64>() / n as f64;
+        }
+        self.max_inverted_tets = self.inverted_tets.iter().copied().max().unwrap_or(0);
+    }
+}
+
+/// The paper-style table: per run, min and average volume %, inverted tets at the worst frame,
+/// ms per frame, and the paper's average for the method.
+pub fn table(records: &[RunRecord]) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{:<9} {:<8} {:>10} {:>10} {:>9} {:>9} {:>10}  note",
+        "method", "backend", "min vol %", "avg vol %", "inverted", "ms/frame", "paper avg"
+    );
+    for r in records {
+        let paper = paper_avg_volume_pct(&r.method).map_or("-".to_string(), |p| format!("{p:.2}"));
+        let note = if r.diverged {
+            format!("diverged after {} frames", r.frames_run)
+        } else {
+            String::new()
+        };
+        let _ = writeln!(
+            out,
+            "{:<9} {:<8} {:>10.2} {:>10.2} {:>9} {:>9.3} {:>10}  {note}",
+            r.method,
+            r.backend,
+            r.min_volume_pct,
+            r.avg_volume_pct,
+            r.max_inverted_tets,
+            r.ms_per_frame,
+            paper
+        );
+    }
+    out
+}
+
+/// Position of a pass in a time step, for printing passes in execution order.
+fn pass_rank(name: &str) -> usize {
+    const ORDER: [&str; 7] = [
+        "spring_scatter",
+        "spring_gather",
+        "distance",
+        "volume",
+        "constraint_apply",
+        "integrate",
+        "volume_sum",
+    ];
+    ORDER.iter().position(|&n| n == name).unwrap_or(ORDER.len())
+}
+
+/// Per-pass GPU time of every run that has it: ms per frame and share of the frame's GPU
+/// time; empty when no run does.
+pub fn pass_table(records: &[RunRecord]) -> String {
+    let mut out = String::new();
+    for r in records {
+        let Some(passes) = &r.passes else { continue };
+        let mut rows: Vec<(&String, &f64)> = passes.iter().collect();
+        rows.sort_by_key(|(name, _)| pass_rank(name));
+        let total: f64 = rows.iter().map(|(_, ms)| **ms).sum();
+        let _ = writeln!(
+            out,
+            "{} on {} (atomics {}): GPU {total:.3} ms/frame",
+            r.method,
+            r.device.as_deref().unwrap_or("?"),
+            r.atomics.as_deref().unwrap_or("-")
+        );
+        for (name, ms) in rows {
+            let share = if total > 0.0 { 100.0 * ms / total } else { 0.0 };
+            let _ = writeln!(out, "  {name:<17} {ms:>9.3} ms {share:>6.1} %");
+        }
+    }
+    out
+}
+
+/// Writes `records` as a pretty JSON array to `path` (through a temporary file and a rename,
+/// so a failed write leaves no half-written file).
+pub fn write_json(path: &Path, records: &[RunRecord]) -> Result<()> {
+    let text = serde_json::to_string_pretty(records)
+        .map_err(|e| Error::param("metrics", format!("cannot serialise the run records: {e}")))?;
+    crate::runner::write_atomically(path, text.as_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn record(pct: Vec<f64>, inverted: Vec<u32>) -> RunRecord {
+        let mut r = RunRecord {
+            method: "volume".into(),
+            backend: "cpu-ref".into(),
+            mesh: "box".into(),
+            nodes: 8,
+            tets: 6,
+            springs: 19,
+            frames: 4,
+            frames_run: 0,
+            dt: 1e-3,
+            substeps: 1,
+            iterations: 10,
+            omega: 1.0,
+            ks: 5000.0,
+            kd: 15.0,
+            friction: 0.0,
+            combine: "average".into(),
+            volume_pct: pct,
+            inverted_tets: inverted,
+            min_volume_pct: f64::NAN,
+            avg_volume_pct: f64::NAN,
+            max_inverted_tets: 0,
+            ms_per_frame: 0.5,
+            wall_s: 0.01,
+            diverged: false,
+            divergence: None,
+            device: None,
+            atomics: None,
+            passes: None,
+        };
+        r.summarise();
+        r
+    }
+
+    #[test]
+    fn summary_takes_min_mean_and_worst_frame() {
+        let r = record(vec![100.0, 96.0, 98.0, 94.0], vec![0, 3, 1, 2]);
+        assert_eq!(
+            (
+                r.min_volume_pct,
+                r.avg_volume_pct,
+                r.max_inverted_tets,
+                r.frames_run
+            ),
+            (94.0, 97.0, 3, 4)
+        );
+        let text = table(&[r]);
+        assert!(
+            text.contains("94.00") && text.contains("97.00") && text.contains("98.70"),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn empty_run_has_no_nan_in_json() {
+        let r = record(vec![], vec![]);
+        let json = serde_json::to_string(&r).unwrap();
+        assert!(
+            json.contains("\"min_volume_pct\":0.0") && json.contains("\"avg_volume_pct\":0.0"),
+            "{json}"
+        );
+        assert_eq!((r.min_volume_pct, r.avg_volume_pct), (0.0, 0.0));
+    }
+}

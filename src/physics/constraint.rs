@@ -1,0 +1,134 @@
+//! Implicit constraint enforcement (physics.md, paper Eqs. 6, 9, 10, 13-17): constraint values
+//! and gradients, and the first-order implicit multiplier.
+
+use super::{Real, Vector};
+
+/// Signed volume [m^3] of the tetrahedron `p`: `(e1 x e2) . e3 / 6` with `e_k = p_k - p_0`.
+#[inline]
+pub fn tet_volume<V: Vector>(p: [V; 4]) -> V::Real {
+    let (e1, e2, e3) = (p[1] - p[0], p[2] - p[0], p[3] - p[0]);
+    e1.cross(e2).dot(e3) * V::Real::from_f64(1.0 / 6.0)
+}
+
+/// Distance constraint of the spring `(i, j)` with rest length `rest` [m], squared form:
+/// returns `C = |x_i - x_j|^2 - L^2` [m^2] and the gradients `[grad_i C, grad_j C]` [m].
+#[inline]
+pub fn distance_constraint<V: Vector>(xi: V, xj: V, rest: V::Real) -> (V::Real, [V; 2]) {
+    let d = xi - xj;
+    let two = V::Real::from_f64(2.0);
+    (d.dot(d) - rest * rest, [d * two, d * -two])
+}
+
+/// Volume constraint of the tetrahedron `p` with rest volume `rest` [m^3]: returns
+/// `C = V(p) - V0` [m^3] and the gradients `grad_k C` [m^2] for the four nodes.
+#[inline]
+pub fn volume_constraint<V: Vector>(p: [V; 4], rest: V::Real) -> (V::Real, [V; 4]) {
+    let (e1, e2, e3) = (p[1] - p[0], p[2] - p[0], p[3] - p[0]);
+    let sixth = V::Real::from_f64(1.0 / 6.0);
+    let g2 = e2.cross(e3) * sixth;
+    let g3 = e3.cross(e1) * sixth;
+    let g4 = e1.cross(e2) * sixth;
+    let c = g4.dot(e3) - rest;
+    (c, [-(g2 + g3 + g4), g2, g3, g4])
+}
+
+/// The first-order implicit multiplier of one constraint (physics.md, "Implicit constraint
+/// enforcement"):
+///
+/// ```text
+/// A = sum_k w_k |grad_k C|^2
+/// B = C / dt^2 + sum_k grad_k C . (v_k / dt + w_k F_k)
+/// lambda = B / A
+/// ```
+///
+/// `c` is the constraint value, `grad`, `w` [1/kg], `v` [m/s] and `f` [N] the gradient, inverse
+/// mass, velocity and current total force of each node it touches, `dt` the time step [s].
+/// Returns `None` (skip the constraint) when `A <= epsilon` or `A` is not finite. The force
+/// on node `k` is then `-lambda grad_k C`.
+#[inline]
+pub fn implicit_lambda<V: Vector, const K: usize>(
+    c: V::Real,
+    grad: &[V; K],
+    w: &[V::Real; K],
+    v: &[V; K],
+    f: &[V; K],
+    dt: V::Real,
+    epsilon: V::Real,
+) -> Option<V::Real> {
+    let inv_dt = V::Real::ONE / dt;
+    let mut a = V::Real::ZERO;
+    let mut b = c * inv_dt * inv_dt;
+    for k in 0..K {
+        a += w[k] * grad[k].dot(grad[k]);
+        b += grad[k].dot(v[k] * inv_dt + f[k] * w[k]);
+    }
+    if a > epsilon && a.is_finite() {
+        Some(b / a)
+    } else {
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    fn tet() -> [DVec3; 4] {
+        [
+            DVec3::ZERO,
+            DVec3::new(1.0, 0.1, 0.0),
+            DVec3::new(0.2, 1.0, 0.1),
+            DVec3::new(0.1, 0.3, 1.2),
+        ]
+    }
+
+    #[test]
+    fn volume_gradient_matches_finite_differences() {
+        let p = tet();
+        let (c0, grad) = volume_constraint(p, 0.1);
+        assert!((c0 - (tet_volume(p) - 0.1)).abs() < 1e-15);
+        let h = 1e-6;
+        for k in 0..4 {
+            for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
+                let mut q = p;
+                q[k] += axis * h;
+                let (c1, _) = volume_constraint(q, 0.1);
+                assert!(
+                    ((c1 - c0) / h - grad[k].dot(axis)).abs() < 1e-5,
+                    "node {k} axis {axis}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn distance_gradient_matches_finite_differences() {
+        let (xi, xj) = (DVec3::new(0.3, -0.2, 0.5), DVec3::new(1.0, 0.4, -0.1));
+        let (c0, grad) = distance_constraint(xi, xj, 0.7);
+        assert!((c0 - (xi.distance_squared(xj) - 0.49)).abs() < 1e-15);
+        let h = 1e-7;
+        for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
+            let (c1, _) = distance_constraint(xi + axis * h, xj, 0.7);
+            assert!(((c1 - c0) / h - grad[0].dot(axis)).abs() < 1e-5);
+            let (c2, _) = distance_constraint(xi, xj + axis * h, 0.7);
+            assert!(((c2 - c0) / h - grad[1].dot(axis)).abs() < 1e-5);
+        }
+    }
+
+    #[test]
+    fn degenerate_constraint_is_skipped() {
+        let p = [DVec3::ZERO; 4];
+        let (c, grad) = volume_constraint(p, 0.1);
+        let lambda = implicit_lambda(
+            c,
+            &grad,
+            &[1.0; 4],
+            &[DVec3::ZERO; 4],
+            &[DVec3::ZERO; 4],
+            1e-3,
+            1e-20,
+        );
+        assert_eq!(lambda, None);
+    }
+}

@@ -1,0 +1,194 @@
+//! The frame loop shared by every backend: build the model, create the backend by name,
+//! step frames, sample the volume after each, time the steps, write surfaces on request, and
+//! return a [`RunRecord`]. The command line and the tests both run experiments through here.
+
+mod factory;
+mod load;
+mod output;
+
+pub use factory::{create_backend, create_backend_with, BACKENDS};
+pub use load::{load_mesh, LoadedMesh, DEFAULT_MESH};
+pub use output::{write_atomically, OutputFormat, SurfaceOutput};
+
+use std::time::Instant;
+
+use indicatif::{ProgressBar, ProgressStyle};
+
+use crate::backend::Divergence;
+use crate::engine::EngineOptions;
+use crate::error::{Error, Result};
+use crate::mesh::TetMesh;
+use crate::metrics::{volume_pct, RunRecord};
+use crate::model::{Model, ModelBuilder};
+use crate::params::{ConstraintCombine, Method, Placement, SimParams};
+
+/// How to run one experiment, besides the model and the physics.
+#[derive(Debug, Clone)]
+pub struct RunOptions {
+    /// Backend name (see [`BACKENDS`]).
+    pub backend: String,
+    /// Frames to simulate.
+    pub frames: u32,
+    /// Mesh label for the record (usually its path).
+    pub mesh_label: String,
+    /// Show a progress bar on stderr.
+    pub progress: bool,
+    /// Write the deformed surface or tet mesh every few frames.
+    pub output: Option<SurfaceOutput>,
+    /// Device, validation and workgroup size of the `vulkan` backend.
+    pub gpu: EngineOptions,
+}
+
+/// Builds the model of `mesh` with the placement and the mass mode of `params`.
+pub fn build_model(mesh: &TetMesh, params: &SimParams, placement: Placement) -> Result<Model> {
+    ModelBuilder::new(mesh)
+        .placement(placement)
+        .mass(params.mass)
+        .build()
+}
+
+/// Runs `params.method` on `model` for `options.frames` frames. A run that goes non-finite
+/// stops and comes back with `diverged: true` (not as an error); other failures are errors.
+pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<RunRecord> {
+    let started = Instant::now();
+    let mut backend = create_backend_with(&options.backend, model, params, &options.gpu)?;
+    let rest = model.total_rest_volume();
+    let mut record = empty_record(model, params, options, backend.name());
+    let bar = progress_bar(options, params.method);
+    if let Some(out) = &options.output {
+        out.write(model, params.method, 0, &backend.state()?.positions)?;
+    }
+    let mut stepping = 0.0;
+    for frame in 0..options.frames {
+        let t0 = Instant::now();
+        let stepped = backend.step_frame();
+        stepping += t0.elapsed().as_secs_f64();
+        match stepped {
+            Ok(()) => {}
+            Err(Error::Diverged(d)) => {
+                record.diverged = true;
+                record.divergence = Some(d.to_string());
+                break;
+            }
+            Err(e) => return Err(e),
+        }
+        let sample = backend.volume()?;
+        let pct = volume_pct(sample, rest);
+        if !pct.is_finite() {
+            let divergence = Divergence {
+                frame,
+                substep: None,
+                method: params.method.name().to_string(),
+                node: None,
+                cause: "the total volume became non-finite (positions unbounded)".to_string(),
+            };
+            record.diverged = true;
+            record.divergence = Some(divergence.to_string());
+            break;
+        }
+        record.volume_pct.push(pct);
+        record.inverted_tets.push(sample.inverted);
+        if let Some(out) = &options.output {
+            if (frame + 1) % out.every == 0 {
+                out.write(model, params.method, frame + 1, &backend.state()?.positions)?;
+            }
+        }
+        bar.set_message(format!("{pct:.2} %"));
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    record.summarise();
+    record.ms_per_frame = if record.frames_run > 0 {
+        1e3 * stepping / f64::from(record.frames_run)
+    } else {
+        0.0
+    };
+    record.wall_s = started.elapsed().as_secs_f64();
+    if let Some(gpu) = backend.gpu_report()? {
+        for message in &gpu.validation_messages {
+            eprintln!("validation: {message}");
+        }
+        record.device = Some(gpu.device);
+        record.atomics = Some(gpu.atomics);
+        record.passes = Some(gpu.passes.into_iter().collect());
+    }
+    Ok(record)
+}
+
+/// Runs each of `methods` in turn (same model and parameters otherwise).
+pub fn run_methods(
+    model: &Model,
+    params: &SimParams,
+    methods: &[Method],
+    options: &RunOptions,
+) -> Result<Vec<RunRecord>> {
+    methods
+        .iter()
+        .map(|&method| {
+            run(
+                model,
+                &SimParams {
+                    method,
+                    ..params.clone()
+                },
+                options,
+            )
+        })
+        .collect()
+}
+
+fn empty_record(
+    model: &Model,
+    params: &SimParams,
+    options: &RunOptions,
+    backend: &str,
+) -> RunRecord {
+    RunRecord {
+        method: params.method.name().to_string(),
+        backend: backend.to_string(),
+        mesh: options.mesh_label.clone(),
+        nodes: model.node_count(),
+        tets: model.tets.len(),
+        springs: model.springs.len(),
+        frames: options.frames,
+        frames_run: 0,
+        dt: params.dt,
+        substeps: params.substeps,
+        iterations: params.iterations,
+        omega: params.omega,
+        ks: params.ks,
+        kd: params.kd,
+        friction: params.friction,
+        combine: match params.combine {
+            ConstraintCombine::Average => "average",
+            ConstraintCombine::Sum => "sum",
+        }
+        .to_string(),
+        volume_pct: Vec::with_capacity(options.frames as usize),
+        inverted_tets: Vec::with_capacity(options.frames as usize),
+        min_volume_pct: 0.0,
+        avg_volume_pct: 0.0,
+        max_inverted_tets: 0,
+        ms_per_frame: 0.0,
+        wall_s: 0.0,
+        diverged: false,
+        divergence: None,
+        device: None,
+        atomics: None,
+        passes: None,
+    }
+}
+
+fn progress_bar(options: &RunOptions, method: Method) -> ProgressBar {
+    if !options.progress {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(u64::from(options.frames));
+    if let Ok(style) = ProgressStyle::with_template(
+        "{prefix:>9} [{bar:40}] {pos}/{len} frames, volume {msg} ({eta})",
+    ) {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar.set_prefix(method.name());
+    bar
+}

@@ -1,0 +1,123 @@
+//! `tetrasim run` end to end: a generated mesh written as TetGen files, a short run of every
+//! method, the table on stdout, the JSON records, surface output, and clear errors.
+
+mod common;
+
+use std::process::Command;
+
+use common::ball_mesh;
+use tetrasim::mesh::io::write_tetgen;
+use tetrasim::metrics::RunRecord;
+
+fn tetrasim() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_tetrasim"))
+}
+
+#[test]
+fn run_writes_table_metrics_and_surfaces() {
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("ball");
+    let mesh = ball_mesh(2.5);
+    write_tetgen(&prefix, &mesh).unwrap();
+    let metrics = dir.path().join("run.json");
+    let out_dir = dir.path().join("frames");
+    let output = tetrasim()
+        .args([
+            "run",
+            "--preset",
+            "seed",
+            "--method",
+            "all",
+            "--backend",
+            "cpu-ref",
+            "--frames",
+            "30",
+        ])
+        .args(["--ks", "4000", "--quiet", "--every", "10"])
+        .arg("--mesh")
+        .arg(&prefix)
+        .arg("--metrics")
+        .arg(&metrics)
+        .arg("--out-dir")
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "stderr: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    for method in ["mss", "distance", "volume"] {
+        assert!(
+            stdout.lines().any(|l| l.starts_with(method)),
+            "no `{method}` row in\n{stdout}"
+        );
+    }
+    let records: Vec<RunRecord> =
+        serde_json::from_str(&std::fs::read_to_string(&metrics).unwrap()).unwrap();
+    assert_eq!(records.len(), 3);
+    for r in &records {
+        assert_eq!(
+            (r.backend.as_str(), r.frames, r.volume_pct.len(), r.ks),
+            ("cpu-ref", 30, 30, 4000.0)
+        );
+        assert_eq!((r.nodes, r.tets), (mesh.nodes.len(), mesh.tets.len()));
+        // Falling, not yet landed (0.03 s from 0.1 m): the volume is still 100 %.
+        assert!(
+            (r.min_volume_pct - 100.0).abs() < 0.1,
+            "{}: {}",
+            r.method,
+            r.min_volume_pct
+        );
+    }
+    // Frames 0, 10, 20, 30 for each of the three methods.
+    let written = std::fs::read_dir(&out_dir).unwrap().count();
+    assert_eq!(written, 12);
+    let surface = tetrasim::mesh::io::read_surface(out_dir.join("volume_00030.ply")).unwrap();
+    assert_eq!(surface.triangles.len(), mesh.faces.len());
+}
+
+#[test]
+fn missing_mesh_is_a_clear_error() {
+    let output = tetrasim()
+        .args(["run", "--mesh", "/nonexistent/thing", "--frames", "1"])
+        .output()
+        .unwrap();
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("/nonexistent/thing") && stderr.contains("TetGen prefix"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn bad_parameter_names_the_key() {
+    let output = tetrasim()
+        .args(["run", "--dt=-1", "--frames", "1"])
+        .output()
+        .unwrap();
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("`dt`"), "{stderr}");
+}
+
+#[test]
+fn unknown_backend_lists_the_known_ones() {
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("ball");
+    write_tetgen(&prefix, &ball_mesh(1.5)).unwrap();
+    let output = tetrasim()
+        .args(["run", "--backend", "gpu9000", "--frames", "1"])
+        .arg("--mesh")
+        .arg(&prefix)
+        .output()
+        .unwrap();
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("gpu9000") && stderr.contains("cpu-ref"),
+        "{stderr}"
+    );
+}

@@ -1,0 +1,151 @@
+//! The GPU bits of the command line: `tetrasim info`, and `run --backend vulkan` with
+//! `--device`, `--atomics` and `--validation`, whose JSON gains `device`, `atomics` and
+//! `passes` and whose output prints per-pass GPU times.
+
+mod common;
+mod gpu_support;
+
+use std::process::Command;
+
+use tetrasim::mesh::io::write_tetgen;
+use tetrasim::metrics::RunRecord;
+
+fn tetrasim() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_tetrasim"))
+}
+
+#[test]
+fn info_lists_limits_and_atomic_paths() {
+    if !gpu_support::vulkan_available() {
+        return;
+    }
+    let output = tetrasim().arg("info").output().unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let devices = tetrasim::gpu::list_devices().unwrap();
+    for d in &devices {
+        assert!(stdout.contains(&d.name), "no `{}` in\n{stdout}", d.name);
+    }
+    for needle in [
+        "max invocations",
+        "timestamps",
+        "shaderBufferFloat32AtomicAdd",
+        "auto = ",
+        "(default for --backend vulkan)",
+    ] {
+        assert!(stdout.contains(needle), "no `{needle}` in\n{stdout}");
+    }
+}
+
+#[test]
+fn vulkan_run_reports_device_atomics_and_pass_times() {
+    if !gpu_support::vulkan_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("ball");
+    write_tetgen(&prefix, &common::ball_mesh(2.5)).unwrap();
+    let metrics = dir.path().join("run.json");
+    let output = tetrasim()
+        .args([
+            "run",
+            "--backend",
+            "vulkan",
+            "--device",
+            "0",
+            "--atomics",
+            "cas",
+            "--validation",
+        ])
+        .args([
+            "--method",
+            "volume",
+            "--frames",
+            "30",
+            "--quiet",
+            "--workgroup-size",
+            "64",
+        ])
+        .arg("--mesh")
+        .arg(&prefix)
+        .arg("--metrics")
+        .arg(&metrics)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "stderr: {stderr}");
+    assert!(
+        !stderr.contains("validation:"),
+        "validation messages:\n{stderr}"
+    );
+    let records: Vec<RunRecord> =
+        serde_json::from_str(&std::fs::read_to_string(&metrics).unwrap()).unwrap();
+    assert_eq!(records.len(), 1);
+    let r = &records[0];
+    assert_eq!((r.backend.as_str(), r.frames_run), ("vulkan", 30));
+    assert_eq!(r.atomics.as_deref(), Some("cas"));
+    let device = r.device.as_deref().unwrap();
+    assert_eq!(device, tetrasim::gpu::list_devices().unwrap()[0].name);
+    let passes = r.passes.as_ref().unwrap();
+    let names: Vec<&str> = passes.keys().map(String::as_str).collect();
+    assert_eq!(
+        names,
+        [
+            "constraint_apply",
+            "integrate",
+            "spring_scatter",
+            "volume",
+            "volume_sum"
+        ]
+    );
+    assert!(passes.values().all(|&ms| ms > 0.0), "{passes:?}");
+    assert!(
+        r.min_volume_pct > 90.0 && r.avg_volume_pct <= 100.5,
+        "{r:?}"
+    );
+    // The table is followed by one line per pass with its time and share.
+    for name in names {
+        assert!(
+            stdout
+                .lines()
+                .any(|l| l.trim_start().starts_with(name) && l.ends_with('%')),
+            "no `{name}` row in\n{stdout}"
+        );
+    }
+}
+
+#[test]
+fn unknown_device_is_a_clear_error() {
+    if !gpu_support::vulkan_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("ball");
+    write_tetgen(&prefix, &common::ball_mesh(1.5)).unwrap();
+    let output = tetrasim()
+        .args([
+            "run",
+            "--backend",
+            "vulkan",
+            "--device",
+            "no-such-gpu",
+            "--frames",
+            "2",
+            "--quiet",
+        ])
+        .arg("--mesh")
+        .arg(&prefix)
+        .output()
+        .unwrap();
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("--device no-such-gpu") && stderr.contains("there are:"),
+        "{stderr}"
+    );
+}
