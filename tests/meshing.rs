@@ -1,6 +1,7 @@
 //! Both meshers through the pipeline: TetGen on generated shapes and a small scan, the voxel
 //! mesher on a cube and on a surface with a hole, the target count, and a surface TetGen
 //! cannot take (self-intersecting) with and without `--fallback`.
+#![cfg_attr(not(feature = "tetgen"), allow(unused_imports))]
 
 #[path = "common/prep.rs"]
 mod prep_fixtures;
@@ -152,6 +153,18 @@ fn open_surface_is_a_tetgen_error_naming_the_reason() {
         .to_string();
     assert!(
         err.contains("no tetrahedra") && err.contains("not closed"),
+        "{err}"
+    );
+}
+
+#[cfg(not(feature = "tetgen"))]
+#[test]
+fn tetgen_without_the_feature_is_a_clear_error() {
+    let err = prep_surface(&cube(), &PrepOptions::default(), &mut quiet())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("without the `tetgen` feature") && err.contains("--mesher voxel"),
         "{err}"
     );
 }

@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use clap::{Parser, ValueEnum};
 use tetrasim::mesh::io::{read_surface, write_surface, write_tetgen, write_vtk};
 use tetrasim::mesh::shapes::Shape;
-use tetrasim::prep::{prep_surface, Mesher, PrepOptions};
+use tetrasim::prep::{prep_surface, Mesher, PrepOptions, StageTime};
 use tetrasim::SurfaceMesh;
 
 /// Converts a triangle surface (PLY, OBJ, OFF, STL) into a tetrahedral mesh: repairs it
@@ -71,6 +71,7 @@ fn run(args: &Args) -> tetrasim::Result<()> {
         ..Default::default()
     };
     let mut progress = |stage: &str| eprintln!("tetprep: {stage}");
+    let read_started = std::time::Instant::now();
     let surface = match (&args.input, args.shape) {
         (_, Some(shape)) => shape.surface(),
         (Some(path), None) => {
@@ -84,6 +85,7 @@ fn run(args: &Args) -> tetrasim::Result<()> {
             ))
         }
     };
+    let read_time = read_started.elapsed();
     if let Some(path) = &args.save_surface {
         let scaled = SurfaceMesh {
             vertices: surface.vertices.iter().map(|p| *p * args.scale).collect(),
@@ -108,6 +110,17 @@ fn run(args: &Args) -> tetrasim::Result<()> {
         e => e,
     })?;
     out.stats.input = Some(name);
+    if args.input.is_some() {
+        let seconds = read_time.as_secs_f64();
+        out.stats.times.insert(
+            0,
+            StageTime {
+                stage: "read".into(),
+                seconds,
+            },
+        );
+        out.stats.total_seconds += seconds;
+    }
     let mut written = vec![];
     write_tetgen(&args.output, &out.mesh)?;
     written.push(format!("{}.{{node,ele,face}}", args.output.display()));
