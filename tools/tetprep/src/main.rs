@@ -39,7 +39,7 @@ struct Args {
     #[arg(long)]
     preserve_surface: bool,
     /// Aim for about this many tets (within 25 %). Keeps the surface as given (TetGen -Y)
-    /// and simplifies it first when it has more than N/4 faces.
+    /// and simplifies it first when it has more than N/2 faces.
     #[arg(long)]
     target_tets: Option<usize>,
     /// Multiply the input coordinates by this factor first.
