@@ -32,6 +32,7 @@
 //! metrics = "out/metrics.json"
 //! surface_dir = "out/frames"
 //! every = 10
+//! format = "ply"             # or "vtk"
 //! ```
 
 use std::path::{Path, PathBuf};
@@ -214,6 +215,9 @@ pub struct Output {
     /// Frames between surface files.
     #[serde(default = "default_every")]
     pub every: u32,
+    /// Surface file format: `ply` (boundary surface) or `vtk` (tet mesh with volume ratios).
+    #[serde(default)]
+    pub format: crate::runner::OutputFormat,
 }
 
 fn default_every() -> u32 {
@@ -226,6 +230,7 @@ impl Default for Output {
             metrics: None,
             surface_dir: None,
             every: default_every(),
+            format: Default::default(),
         }
     }
 }

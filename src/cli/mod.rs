@@ -4,7 +4,7 @@
 mod info;
 mod run;
 
-pub use run::RunArgs;
+pub use run::{DivergedRun, RunArgs};
 
 /// `tetrasim`: volume-preserving mass-spring simulation of tetrahedral meshes.
 #[derive(Debug, clap::Parser)]

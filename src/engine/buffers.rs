@@ -63,9 +63,10 @@ impl SimBuffers {
             .map(|(&p, &w)| vec4(p, w))
             .collect();
         let velocities: Vec<[f32; 4]> = model
-            .mass
+            .velocities
             .iter()
-            .map(|&m| [0.0, 0.0, 0.0, m as f32])
+            .zip(&model.mass)
+            .map(|(&v, &m)| vec4(v, m))
             .collect();
         let forces: Vec<[f32; 4]> = model
             .mass
