@@ -148,13 +148,14 @@ pub fn table(records: &[RunRecord]) -> String {
 
 /// Position of a pass in a time step, for printing passes in execution order.
 fn pass_rank(name: &str) -> usize {
-    const ORDER: [&str; 7] = [
+    const ORDER: [&str; 8] = [
         "spring_scatter",
         "spring_gather",
         "distance",
         "volume",
         "constraint_apply",
         "integrate",
+        "check",
         "volume_sum",
     ];
     ORDER.iter().position(|&n| n == name).unwrap_or(ORDER.len())

@@ -2,6 +2,7 @@
 //! `main.rs` only parses and dispatches to [`execute`].
 
 mod info;
+mod plan;
 mod run;
 
 pub use run::{DivergedRun, RunArgs};
@@ -21,6 +22,9 @@ pub enum Command {
     /// Simulate a mesh dropped on the floor and report volume preservation (the paper's
     /// experiment with `--preset seed`).
     Run(Box<RunArgs>),
+    /// Print what the Vulkan engine would build for a scene (`--scene FILE`) or for run's
+    /// flags: passes per time step, buffer sizes, device memory, bytes moved per frame.
+    Plan(Box<RunArgs>),
     /// List the Vulkan devices: driver, limits, timestamps, float atomics and the atomic
     /// path and workgroup size the engine would use on each.
     Info,
@@ -31,5 +35,6 @@ pub fn execute(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Run(args) => run::execute(*args),
         Command::Info => info::execute(),
+        Command::Plan(args) => plan::execute(*args),
     }
 }

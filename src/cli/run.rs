@@ -323,6 +323,9 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
                 .unwrap_or_default(),
             validation: args.validation,
             workgroup_size: args.workgroup_size,
+            // A scene without a metrics file measures the volume only after the last frame
+            // (no per-frame readback); the flags' run always prints its per-frame table.
+            volume_on_demand: args.scene.is_some() && out.metrics.is_none(),
         },
     };
     let records = run_methods(model, params, &methods, &options)?;
