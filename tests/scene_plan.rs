@@ -67,7 +67,10 @@ fn two_objects_with_pins_and_velocity_run_on_every_backend() {
         .all(|v| *v == DVec3::new(0.5, 0.0, -0.25)));
     // Object 1's indices are shifted past object 0's nodes.
     assert!(m.tets[48..].iter().flatten().all(|&i| i as usize >= per));
-    assert!(m.springs.iter().all(|s| ((s[0] as usize) < per) == ((s[1] as usize) < per)));
+    assert!(m
+        .springs
+        .iter()
+        .all(|s| ((s[0] as usize) < per) == ((s[1] as usize) < per)));
 
     let mut backends = vec!["cpu-ref", "cpu"];
     if gpu_support::vulkan_available() {
@@ -150,7 +153,10 @@ fn springs_only_and_volume_with_floor_plan_differently() {
         (16, 16 + 8)
     );
     assert_eq!(
-        (springs.dispatches_per_frame(), volume.dispatches_per_frame()),
+        (
+            springs.dispatches_per_frame(),
+            volume.dispatches_per_frame()
+        ),
         (3, 1 + 20 + 1 + 1 + 1)
     );
     assert!(volume.bytes_per_frame() > 5 * springs.bytes_per_frame());
@@ -162,8 +168,17 @@ fn plan_cli_prints_the_pass_lists() {
     let a = scene_file(dir.path(), "a.toml", SPRINGS_ONLY);
     let b = scene_file(dir.path(), "b.toml", VOLUME_FLOOR);
     let print = |p: &Path| {
-        let out = tetrasim().arg("plan").arg("--scene").arg(p).output().unwrap();
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let out = tetrasim()
+            .arg("plan")
+            .arg("--scene")
+            .arg(p)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         String::from_utf8(out.stdout).unwrap()
     };
     let (a, b) = (print(&a), print(&b));
@@ -203,7 +218,12 @@ fn the_engine_builds_and_records_exactly_the_plan() {
             assert_eq!(gpu.device_bytes(), plan.device_bytes(), "{method}");
             assert_eq!(plan.has_pass("volume_sum"), !on_demand);
             gpu.step_frame().unwrap();
-            let mut timed: Vec<String> = gpu.pass_times().unwrap().into_iter().map(|p| p.name).collect();
+            let mut timed: Vec<String> = gpu
+                .pass_times()
+                .unwrap()
+                .into_iter()
+                .map(|p| p.name)
+                .collect();
             let mut planned: Vec<String> = plan.passes.iter().map(|p| p.name.to_string()).collect();
             if !timed.is_empty() {
                 timed.sort();
@@ -232,7 +252,13 @@ fn diverging_scene_exits_3_and_writes_finite_metrics() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(3), "{stderr}");
     assert!(stderr.contains("warning: dt exceeds"), "{stderr}");
-    for needle in ["diverged at frame", "substep", "method mss", "first bad node", "stable dt estimate"] {
+    for needle in [
+        "diverged at frame",
+        "substep",
+        "method mss",
+        "first bad node",
+        "stable dt estimate",
+    ] {
         assert!(stderr.contains(needle), "`{needle}` missing: {stderr}");
     }
     let json = std::fs::read_to_string(dir.path().join("m.json")).unwrap();
