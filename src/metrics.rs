@@ -193,6 +193,13 @@ pub fn write_json(path: &Path, records: &[RunRecord]) -> Result<()> {
     crate::runner::write_atomically(path, text.as_bytes())
 }
 
+/// Writes any serialisable value as pretty JSON to `path` (temporary file, then rename).
+pub fn write_json_value<T: Serialize + ?Sized>(path: &Path, value: &T) -> Result<()> {
+    let text = serde_json::to_string_pretty(value)
+        .map_err(|e| Error::param("json", format!("cannot serialise {}: {e}", path.display())))?;
+    crate::runner::write_atomically(path, text.as_bytes())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -4,6 +4,7 @@
 mod info;
 mod plan;
 mod run;
+mod stability;
 
 pub use run::{DivergedRun, RunArgs};
 
@@ -25,6 +26,8 @@ pub enum Command {
     /// Print what the Vulkan engine would build for a scene (`--scene FILE`) or for run's
     /// flags: passes per time step, buffer sizes, device memory, bytes moved per frame.
     Plan(Box<RunArgs>),
+    /// Sweep dt x ks per method and write stability heat maps (PNG) and a table.
+    Stability(stability::StabilityArgs),
     /// List the Vulkan devices: driver, limits, timestamps, float atomics and the atomic
     /// path and workgroup size the engine would use on each.
     Info,
@@ -36,5 +39,6 @@ pub fn execute(cli: Cli) -> anyhow::Result<()> {
         Command::Run(args) => run::execute(*args),
         Command::Info => info::execute(),
         Command::Plan(args) => plan::execute(*args),
+        Command::Stability(args) => stability::execute(args),
     }
 }

@@ -2,6 +2,8 @@
 //! speed limit, and the dt x ks sweep behind `tetrasim stability`.
 
 pub mod estimate;
+pub mod plot;
+pub mod sweep;
 
 pub use estimate::{estimate, speed_limit, StepEstimate};
 
