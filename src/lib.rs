@@ -12,6 +12,7 @@ pub mod cpu;
 pub mod engine;
 pub mod error;
 pub mod gpu;
+pub mod launch;
 pub mod mesh;
 pub mod metrics;
 pub mod model;
@@ -21,6 +22,7 @@ pub mod prep;
 pub mod preset;
 pub mod runner;
 pub mod scene;
+pub mod stability;
 
 pub use backend::{Backend, State, VolumeSample};
 pub use error::{Error, Result};

@@ -8,7 +8,14 @@ fn main() -> std::process::ExitCode {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
-            std::process::ExitCode::FAILURE
+            // A diverged run exits with 3 (docs/STABILITY.md); other failures with 1.
+            let diverged = e.downcast_ref::<tetrasim::cli::DivergedRun>().is_some()
+                || matches!(e.downcast_ref(), Some(tetrasim::Error::Diverged(_)));
+            if diverged {
+                std::process::ExitCode::from(3)
+            } else {
+                std::process::ExitCode::FAILURE
+            }
         }
     }
 }

@@ -148,13 +148,14 @@ pub fn table(records: &[RunRecord]) -> String {
 
 /// Position of a pass in a time step, for printing passes in execution order.
 fn pass_rank(name: &str) -> usize {
-    const ORDER: [&str; 7] = [
+    const ORDER: [&str; 8] = [
         "spring_scatter",
         "spring_gather",
         "distance",
         "volume",
         "constraint_apply",
         "integrate",
+        "check",
         "volume_sum",
     ];
     ORDER.iter().position(|&n| n == name).unwrap_or(ORDER.len())
@@ -189,6 +190,13 @@ pub fn pass_table(records: &[RunRecord]) -> String {
 pub fn write_json(path: &Path, records: &[RunRecord]) -> Result<()> {
     let text = serde_json::to_string_pretty(records)
         .map_err(|e| Error::param("metrics", format!("cannot serialise the run records: {e}")))?;
+    crate::runner::write_atomically(path, text.as_bytes())
+}
+
+/// Writes any serialisable value as pretty JSON to `path` (temporary file, then rename).
+pub fn write_json_value<T: Serialize + ?Sized>(path: &Path, value: &T) -> Result<()> {
+    let text = serde_json::to_string_pretty(value)
+        .map_err(|e| Error::param("json", format!("cannot serialise {}: {e}", path.display())))?;
     crate::runner::write_atomically(path, text.as_bytes())
 }
 

@@ -32,6 +32,7 @@
 //! metrics = "out/metrics.json"
 //! surface_dir = "out/frames"
 //! every = 10
+//! format = "ply"             # or "vtk"
 //! ```
 
 use std::path::{Path, PathBuf};
@@ -110,6 +111,9 @@ impl Default for Solver {
 pub struct Object {
     /// `.node/.ele` prefix or surface file.
     pub mesh: PathBuf,
+    /// Tets to aim at when `mesh` is a surface file meshed in-process (default 5000).
+    #[serde(default)]
+    pub target_tets: Option<usize>,
     /// Simulation method.
     #[serde(default = "default_method")]
     pub method: Method,
@@ -214,6 +218,9 @@ pub struct Output {
     /// Frames between surface files.
     #[serde(default = "default_every")]
     pub every: u32,
+    /// Surface file format: `ply` (boundary surface) or `vtk` (tet mesh with volume ratios).
+    #[serde(default)]
+    pub format: crate::runner::OutputFormat,
 }
 
 fn default_every() -> u32 {
@@ -226,6 +233,7 @@ impl Default for Output {
             metrics: None,
             surface_dir: None,
             every: default_every(),
+            format: Default::default(),
         }
     }
 }

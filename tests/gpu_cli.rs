@@ -96,6 +96,7 @@ fn vulkan_run_reports_device_atomics_and_pass_times() {
     assert_eq!(
         names,
         [
+            "check",
             "constraint_apply",
             "integrate",
             "spring_scatter",

@@ -15,10 +15,13 @@ fn pass_times_are_present_positive_and_within_the_frame_wall_time() {
     }
     let model = gpu_support::box_model([8, 6, 6], 0.1);
     let expected: [(Method, &[&str]); 4] = [
-        (Method::Mss, &["spring_scatter", "integrate", "volume_sum"]),
+        (
+            Method::Mss,
+            &["spring_scatter", "integrate", "check", "volume_sum"],
+        ),
         (
             Method::MssNode,
-            &["spring_gather", "integrate", "volume_sum"],
+            &["spring_gather", "integrate", "check", "volume_sum"],
         ),
         (
             Method::Distance,
@@ -27,6 +30,7 @@ fn pass_times_are_present_positive_and_within_the_frame_wall_time() {
                 "distance",
                 "constraint_apply",
                 "integrate",
+                "check",
                 "volume_sum",
             ],
         ),
@@ -37,6 +41,7 @@ fn pass_times_are_present_positive_and_within_the_frame_wall_time() {
                 "volume",
                 "constraint_apply",
                 "integrate",
+                "check",
                 "volume_sum",
             ],
         ),

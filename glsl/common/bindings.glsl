@@ -25,6 +25,9 @@
 #define B_NODE_SPRING_ITEMS 9
 // Per volume_sum workgroup: VolumePartial.
 #define B_VOLUME_PARTIALS 10
+// Divergence status (check.comp): flags (1 non-finite, 2 too fast), first bad node
+// (u32::MAX when none), speed limit [m/s], unused.
+#define B_STATUS 11
 
 // One spring: its two nodes and rest length [m] (16 bytes, one 128-bit load).
 struct Spring {

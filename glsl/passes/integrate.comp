@@ -6,6 +6,10 @@
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 
+// 1 when the scene has a floor; 0 compiles the contact test away (specialisation constant 1,
+// set by the engine plan).
+layout(constant_id = 1) const uint FLOOR = 1u;
+
 layout(std430, set = 0, binding = B_POSITIONS) restrict buffer Positions { vec4 positions[]; };
 layout(std430, set = 0, binding = B_VELOCITIES) restrict buffer Velocities { vec4 velocities[]; };
 layout(std430, set = 0, binding = B_FORCES) restrict buffer Forces { vec4 forces[]; };
@@ -20,7 +24,7 @@ void main() {
     float w = p.w;
     vec3 vn = v.xyz + pc.dt * w * forces[i].xyz;
     vec3 xn = p.xyz + pc.dt * vn;
-    if (pc.floor_on != 0u && xn.y < 0.0) {
+    if (FLOOR != 0u && pc.floor_on != 0u && xn.y < 0.0) {
         xn.y = 0.0;
         vn.y = max(vn.y, 0.0);
         vn.xz *= 1.0 - pc.friction;

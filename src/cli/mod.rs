@@ -2,9 +2,11 @@
 //! `main.rs` only parses and dispatches to [`execute`].
 
 mod info;
+mod plan;
 mod run;
+mod stability;
 
-pub use run::RunArgs;
+pub use run::{DivergedRun, RunArgs};
 
 /// `tetrasim`: volume-preserving mass-spring simulation of tetrahedral meshes.
 #[derive(Debug, clap::Parser)]
@@ -21,6 +23,11 @@ pub enum Command {
     /// Simulate a mesh dropped on the floor and report volume preservation (the paper's
     /// experiment with `--preset seed`).
     Run(Box<RunArgs>),
+    /// Print what the Vulkan engine would build for a scene (`--scene FILE`) or for run's
+    /// flags: passes per time step, buffer sizes, device memory, bytes moved per frame.
+    Plan(Box<RunArgs>),
+    /// Sweep dt x ks per method and write stability heat maps (PNG) and a table.
+    Stability(stability::StabilityArgs),
     /// List the Vulkan devices: driver, limits, timestamps, float atomics and the atomic
     /// path and workgroup size the engine would use on each.
     Info,
@@ -31,5 +38,7 @@ pub fn execute(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Run(args) => run::execute(*args),
         Command::Info => info::execute(),
+        Command::Plan(args) => plan::execute(*args),
+        Command::Stability(args) => stability::execute(args),
     }
 }

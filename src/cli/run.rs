@@ -1,17 +1,19 @@
-//! `tetrasim run`: the preset, overridden by flags, on one mesh for one or all methods.
+//! `tetrasim run`: a scene file (`--scene FILE`), or the preset overridden by flags, which
+//! build a one-object scene; both go through [`crate::launch::stage`].
 
 use std::path::PathBuf;
 
 use anyhow::Context as _;
 
 use crate::engine::EngineOptions;
+use crate::launch::stage;
 use crate::metrics::{pass_table, table, write_json};
 use crate::params::{AtomicsMode, ConstraintCombine, MassMode, Method};
 use crate::preset::{Preset, PresetName};
 use crate::runner::{
-    build_model, load_mesh, run_methods, OutputFormat, RunOptions, SurfaceOutput, DEFAULT_MESH,
-    DEFAULT_TARGET_TETS,
+    run_methods, OutputFormat, RunOptions, SurfaceOutput, DEFAULT_MESH, DEFAULT_TARGET_TETS,
 };
+use crate::scene::{Collider, Material, Object, Output, Pin, Scene, Solver};
 
 /// `--method` values: one method or `all`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -43,6 +45,10 @@ impl MethodChoice {
 /// Arguments of `tetrasim run`. Every physics value defaults to the preset's.
 #[derive(Debug, clap::Args)]
 pub struct RunArgs {
+    /// A scene file (TOML, see `tetrasim::scene`): objects, colliders, solver and outputs.
+    /// The mesh, physics and output flags below must not be given with it.
+    #[arg(long, conflicts_with_all = SCENE_CONFLICTS)]
+    pub scene: Option<PathBuf>,
     /// TetGen prefix (PREFIX.node + PREFIX.ele) or a surface file (.ply/.obj/.off/.stl).
     #[arg(long, default_value = DEFAULT_MESH)]
     pub mesh: PathBuf,
@@ -136,6 +142,32 @@ pub struct RunArgs {
     pub quiet: bool,
 }
 
+/// The flags a scene file replaces.
+const SCENE_CONFLICTS: [&str; 22] = [
+    "mesh",
+    "method",
+    "preset",
+    "frames",
+    "dt",
+    "substeps",
+    "iterations",
+    "omega",
+    "ks",
+    "kd",
+    "friction",
+    "gravity",
+    "combine",
+    "epsilon",
+    "node_mass",
+    "density",
+    "no_floor",
+    "fit_size",
+    "drop_height",
+    "metrics",
+    "out_dir",
+    "format",
+];
+
 impl RunArgs {
     /// The preset with every given flag applied.
     pub fn preset(&self) -> Preset {
@@ -164,41 +196,128 @@ impl RunArgs {
         }
         p
     }
+
+    /// The one-object scene these flags stand for (method: the first of `--method`).
+    pub fn scene(&self) -> Scene {
+        let p = self.preset();
+        let s = &p.params;
+        let (node_mass, density) = match s.mass {
+            MassMode::PerNode { mass } => (Some(mass), None),
+            MassMode::Density { density } => (None, Some(density)),
+        };
+        Scene {
+            solver: Solver {
+                dt: s.dt,
+                substeps: s.substeps,
+                iterations: s.iterations,
+                omega: s.omega,
+                combine: s.combine,
+                atomics: s.atomics,
+                epsilon: s.constraint_epsilon,
+                gravity: s.gravity,
+                frames: p.frames,
+            },
+            objects: vec![Object {
+                mesh: self.mesh.clone(),
+                target_tets: Some(self.target_tets),
+                method: self.method.methods()[0],
+                fit_size: p.placement.fit_size,
+                drop_height: p.placement.drop_height,
+                velocity: [0.0; 3],
+                material: Material {
+                    ks: s.ks,
+                    kd: s.kd,
+                    node_mass,
+                    density,
+                },
+                pin: Pin::default(),
+            }],
+            colliders: if s.floor {
+                vec![Collider::Floor {
+                    friction: s.friction,
+                }]
+            } else {
+                Vec::new()
+            },
+            output: Output {
+                metrics: self.metrics.clone(),
+                surface_dir: self.out_dir.clone(),
+                every: self.every,
+                format: self.format,
+            },
+        }
+    }
+
+    /// The scene to run (the file, or the flags' scene) and the methods to run it with.
+    pub fn scene_and_methods(&self) -> anyhow::Result<(Scene, Vec<Method>)> {
+        match &self.scene {
+            Some(path) => {
+                let scene = Scene::load(path)?;
+                let method = scene.objects[0].method;
+                Ok((scene, vec![method]))
+            }
+            None => {
+                // Flag values are checked first so that errors name the flag (`dt`), not
+                // the scene key (`solver.dt`).
+                let preset = self.preset();
+                preset.params.validate()?;
+                if preset.frames == 0 {
+                    return Err(crate::Error::param("frames", "must be at least 1").into());
+                }
+                let scene = self.scene();
+                scene.validate()?;
+                Ok((scene, self.method.methods()))
+            }
+        }
+    }
 }
+
+/// A run that diverged: `tetrasim` exits with status 3 (after writing the metrics).
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct DivergedRun(pub String);
 
 /// Runs `tetrasim run`.
 pub fn execute(args: RunArgs) -> anyhow::Result<()> {
-    let preset = args.preset();
-    preset.params.validate()?;
-    if preset.frames == 0 {
-        return Err(crate::Error::param("frames", "must be at least 1").into());
-    }
-    let loaded = load_mesh(&args.mesh, args.target_tets)?;
-    if let Some(note) = &loaded.note {
+    let (scene, methods) = args.scene_and_methods()?;
+    let staged = stage(&scene).with_context(|| match &args.scene {
+        Some(path) => format!("staging the scene {}", path.display()),
+        None => format!("building the model of {}", args.mesh.display()),
+    })?;
+    for note in &staged.notes {
         eprintln!("{note}");
     }
-    let model = build_model(&loaded.mesh, &preset.params, preset.placement)
-        .with_context(|| format!("building the model of {}", loaded.label))?;
+    let (model, params) = (&staged.model, &staged.params);
     eprintln!(
-        "{}: {} nodes, {} tets, {} springs; backend {}, {} frames of dt {} s x {} substeps, {} iterations",
-        loaded.label,
+        "{}: {} nodes ({} pinned), {} tets, {} springs; backend {}, {} frames of dt {} s x {} substeps, {} iterations",
+        staged.label,
         model.node_count(),
+        model.node_count() - model.free_node_count(),
         model.tets.len(),
         model.springs.len(),
         args.backend,
-        preset.frames,
-        preset.params.dt,
-        preset.params.substeps,
-        preset.params.iterations
+        staged.frames,
+        params.dt,
+        params.substeps,
+        params.iterations
     );
-    let output = match &args.out_dir {
-        Some(dir) => Some(SurfaceOutput::new(dir, args.every, args.format)?),
+    let estimate = crate::stability::estimate(model, params);
+    if estimate.exceeded_by(params.dt) {
+        eprintln!(
+            "warning: dt exceeds the explicit stability bound of the springs: {}; the run will \
+             likely diverge (docs/STABILITY.md)",
+            estimate.describe(params)
+        );
+    }
+    let out = &scene.output;
+    let output = match &out.surface_dir {
+        Some(dir) => Some(SurfaceOutput::new(dir, out.every, out.format)?),
         None => None,
     };
     let options = RunOptions {
         backend: args.backend.clone(),
-        frames: preset.frames,
-        mesh_label: loaded.label.clone(),
+        frames: staged.frames,
+        mesh_label: staged.label.clone(),
         progress: !args.quiet,
         output,
         gpu: EngineOptions {
@@ -210,14 +329,20 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
                 .unwrap_or_default(),
             validation: args.validation,
             workgroup_size: args.workgroup_size,
+            // A scene without a metrics file measures the volume only after the last frame
+            // (no per-frame readback); the flags' run always prints its per-frame table.
+            volume_on_demand: args.scene.is_some() && out.metrics.is_none(),
         },
     };
-    let records = run_methods(&model, &preset.params, &args.method.methods(), &options)?;
+    let records = run_methods(model, params, &methods, &options)?;
     print!("{}", table(&records));
     print!("{}", pass_table(&records));
-    if let Some(path) = &args.metrics {
+    if let Some(path) = &out.metrics {
         write_json(path, &records)?;
         eprintln!("metrics written to {}", path.display());
     }
-    Ok(())
+    match records.iter().find_map(|r| r.divergence.as_ref()) {
+        Some(d) => Err(DivergedRun(d.clone()).into()),
+        None => Ok(()),
+    }
 }

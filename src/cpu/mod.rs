@@ -60,15 +60,37 @@ fn check_state(n: usize, state: &State) -> Result<()> {
     }
 }
 
-/// The error for a state that went non-finite at `node`.
-fn diverged(frame: u32, substep: u32, method: Method, node: u32) -> Error {
+/// How a node failed the divergence check.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Bad {
+    /// A position or velocity is NaN or infinite.
+    NonFinite,
+    /// Its speed [m/s] exceeds the limit.
+    TooFast(f64),
+}
+
+/// The error for a state that failed the divergence check at `node`; `likely` is the
+/// backend's [`crate::stability::likely_cause`].
+fn diverged(
+    frame: u32,
+    substep: u32,
+    method: Method,
+    node: u32,
+    bad: Bad,
+    limit: f64,
+    likely: &str,
+) -> Error {
+    let what = match bad {
+        Bad::NonFinite => "a position or velocity became non-finite".to_string(),
+        Bad::TooFast(speed) => {
+            format!("its speed {speed:.3e} m/s exceeds the divergence limit {limit:.3e} m/s")
+        }
+    };
     Error::Diverged(Box::new(Divergence {
         frame,
         substep: Some(substep),
         method: method.name().to_string(),
         node: Some(node),
-        cause: "a position or velocity became non-finite; try a smaller --dt, more --substeps, \
-                a smaller --omega or --combine average"
-            .to_string(),
+        cause: format!("{what}; {likely}"),
     }))
 }

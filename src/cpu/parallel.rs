@@ -7,7 +7,7 @@
 use glam::Vec3A;
 use rayon::prelude::*;
 
-use super::{check_state, diverged, node_tet_corners};
+use super::{check_state, diverged, node_tet_corners, Bad};
 use crate::backend::{Backend, State, VolumeSample};
 use crate::error::Result;
 use crate::model::{Csr, Model};
@@ -61,10 +61,14 @@ pub struct ParallelBackend {
     /// Per-tet result: force on each corner.
     tet_out: Vec<[Vec3A; 4]>,
     frame: u32,
+    /// Divergence speed limit [m/s] ([`crate::stability::speed_limit`]).
+    speed_limit: f32,
+    /// The likely cause printed on divergence.
+    likely: String,
 }
 
 impl ParallelBackend {
-    /// A solver at the model's initial positions, at rest. Fails on invalid parameters.
+    /// A solver at the model's initial positions and velocities. Fails on invalid parameters.
     pub fn new(model: &Model, params: &SimParams) -> Result<Self> {
         params.validate()?;
         let n = model.node_count();
@@ -118,11 +122,17 @@ impl ParallelBackend {
                 .iter()
                 .map(|&p| Vec3A::from_dvec3(p))
                 .collect(),
-            v: vec![Vec3A::ZERO; n],
+            v: model
+                .velocities
+                .iter()
+                .map(|&v| Vec3A::from_dvec3(v))
+                .collect(),
             f: vec![Vec3A::ZERO; n],
             spring_out: vec![Vec3A::ZERO; model.springs.len()],
             tet_out: vec![[Vec3A::ZERO; 4]; model.tets.len()],
             frame: 0,
+            speed_limit: crate::stability::speed_limit(model, params) as f32,
+            likely: crate::stability::likely_cause(model, params),
         })
     }
 
@@ -259,9 +269,11 @@ impl ParallelBackend {
             });
     }
 
-    /// Pass `integrate`: symplectic Euler and the floor. Returns the first non-finite node.
-    fn integrate_pass(&mut self) -> Option<usize> {
+    /// Pass `integrate`: symplectic Euler and the floor. Returns the first node that is
+    /// non-finite or faster than the speed limit.
+    fn integrate_pass(&mut self) -> Option<(usize, Bad)> {
         let (f, w, k, floor) = (&self.f, &self.inv_mass, self.k, self.floor);
+        let limit2 = self.speed_limit * self.speed_limit;
         self.x
             .par_iter_mut()
             .zip(self.v.par_iter_mut())
@@ -273,13 +285,19 @@ impl ParallelBackend {
                     (x1, v1) = resolve_floor(x1, v1, k.friction);
                 }
                 (*x, *v) = (x1, v1);
-                (!(x1.is_finite() && v1.is_finite())).then_some(i)
+                if !(x1.is_finite() && v1.is_finite()) {
+                    Some((i, Bad::NonFinite))
+                } else if v1.length_squared() > limit2 {
+                    Some((i, Bad::TooFast(f64::from(v1.length()))))
+                } else {
+                    None
+                }
             })
-            .min()
+            .min_by_key(|(i, _)| *i)
     }
 
     /// One time step (physics.md steps 1-3).
-    fn step(&mut self) -> Option<usize> {
+    fn step(&mut self) -> Option<(usize, Bad)> {
         self.spring_pass();
         for _ in 0..self.iterations {
             match self.method {
@@ -314,8 +332,16 @@ impl Backend for ParallelBackend {
 
     fn step_frame(&mut self) -> Result<()> {
         for substep in 0..self.substeps {
-            if let Some(node) = self.step() {
-                return Err(diverged(self.frame, substep, self.method, node as u32));
+            if let Some((node, bad)) = self.step() {
+                return Err(diverged(
+                    self.frame,
+                    substep,
+                    self.method,
+                    node as u32,
+                    bad,
+                    f64::from(self.speed_limit),
+                    &self.likely,
+                ));
             }
         }
         self.frame += 1;

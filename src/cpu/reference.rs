@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use super::{check_state, diverged};
+use super::{check_state, diverged, Bad};
 use crate::backend::{Backend, State, VolumeSample};
 use crate::error::Result;
 use crate::model::Model;
@@ -42,19 +42,24 @@ pub struct ReferenceBackend {
     x: Vec<DVec3>,
     v: Vec<DVec3>,
     frame: u32,
+    /// Divergence speed limit [m/s] ([`crate::stability::speed_limit`]).
+    speed_limit: f64,
+    /// The likely cause printed on divergence.
+    likely: String,
 }
 
 impl ReferenceBackend {
-    /// A solver at the model's initial positions, at rest. Fails on invalid parameters.
+    /// A solver at the model's initial positions and velocities. Fails on invalid parameters.
     pub fn new(model: &Model, params: &SimParams) -> Result<Self> {
         params.validate()?;
-        let n = model.node_count();
         Ok(ReferenceBackend {
             model: model.clone(),
             params: params.clone(),
             x: model.positions.clone(),
-            v: vec![DVec3::ZERO; n],
+            v: model.velocities.clone(),
             frame: 0,
+            speed_limit: crate::stability::speed_limit(model, params),
+            likely: crate::stability::likely_cause(model, params),
         })
     }
 
@@ -206,8 +211,10 @@ impl ReferenceBackend {
         )
     }
 
-    /// One time step (physics.md steps 1-3). Returns the first non-finite node, if any.
-    fn step(&mut self) -> Option<usize> {
+    /// One time step (physics.md steps 1-3). Returns the first node that is non-finite or
+    /// faster than the speed limit, if any.
+    fn step(&mut self) -> Option<(usize, Bad)> {
+        let limit = self.speed_limit;
         let f = self.forces().total();
         let p = &self.params;
         let mut bad = None;
@@ -221,8 +228,12 @@ impl ReferenceBackend {
             if p.floor {
                 (*x, *v) = resolve_floor(*x, *v, p.friction);
             }
-            if bad.is_none() && !(x.is_finite() && v.is_finite()) {
-                bad = Some(i);
+            if bad.is_none() {
+                if !(x.is_finite() && v.is_finite()) {
+                    bad = Some((i, Bad::NonFinite));
+                } else if v.length() > limit {
+                    bad = Some((i, Bad::TooFast(v.length())));
+                }
             }
         }
         bad
@@ -236,12 +247,15 @@ impl Backend for ReferenceBackend {
 
     fn step_frame(&mut self) -> Result<()> {
         for substep in 0..self.params.substeps {
-            if let Some(node) = self.step() {
+            if let Some((node, bad)) = self.step() {
                 return Err(diverged(
                     self.frame,
                     substep,
                     self.params.method,
                     node as u32,
+                    bad,
+                    self.speed_limit,
+                    &self.likely,
                 ));
             }
         }

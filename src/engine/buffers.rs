@@ -1,16 +1,18 @@
 //! The simulation's GPU buffers (the paper's Table 1 plus what each method needs), uploaded
-//! once from the [`Model`]. Only the buffers the method uses are created.
+//! once from the [`Model`]. Exactly the buffers of the [`EnginePlan`] are created, and each
+//! one's size is checked against the plan.
 
 use std::sync::Arc;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use crate::gpu::layout::{vec4, GpuSpring, VolumePartial};
+use super::plan::{BufferId, EnginePlan};
+use crate::gpu::layout::{vec4, GpuSpring};
 use crate::gpu::{Buffer, Context};
 use crate::model::Model;
 use crate::params::{ConstraintCombine, Method, SimParams};
-use crate::Result;
+use crate::{Error, Result};
 
 /// Device-local state and rest data, plus the host-visible copy of the volume partials.
 pub(crate) struct SimBuffers {
@@ -32,10 +34,20 @@ pub(crate) struct SimBuffers {
     pub weights: Option<Buffer>,
     /// Node -> springs CSR offsets and items (`mss-node`).
     pub node_springs: Option<(Buffer, Buffer)>,
-    /// One [`VolumePartial`] per volume_sum workgroup.
+    /// One [`crate::gpu::layout::VolumePartial`] per volume_sum workgroup.
     pub partials: Buffer,
-    /// Host-visible copy of `partials`, written at the end of every frame.
-    pub partials_readback: Buffer,
+    /// Host-visible copy of `partials`: written at the end of every frame with per-frame
+    /// metrics, else created on the first on-demand measurement.
+    pub partials_readback: Option<Buffer>,
+    /// Divergence status: `[flags, first bad node, speed limit (f32 bits), 0]`.
+    pub status: Buffer,
+    /// Host-visible copy of `status`, written at the end of every frame.
+    pub status_readback: Buffer,
+}
+
+/// Initial `status`: no flags, no bad node (`u32::MAX`), the speed limit [m/s].
+pub(crate) fn initial_status(speed_limit: f32) -> [u32; 4] {
+    [0, u32::MAX, speed_limit.to_bits(), 0]
 }
 
 fn bytes<T: bytemuck::Pod>(v: &[T]) -> &[u8] {
@@ -47,13 +59,13 @@ fn floats(v: &[f64]) -> Vec<f32> {
 }
 
 impl SimBuffers {
-    /// Uploads `model` for `params.method`; `partial_count` is the number of volume_sum
-    /// workgroups.
+    /// Uploads `model` for `params` as `plan` says; `speed_limit` [m/s] goes into `status`.
     pub fn new(
         ctx: &Arc<Context>,
         model: &Model,
         params: &SimParams,
-        partial_count: u32,
+        plan: &EnginePlan,
+        speed_limit: f32,
     ) -> Result<Self> {
         let n = model.node_count();
         let positions: Vec<[f32; 4]> = model
@@ -63,9 +75,10 @@ impl SimBuffers {
             .map(|(&p, &w)| vec4(p, w))
             .collect();
         let velocities: Vec<[f32; 4]> = model
-            .mass
+            .velocities
             .iter()
-            .map(|&m| [0.0, 0.0, 0.0, m as f32])
+            .zip(&model.mass)
+            .map(|(&v, &m)| vec4(v, m))
             .collect();
         let forces: Vec<[f32; 4]> = model
             .mass
@@ -83,7 +96,7 @@ impl SimBuffers {
                 pad: 0.0,
             })
             .collect();
-        let constrained = matches!(params.method, Method::Distance | Method::Volume);
+        let constrained = plan.has(BufferId::Weights);
         let weights = constrained.then(|| {
             (0..n)
                 .map(|i| {
@@ -99,52 +112,118 @@ impl SimBuffers {
                 })
                 .collect::<Vec<f32>>()
         });
-        let partials_size = u64::from(partial_count) * std::mem::size_of::<VolumePartial>() as u64;
-        Ok(SimBuffers {
-            positions: Buffer::with_data(ctx, "positions", bytes(&positions))?,
-            velocities: Buffer::with_data(ctx, "velocities", bytes(&velocities))?,
-            forces: Buffer::with_data(ctx, "forces", bytes(&forces))?,
-            springs: Buffer::with_data(ctx, "springs", bytes(&springs))?,
-            tets: Buffer::with_data(ctx, "tets", bytes(&model.tets))?,
-            rest_volumes: match params.method {
-                Method::Volume => Some(Buffer::with_data(
-                    ctx,
-                    "rest volumes",
-                    bytes(&floats(&model.rest_volume)),
-                )?),
-                _ => None,
-            },
-            constraint_sum: match constrained {
-                true => Some(Buffer::with_data(
-                    ctx,
-                    "constraint sums",
-                    &vec![0u8; n * 16],
-                )?),
-                false => None,
-            },
+        let upload = |id: BufferId, data: &[u8]| Buffer::with_data(ctx, id.name(), data);
+        let optional = |id: BufferId, data: &dyn Fn() -> Vec<u8>| -> Result<Option<Buffer>> {
+            match plan.has(id) {
+                true => Ok(Some(upload(id, &data())?)),
+                false => Ok(None),
+            }
+        };
+        let partials_size = plan.buffer(BufferId::Partials).map_or(0, |b| b.bytes);
+        let status = initial_status(speed_limit);
+        let buffers = SimBuffers {
+            positions: upload(BufferId::Positions, bytes(&positions))?,
+            velocities: upload(BufferId::Velocities, bytes(&velocities))?,
+            forces: upload(BufferId::Forces, bytes(&forces))?,
+            springs: upload(BufferId::Springs, bytes(&springs))?,
+            tets: upload(BufferId::Tets, bytes(&model.tets))?,
+            rest_volumes: optional(BufferId::RestVolumes, &|| {
+                bytes(&floats(&model.rest_volume)).to_vec()
+            })?,
+            constraint_sum: optional(BufferId::ConstraintSum, &|| vec![0u8; n * 16])?,
             weights: match weights {
-                Some(w) => Some(Buffer::with_data(ctx, "constraint weights", bytes(&w))?),
+                Some(w) => Some(upload(BufferId::Weights, bytes(&w))?),
                 None => None,
             },
-            node_springs: match params.method {
-                Method::MssNode => Some((
-                    Buffer::with_data(
-                        ctx,
-                        "node-spring offsets",
-                        bytes(&model.node_springs.offsets),
-                    )?,
-                    Buffer::with_data(ctx, "node-spring items", bytes(&model.node_springs.items))?,
-                )),
+            node_springs: match (
+                optional(BufferId::NodeSpringOffsets, &|| {
+                    bytes(&model.node_springs.offsets).to_vec()
+                })?,
+                optional(BufferId::NodeSpringItems, &|| {
+                    bytes(&model.node_springs.items).to_vec()
+                })?,
+            ) {
+                (Some(o), Some(i)) => Some((o, i)),
                 _ => None,
             },
             partials: Buffer::new(
                 ctx,
-                "volume partials",
+                BufferId::Partials.name(),
                 partials_size,
                 vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
                 MemoryLocation::GpuOnly,
             )?,
-            partials_readback: Buffer::readback(ctx, "volume partials (readback)", partials_size)?,
-        })
+            partials_readback: match plan.metrics {
+                true => Some(Buffer::readback(
+                    ctx,
+                    "volume partials (readback)",
+                    partials_size,
+                )?),
+                false => None,
+            },
+            status: upload(BufferId::Status, bytes(&status))?,
+            status_readback: Buffer::readback(ctx, "divergence status (readback)", 16)?,
+        };
+        buffers.check_against(plan)?;
+        Ok(buffers)
+    }
+
+    /// The buffer `id`, if it was built.
+    pub fn get(&self, id: BufferId) -> Option<&Buffer> {
+        match id {
+            BufferId::Positions => Some(&self.positions),
+            BufferId::Velocities => Some(&self.velocities),
+            BufferId::Forces => Some(&self.forces),
+            BufferId::Springs => Some(&self.springs),
+            BufferId::Tets => Some(&self.tets),
+            BufferId::RestVolumes => self.rest_volumes.as_ref(),
+            BufferId::ConstraintSum => self.constraint_sum.as_ref(),
+            BufferId::Weights => self.weights.as_ref(),
+            BufferId::NodeSpringOffsets => self.node_springs.as_ref().map(|b| &b.0),
+            BufferId::NodeSpringItems => self.node_springs.as_ref().map(|b| &b.1),
+            BufferId::Partials => Some(&self.partials),
+            BufferId::Status => Some(&self.status),
+        }
+    }
+
+    /// Device-local bytes of every buffer built (what the plan's total must equal).
+    pub fn device_bytes(&self) -> u64 {
+        ALL_BUFFERS
+            .iter()
+            .filter_map(|&id| self.get(id))
+            .map(|b| b.size)
+            .sum()
+    }
+
+    /// Fails when a buffer exists that the plan lacks, or the other way round, or when a
+    /// size differs: the plan printed by `tetrasim plan` is then wrong.
+    fn check_against(&self, plan: &EnginePlan) -> Result<()> {
+        for id in ALL_BUFFERS {
+            let built = self.get(id).map(|b| b.size);
+            let planned = plan.buffer(id).map(|b| b.bytes);
+            if built != planned {
+                return Err(Error::Gpu(format!(
+                    "engine plan mismatch for buffer `{}`: planned {planned:?} bytes, built {built:?}",
+                    id.name()
+                )));
+            }
+        }
+        Ok(())
     }
 }
+
+/// Every buffer kind.
+const ALL_BUFFERS: [BufferId; 12] = [
+    BufferId::Positions,
+    BufferId::Velocities,
+    BufferId::Forces,
+    BufferId::Springs,
+    BufferId::Tets,
+    BufferId::RestVolumes,
+    BufferId::ConstraintSum,
+    BufferId::Weights,
+    BufferId::NodeSpringOffsets,
+    BufferId::NodeSpringItems,
+    BufferId::Partials,
+    BufferId::Status,
+];

@@ -8,12 +8,13 @@
 
 mod buffers;
 mod passes;
+pub mod plan;
 
 use std::sync::Arc;
 
 use glam::DVec3;
 
-use crate::backend::{Backend, GpuReport, State, VolumeSample};
+use crate::backend::{Backend, Divergence, GpuReport, State, VolumeSample};
 use crate::error::{Error, Result};
 use crate::gpu::commands::{self, Access, Recorded};
 use crate::gpu::layout::{PushConstants, VolumePartial};
@@ -23,7 +24,8 @@ use crate::gpu::{
 use crate::model::Model;
 use crate::params::SimParams;
 use buffers::SimBuffers;
-use passes::{Counts, Passes, Recorder};
+use passes::{Passes, Recorder};
+use plan::{EnginePlan, PlanCounts};
 
 /// GPU choices that are not physics: which device, validation, workgroup size.
 #[derive(Debug, Clone, Default)]
@@ -34,6 +36,10 @@ pub struct EngineOptions {
     pub validation: bool,
     /// Invocations per workgroup (a power of two); `None`: from the device limits.
     pub workgroup_size: Option<u32>,
+    /// `false` (default): every frame measures the volume (`volume_sum` and the copy of
+    /// its partials); `true`: only when [`Backend::volume`] asks, so a frame reads back
+    /// nothing but the 16-byte divergence status.
+    pub volume_on_demand: bool,
 }
 
 /// The Vulkan compute backend. Field order is drop order: GPU work is waited for in
@@ -47,9 +53,13 @@ pub struct VulkanBackend {
     passes: Passes,
     readback: Option<(Buffer, Buffer)>,
     buffers: SimBuffers,
+    plan: EnginePlan,
+    /// Method name and likely cause, for divergence reports.
+    method: &'static str,
+    likely: String,
     atomics: AtomicsPath,
     workgroup_size: u32,
-    counts: Counts,
+    counts: PlanCounts,
     /// Whether `partials_readback` holds the volume of the current positions.
     partials_fresh: bool,
     frames: u32,
@@ -63,7 +73,7 @@ impl VulkanBackend {
             device: options.device.clone(),
             validation: options.validation,
         })?);
-        Self::with_context(ctx, model, params, options.workgroup_size)
+        Self::with_context_and_options(ctx, model, params, options)
     }
 
     /// The backend on an existing context (several backends may share one).
@@ -73,22 +83,49 @@ impl VulkanBackend {
         params: &SimParams,
         workgroup_size: Option<u32>,
     ) -> Result<Self> {
+        let options = EngineOptions {
+            workgroup_size,
+            ..Default::default()
+        };
+        Self::with_context_and_options(ctx, model, params, &options)
+    }
+
+    /// The plan of `model` under `params` on a device with `info` (what [`Self::new`]
+    /// would build; `tetrasim plan` prints it).
+    pub fn plan_for(
+        info: &DeviceInfo,
+        model: &Model,
+        params: &SimParams,
+        options: &EngineOptions,
+    ) -> Result<EnginePlan> {
+        let wg = options
+            .workgroup_size
+            .unwrap_or_else(|| info.default_workgroup_size());
+        info.check_workgroup_size(wg)?;
+        Ok(EnginePlan::new(
+            PlanCounts::of(model)?,
+            params,
+            wg,
+            !options.volume_on_demand,
+        ))
+    }
+
+    /// The backend on an existing context with all options but the device.
+    pub fn with_context_and_options(
+        ctx: Arc<Context>,
+        model: &Model,
+        params: &SimParams,
+        options: &EngineOptions,
+    ) -> Result<Self> {
         params.validate()?;
         let info = ctx.info();
         let atomics = info.atomics_path(params.atomics)?;
-        let wg = workgroup_size.unwrap_or_else(|| info.default_workgroup_size());
-        info.check_workgroup_size(wg)?;
-        let count = |what: &str, n: usize| {
-            u32::try_from(n)
-                .map_err(|_| Error::Mesh(format!("{n} {what} exceed the GPU engine's u32 indices")))
-        };
-        let counts = Counts {
-            nodes: count("nodes", model.node_count())?,
-            springs: count("springs", model.springs.len())?,
-            tets: count("tets", model.tets.len())?,
-        };
-        let buffers = SimBuffers::new(&ctx, model, params, counts.tets.div_ceil(wg))?;
-        let passes = Passes::new(&ctx, params.method, atomics, wg, &buffers, counts)?;
+        let plan = Self::plan_for(info, model, params, options)?;
+        let wg = plan.workgroup_size;
+        let counts = plan.counts;
+        let speed_limit = crate::stability::speed_limit(model, params) as f32;
+        let buffers = SimBuffers::new(&ctx, model, params, &plan, speed_limit)?;
+        let passes = Passes::new(&ctx, &plan, atomics, &buffers)?;
         let push = PushConstants::new(
             params,
             model.node_count(),
@@ -96,10 +133,7 @@ impl VulkanBackend {
             model.tets.len(),
         );
 
-        let mut timer = Timer::new(
-            &ctx,
-            passes.dispatches_per_frame(params.substeps, params.iterations),
-        )?;
+        let mut timer = Timer::new(&ctx, plan.dispatches_per_frame())?;
         let frame = Recorded::begin(&ctx, "frame", false)?;
         Recorder {
             ctx: &ctx,
@@ -107,16 +141,26 @@ impl VulkanBackend {
             push: &push,
             timer: timer.as_mut(),
         }
-        .record_frame(&passes, &buffers, params.substeps, params.iterations)?;
+        .record_frame(&plan, &passes, &buffers)?;
         frame.end()?;
         let measure = Recorded::begin(&ctx, "volume measure", false)?;
-        Recorder {
-            ctx: &ctx,
-            cmd: measure.cmd,
-            push: &push,
-            timer: None,
+        let mut buffers = buffers;
+        if buffers.partials_readback.is_none() {
+            buffers.partials_readback = Some(Buffer::readback(
+                &ctx,
+                "volume partials (readback)",
+                buffers.partials.size,
+            )?);
         }
-        .record_volume_sum(&passes, &buffers)?;
+        if let Some(readback) = &buffers.partials_readback {
+            Recorder {
+                ctx: &ctx,
+                cmd: measure.cmd,
+                push: &push,
+                timer: None,
+            }
+            .record_volume_sum(&passes, &buffers, readback)?;
+        }
         measure.end()?;
         Ok(VulkanBackend {
             frame,
@@ -125,6 +169,9 @@ impl VulkanBackend {
             passes,
             readback: None,
             buffers,
+            plan,
+            method: params.method.name(),
+            likely: crate::stability::likely_cause(model, params),
             atomics,
             workgroup_size: wg,
             counts,
@@ -147,6 +194,16 @@ impl VulkanBackend {
     /// Invocations per workgroup.
     pub fn workgroup_size(&self) -> u32 {
         self.workgroup_size
+    }
+
+    /// What this backend built and records per frame.
+    pub fn plan(&self) -> &EnginePlan {
+        &self.plan
+    }
+
+    /// Device-local bytes of the simulation buffers actually created.
+    pub fn device_bytes(&self) -> u64 {
+        self.buffers.device_bytes()
     }
 
     /// Frames completed on the GPU so far.
@@ -191,9 +248,50 @@ impl VulkanBackend {
                 t.collect()?;
             }
             self.frames += 1;
-            self.partials_fresh = true;
+            self.partials_fresh = self.plan.metrics;
         }
         Ok(())
+    }
+
+    /// Reads the divergence status the last frame copied to the host; on flags, names the
+    /// frame, the first bad node (with its speed, from one state readback) and the cause.
+    fn check_status(&mut self) -> Result<()> {
+        let words: [u32; 4] = {
+            let bytes = self.buffers.status_readback.mapped()?;
+            let b = bytes
+                .get(..16)
+                .ok_or_else(|| Error::Gpu("divergence status readback is short".into()))?;
+            bytemuck::pod_read_unaligned(b)
+        };
+        let [flags, node, limit, _] = words;
+        if flags == 0 {
+            return Ok(());
+        }
+        let limit = f32::from_bits(limit);
+        let node = (node != u32::MAX).then_some(node);
+        let what = match (flags & 1 != 0, node) {
+            (true, _) => "a position or velocity became non-finite".to_string(),
+            (false, Some(n)) => {
+                let speed = self
+                    .state()
+                    .ok()
+                    .and_then(|s| s.velocities.get(n as usize).map(|v| v.length()));
+                match speed {
+                    Some(v) => format!(
+                        "its speed {v:.3e} m/s exceeds the divergence limit {limit:.3e} m/s"
+                    ),
+                    None => format!("its speed exceeds the divergence limit {limit:.3e} m/s"),
+                }
+            }
+            (false, None) => format!("a speed exceeds the divergence limit {limit:.3e} m/s"),
+        };
+        Err(Error::Diverged(Box::new(Divergence {
+            frame: self.frames.saturating_sub(1),
+            substep: None,
+            method: self.method.to_string(),
+            node,
+            cause: format!("{what}; {}", self.likely),
+        })))
     }
 }
 
@@ -202,13 +300,17 @@ impl Backend for VulkanBackend {
         "vulkan"
     }
 
-    /// Submits the recorded frame and waits for it: one fence wait, no data transfer (the
-    /// volume partials are already copied to host-visible memory by the frame itself).
+    /// Submits the recorded frame and waits for it: one fence wait, no extra transfer (the
+    /// divergence status and, with per-frame metrics, the volume partials are copied to
+    /// host-visible memory by the frame itself). A diverged frame is an
+    /// [`Error::Diverged`] naming the frame and the first bad node (no substep: the check
+    /// runs once per frame).
     fn step_frame(&mut self) -> Result<()> {
         self.finish_frame()?;
         self.partials_fresh = false;
         self.frame.submit()?;
-        self.finish_frame()
+        self.finish_frame()?;
+        self.check_status()
     }
 
     fn volume(&mut self) -> Result<VolumeSample> {
@@ -218,7 +320,12 @@ impl Backend for VulkanBackend {
             self.measure.wait()?;
             self.partials_fresh = true;
         }
-        let bytes = self.buffers.partials_readback.mapped()?;
+        let bytes = self
+            .buffers
+            .partials_readback
+            .as_ref()
+            .ok_or_else(|| Error::Gpu("volume partials readback missing".into()))?
+            .mapped()?;
         let groups = self.counts.tets.div_ceil(self.workgroup_size) as usize;
         let partials: &[VolumePartial] = bytes
             .get(..groups * std::mem::size_of::<VolumePartial>())

@@ -49,6 +49,19 @@ impl Kernel {
         bindings: &[(u32, &Buffer)],
         workgroup_size: u32,
     ) -> Result<Self> {
+        Self::with_constants(ctx, name, key, bindings, workgroup_size, &[])
+    }
+
+    /// [`Kernel::new`] with 32-bit specialisation constants `constants[k]` at constant id
+    /// `k + 1` (id 0 is the workgroup size).
+    pub fn with_constants(
+        ctx: &Arc<Context>,
+        name: &str,
+        key: &str,
+        bindings: &[(u32, &Buffer)],
+        workgroup_size: u32,
+        constants: &[u32],
+    ) -> Result<Self> {
         let mut k = Kernel {
             ctx: ctx.clone(),
             name: name.to_string(),
@@ -60,11 +73,17 @@ impl Kernel {
             pool: vk::DescriptorPool::null(),
             set: vk::DescriptorSet::null(),
         };
-        k.build(ctx, key, bindings)?;
+        k.build(ctx, key, bindings, constants)?;
         Ok(k)
     }
 
-    fn build(&mut self, ctx: &Context, key: &str, bindings: &[(u32, &Buffer)]) -> Result<()> {
+    fn build(
+        &mut self,
+        ctx: &Context,
+        key: &str,
+        bindings: &[(u32, &Buffer)],
+        constants: &[u32],
+    ) -> Result<()> {
         let device = ctx.device();
         let layout_bindings: Vec<_> = bindings
             .iter()
@@ -84,11 +103,18 @@ impl Kernel {
         let ranges = [vk::PushConstantRange::default()
             .stage_flags(vk::ShaderStageFlags::COMPUTE)
             .size(std::mem::size_of::<PushConstants>() as u32)];
-        let spec_entries = [vk::SpecializationMapEntry::default()
-            .constant_id(0)
-            .offset(0)
-            .size(4)];
-        let spec_data = self.workgroup_size.to_ne_bytes();
+        let spec_values: Vec<u32> = std::iter::once(self.workgroup_size)
+            .chain(constants.iter().copied())
+            .collect();
+        let spec_entries: Vec<_> = (0..spec_values.len() as u32)
+            .map(|id| {
+                vk::SpecializationMapEntry::default()
+                    .constant_id(id)
+                    .offset(4 * id)
+                    .size(4)
+            })
+            .collect();
+        let spec_data: Vec<u8> = spec_values.iter().flat_map(|v| v.to_ne_bytes()).collect();
         let spec = vk::SpecializationInfo::default()
             .map_entries(&spec_entries)
             .data(&spec_data);

@@ -31,6 +31,8 @@ pub mod binding {
     pub const NODE_SPRING_ITEMS: u32 = 9;
     /// [`super::VolumePartial`] per volume_sum workgroup.
     pub const VOLUME_PARTIALS: u32 = 10;
+    /// Divergence status (16 bytes): flags, first bad node, speed limit [m/s].
+    pub const STATUS: u32 = 11;
 }
 
 /// The push-constant block of every pass (`PushConstants` in bindings.glsl), 48 bytes.
@@ -230,6 +232,7 @@ mod tests {
             ("NodeSpringOffsets", binding::NODE_SPRING_OFFSETS),
             ("NodeSpringItems", binding::NODE_SPRING_ITEMS),
             ("Partials", binding::VOLUME_PARTIALS),
+            ("Status", binding::STATUS),
         ]
         .into_iter()
         .collect();

@@ -28,6 +28,8 @@ impl Csr {
 pub struct Model {
     /// Initial node positions [m].
     pub positions: Vec<DVec3>,
+    /// Initial node velocities [m/s] (zero for pinned nodes). Every backend starts from them.
+    pub velocities: Vec<DVec3>,
     /// Node masses [kg] (a pinned node keeps its mass here, but its inverse mass is 0).
     pub mass: Vec<f64>,
     /// Inverse masses [1/kg]; 0 pins the node.
@@ -79,6 +81,8 @@ pub struct ModelBuilder<'a> {
     placement: Placement,
     mass: MassMode,
     pinned: Vec<u32>,
+    pin_boxes: Vec<(DVec3, DVec3)>,
+    velocity: DVec3,
 }
 
 impl<'a> ModelBuilder<'a> {
@@ -89,6 +93,8 @@ impl<'a> ModelBuilder<'a> {
             placement: Placement::default(),
             mass: MassMode::PerNode { mass: 1.0 },
             pinned: Vec::new(),
+            pin_boxes: Vec::new(),
+            velocity: DVec3::ZERO,
         }
     }
 
@@ -107,6 +113,18 @@ impl<'a> ModelBuilder<'a> {
     /// Nodes that never move (inverse mass 0).
     pub fn pinned(mut self, nodes: impl IntoIterator<Item = u32>) -> Self {
         self.pinned.extend(nodes);
+        self
+    }
+
+    /// Also pins every node inside the axis-aligned box `[lo, hi]` (placed coordinates, m).
+    pub fn pinned_in_box(mut self, lo: DVec3, hi: DVec3) -> Self {
+        self.pin_boxes.push((lo, hi));
+        self
+    }
+
+    /// Initial velocity of every free node [m/s] (pinned nodes start at rest).
+    pub fn velocity(mut self, velocity: DVec3) -> Self {
+        self.velocity = velocity;
         self
     }
 
@@ -184,6 +202,25 @@ impl<'a> ModelBuilder<'a> {
             })?;
             *slot = 0.0;
         }
+        for (i, p) in positions.iter().enumerate() {
+            if self
+                .pin_boxes
+                .iter()
+                .any(|(lo, hi)| p.cmpge(*lo).all() && p.cmple(*hi).all())
+            {
+                inv_mass[i] = 0.0;
+            }
+        }
+        if !self.velocity.is_finite() {
+            return Err(Error::param(
+                "velocity",
+                format!("must be finite, got {}", self.velocity),
+            ));
+        }
+        let velocities = inv_mass
+            .iter()
+            .map(|&w| if w > 0.0 { self.velocity } else { DVec3::ZERO })
+            .collect();
 
         let node_springs = adjacency(n, springs.iter().map(|s| s.as_slice()));
         let mut tet_degree = vec![0u32; n];
@@ -200,6 +237,7 @@ impl<'a> ModelBuilder<'a> {
 
         Ok(Model {
             positions,
+            velocities,
             mass,
             inv_mass,
             springs,
@@ -210,6 +248,49 @@ impl<'a> ModelBuilder<'a> {
             tet_degree,
             surface,
         })
+    }
+}
+
+impl Model {
+    /// Number of nodes that can move (inverse mass > 0).
+    pub fn free_node_count(&self) -> usize {
+        self.inv_mass.iter().filter(|&&w| w > 0.0).count()
+    }
+
+    /// Several models as one: nodes, springs and tets of `models[k]` follow those of
+    /// `models[..k]`, indices shifted accordingly. Objects do not interact (no
+    /// object-object collisions); they only share the solver and the floor.
+    pub fn concat(models: &[Model]) -> Result<Model> {
+        let mut iter = models.iter();
+        let mut out = iter
+            .next()
+            .cloned()
+            .ok_or_else(|| Error::Mesh("no models to combine".into()))?;
+        for m in iter {
+            let nodes = u32::try_from(out.node_count())
+                .map_err(|_| Error::Mesh("combined model exceeds u32 node indices".into()))?;
+            let springs = out.springs.len() as u32;
+            let items = out.node_springs.items.len() as u32;
+            out.positions.extend_from_slice(&m.positions);
+            out.velocities.extend_from_slice(&m.velocities);
+            out.mass.extend_from_slice(&m.mass);
+            out.inv_mass.extend_from_slice(&m.inv_mass);
+            out.springs
+                .extend(m.springs.iter().map(|s| s.map(|i| i + nodes)));
+            out.rest_length.extend_from_slice(&m.rest_length);
+            out.tets.extend(m.tets.iter().map(|t| t.map(|i| i + nodes)));
+            out.rest_volume.extend_from_slice(&m.rest_volume);
+            out.node_springs
+                .offsets
+                .extend(m.node_springs.offsets.iter().skip(1).map(|o| o + items));
+            out.node_springs
+                .items
+                .extend(m.node_springs.items.iter().map(|s| s + springs));
+            out.tet_degree.extend_from_slice(&m.tet_degree);
+            out.surface
+                .extend(m.surface.iter().map(|f| f.map(|i| i + nodes)));
+        }
+        Ok(out)
     }
 }
 

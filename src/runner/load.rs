@@ -50,6 +50,16 @@ pub fn load_mesh(path: &Path, target_tets: usize) -> Result<LoadedMesh> {
     }
 }
 
+impl LoadedMesh {
+    /// The file name of the mesh (its label's last component).
+    pub fn mesh_name(&self) -> String {
+        Path::new(&self.label)
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| self.label.clone())
+    }
+}
+
 /// `path` with `.ext` appended (not replacing an existing extension: `a.b` -> `a.b.ext`).
 fn with_extension(path: &Path, ext: &str) -> PathBuf {
     let mut s = path.as_os_str().to_owned();

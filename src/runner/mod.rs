@@ -59,6 +59,9 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
         out.write(model, params.method, 0, &backend.state()?.positions)?;
     }
     let mut stepping = 0.0;
+    // With `volume_on_demand` the volume is sampled after the last frame only.
+    let every_frame = !options.gpu.volume_on_demand;
+    let mut completed = 0;
     for frame in 0..options.frames {
         let t0 = Instant::now();
         let stepped = backend.step_frame();
@@ -71,6 +74,11 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
                 break;
             }
             Err(e) => return Err(e),
+        }
+        completed = frame + 1;
+        if !every_frame && completed < options.frames {
+            bar.inc(1);
+            continue;
         }
         let sample = backend.volume()?;
         let pct = volume_pct(sample, rest);
@@ -98,6 +106,9 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
     }
     bar.finish_and_clear();
     record.summarise();
+    if !every_frame {
+        record.frames_run = completed;
+    }
     record.ms_per_frame = if record.frames_run > 0 {
         1e3 * stepping / f64::from(record.frames_run)
     } else {

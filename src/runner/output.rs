@@ -12,9 +12,11 @@ use crate::model::Model;
 use crate::params::Method;
 
 /// What to write.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum OutputFormat {
     /// The boundary surface as binary PLY: `DIR/METHOD_FRAME.ply`.
+    #[default]
     Ply,
     /// The tet mesh as legacy VTK with the cell field `volume_ratio`: `DIR/METHOD_FRAME.vtk`.
     Vtk,
