@@ -18,6 +18,7 @@ pub mod model;
 pub mod params;
 pub mod physics;
 pub mod preset;
+pub mod render;
 pub mod runner;
 pub mod scene;
 

@@ -2,8 +2,10 @@
 //! `main.rs` only parses and dispatches to [`execute`].
 
 mod info;
+mod render;
 mod run;
 
+pub use render::RenderArgs;
 pub use run::RunArgs;
 
 /// `tetrasim`: volume-preserving mass-spring simulation of tetrahedral meshes.
@@ -21,6 +23,9 @@ pub enum Command {
     /// Simulate a mesh dropped on the floor and report volume preservation (the paper's
     /// experiment with `--preset seed`).
     Run(Box<RunArgs>),
+    /// Simulate like `run` on the GPU and draw it offscreen: PNG frames, an animated GIF, a
+    /// contact sheet of every method (coloured by volume ratio by default).
+    Render(Box<RenderArgs>),
     /// List the Vulkan devices: driver, limits, timestamps, float atomics and the atomic
     /// path and workgroup size the engine would use on each.
     Info,
@@ -30,6 +35,7 @@ pub enum Command {
 pub fn execute(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Run(args) => run::execute(*args),
+        Command::Render(args) => render::execute(*args),
         Command::Info => info::execute(),
     }
 }
