@@ -8,7 +8,9 @@ use anyhow::Context as _;
 
 use super::run::RunArgs;
 use crate::gpu::{Context, ContextOptions};
-use crate::render::{parse_size, render_methods, Camera, ColourMode, Outputs, RenderJob, RenderOptions};
+use crate::render::{
+    parse_size, render_methods, Camera, ColourMode, Outputs, RenderJob, RenderOptions,
+};
 use crate::runner::{build_model, load_mesh, SurfaceOutput};
 
 /// Arguments of `tetrasim render`.
@@ -63,7 +65,11 @@ pub fn execute(args: RenderArgs) -> anyhow::Result<()> {
         return Err(crate::Error::param("frames", "must be at least 1").into());
     }
     let (width, height) = parse_size(&args.size)?;
-    let camera = args.camera.as_deref().map(str::parse::<Camera>).transpose()?;
+    let camera = args
+        .camera
+        .as_deref()
+        .map(str::parse::<Camera>)
+        .transpose()?;
     let render = RenderOptions {
         width,
         height,
@@ -80,7 +86,12 @@ pub fn execute(args: RenderArgs) -> anyhow::Result<()> {
     let model = build_model(&loaded.mesh, &preset.params, preset.placement)
         .with_context(|| format!("building the model of {}", loaded.label))?;
     let ctx = Arc::new(Context::new(&ContextOptions {
-        device: run.device.as_deref().unwrap_or("auto").parse().unwrap_or_default(),
+        device: run
+            .device
+            .as_deref()
+            .unwrap_or("auto")
+            .parse()
+            .unwrap_or_default(),
         validation: run.validation,
     })?);
     let job = RenderJob {
@@ -122,7 +133,10 @@ pub fn execute(args: RenderArgs) -> anyhow::Result<()> {
             m.min_volume_pct,
             m.final_volume_pct,
             m.frames_run,
-            m.divergence.as_deref().map(|d| format!("  {d}")).unwrap_or_default()
+            m.divergence
+                .as_deref()
+                .map(|d| format!("  {d}"))
+                .unwrap_or_default()
         );
     }
     let steps = f64::from(preset.frames) * report.methods.len() as f64;
@@ -137,7 +151,11 @@ pub fn execute(args: RenderArgs) -> anyhow::Result<()> {
     for message in &report.validation_messages {
         eprintln!("validation: {message}");
     }
-    for (what, path) in [("frames", &args.frames_dir), ("gif", &args.gif), ("sheet", &args.sheet)] {
+    for (what, path) in [
+        ("frames", &args.frames_dir),
+        ("gif", &args.gif),
+        ("sheet", &args.sheet),
+    ] {
         if let Some(p) = path {
             eprintln!("{what} written to {}", p.display());
         }

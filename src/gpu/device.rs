@@ -164,14 +164,17 @@ impl DeviceInfo {
                 _ => "other",
             };
             let v = props.api_version;
-            let depth_stencil_format = [vk::Format::D32_SFLOAT_S8_UINT, vk::Format::D24_UNORM_S8_UINT]
-                .into_iter()
-                .find(|&f| {
-                    instance
-                        .get_physical_device_format_properties(pd, f)
-                        .optimal_tiling_features
-                        .contains(vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT)
-                });
+            let depth_stencil_format = [
+                vk::Format::D32_SFLOAT_S8_UINT,
+                vk::Format::D24_UNORM_S8_UINT,
+            ]
+            .into_iter()
+            .find(|&f| {
+                instance
+                    .get_physical_device_format_properties(pd, f)
+                    .optimal_tiling_features
+                    .contains(vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT)
+            });
             Ok(DeviceInfo {
                 index,
                 name: text(props.device_name_as_c_str()),
@@ -198,7 +201,8 @@ impl DeviceInfo {
                 timestamps: compute.is_some_and(|(_, f)| f.timestamp_valid_bits > 0)
                     && limits.timestamp_period > 0.0,
                 float_atomic_add,
-                graphics: compute.is_some_and(|(_, f)| f.queue_flags.contains(vk::QueueFlags::GRAPHICS)),
+                graphics: compute
+                    .is_some_and(|(_, f)| f.queue_flags.contains(vk::QueueFlags::GRAPHICS)),
                 framebuffer_samples: limits.framebuffer_color_sample_counts
                     & limits.framebuffer_depth_sample_counts
                     & limits.framebuffer_stencil_sample_counts,

@@ -26,11 +26,16 @@ impl std::str::FromStr for Camera {
             .split(',')
             .map(|v| v.trim().parse::<f32>())
             .collect::<std::result::Result<_, _>>()
-            .map_err(|e| Error::param("camera", format!("`{s}`: {e}; expected ex,ey,ez,tx,ty,tz")))?;
+            .map_err(|e| {
+                Error::param("camera", format!("`{s}`: {e}; expected ex,ey,ez,tx,ty,tz"))
+            })?;
         let [ex, ey, ez, tx, ty, tz] = values[..] else {
             return Err(Error::param(
                 "camera",
-                format!("`{s}` has {} numbers; expected 6: ex,ey,ez,tx,ty,tz", values.len()),
+                format!(
+                    "`{s}` has {} numbers; expected 6: ex,ey,ez,tx,ty,tz",
+                    values.len()
+                ),
             ));
         };
         let camera = Camera {
@@ -84,7 +89,8 @@ impl SceneFrame {
             let dir = Vec3::new(az.sin() * el.cos(), el.sin(), az.cos() * el.cos());
             let half_fov = 0.5 * FOV_Y_DEG.to_radians();
             let half_fov_x = (half_fov.tan() * aspect).atan();
-            let distance = radius / half_fov.min(half_fov_x).sin();
+            // The fitted sphere is loose (a box's corners): 0.8 of its distance fills more.
+            let distance = 0.8 * radius / half_fov.min(half_fov_x).sin();
             Camera {
                 eye: centre + dir * distance,
                 target: centre,
@@ -94,7 +100,7 @@ impl SceneFrame {
             camera,
             floor_centre: centre_xz,
             floor_half_extent: 4.0 * radius,
-            grid: nice(radius / 4.0),
+            grid: nice(radius / 2.5),
             contact_height: 0.08 * size.max_element().max(1e-6),
             radius,
         }
@@ -106,14 +112,17 @@ impl SceneFrame {
         let c = self.camera;
         let distance = (c.eye - c.target).length();
         let reach = distance + 5.0 * self.radius;
-        let near = (distance - 5.0 * self.radius).max(0.02 * distance).max(1e-4);
+        let near = (distance - 5.0 * self.radius)
+            .max(0.02 * distance)
+            .max(1e-4);
         let up = if (c.eye - c.target).normalize().dot(Vec3::Y).abs() > 0.999 {
             Vec3::Z
         } else {
             Vec3::Y
         };
         let view = Mat4::look_at_rh(c.eye, c.target, up);
-        let mut proj = Mat4::perspective_rh(FOV_Y_DEG.to_radians(), aspect, near, reach.max(near * 2.0));
+        let mut proj =
+            Mat4::perspective_rh(FOV_Y_DEG.to_radians(), aspect, near, reach.max(near * 2.0));
         proj.y_axis.y = -proj.y_axis.y;
         proj * view
     }
@@ -138,7 +147,11 @@ mod tests {
         let c: Camera = "1,2,3, 0,0.5,0".parse().unwrap();
         assert_eq!(c.eye, Vec3::new(1.0, 2.0, 3.0));
         assert_eq!(c.target, Vec3::new(0.0, 0.5, 0.0));
-        assert!("1,2,3".parse::<Camera>().unwrap_err().to_string().contains("expected 6"));
+        assert!("1,2,3"
+            .parse::<Camera>()
+            .unwrap_err()
+            .to_string()
+            .contains("expected 6"));
         assert!("1,2,x,0,0,0".parse::<Camera>().is_err());
         assert!("1,1,1,1,1,1".parse::<Camera>().is_err());
     }
@@ -166,7 +179,10 @@ mod tests {
             let clip = m * p.extend(1.0);
             let ndc = clip.truncate() / clip.w;
             assert!(clip.w > 0.0, "corner {p} is behind the camera");
-            assert!(ndc.x.abs() < 0.9 && ndc.y.abs() < 0.9, "corner {p} -> {ndc}");
+            assert!(
+                ndc.x.abs() < 0.9 && ndc.y.abs() < 0.9,
+                "corner {p} -> {ndc}"
+            );
             assert!((0.0..1.0).contains(&ndc.z), "corner {p}: depth {}", ndc.z);
         }
         // Higher points are higher in the image (smaller row, i.e. smaller NDC y).

@@ -59,7 +59,9 @@ impl Geometry {
     pub fn new(ctx: &Arc<Context>, model: &Model) -> Result<Self> {
         let n = model.node_count();
         if model.surface.is_empty() {
-            return Err(Error::Mesh("the model has no surface triangles to render".into()));
+            return Err(Error::Mesh(
+                "the model has no surface triangles to render".into(),
+            ));
         }
         if let Some((f, tri)) = model
             .surface
@@ -107,16 +109,37 @@ impl Geometry {
         })?;
         let upload = |name: &str, data: &[u8]| Buffer::with_data(ctx, name, data);
         let rest = vec![
-            (binding::SURFACE_NODES, upload("surface nodes", bytes(&surface_nodes))?),
-            (binding::FACE_OFFSETS, upload("node-face offsets", bytes(&faces.offsets))?),
-            (binding::FACE_ITEMS, upload("node-face items", bytes(&faces.items))?),
-            (binding::TET_OFFSETS, upload("node-tet offsets", bytes(&tets.offsets))?),
-            (binding::TET_ITEMS, upload("node-tet items", bytes(&tets.items))?),
+            (
+                binding::SURFACE_NODES,
+                upload("surface nodes", bytes(&surface_nodes))?,
+            ),
+            (
+                binding::FACE_OFFSETS,
+                upload("node-face offsets", bytes(&faces.offsets))?,
+            ),
+            (
+                binding::FACE_ITEMS,
+                upload("node-face items", bytes(&faces.items))?,
+            ),
+            (
+                binding::TET_OFFSETS,
+                upload("node-tet offsets", bytes(&tets.offsets))?,
+            ),
+            (
+                binding::TET_ITEMS,
+                upload("node-tet items", bytes(&tets.items))?,
+            ),
             (binding::TETS, upload("render tets", bytes(&model.tets))?),
-            (binding::REST_VOLUMES, upload("render rest volumes", bytes(&rest_volumes))?),
+            (
+                binding::REST_VOLUMES,
+                upload("render rest volumes", bytes(&rest_volumes))?,
+            ),
             (
                 binding::SPRING_OFFSETS,
-                upload("render node-spring offsets", bytes(&model.node_springs.offsets))?,
+                upload(
+                    "render node-spring offsets",
+                    bytes(&model.node_springs.offsets),
+                )?,
             ),
             (
                 binding::SPRING_ITEMS,

@@ -70,7 +70,12 @@ impl Image {
         let encoded = encoder
             .write_header()
             .and_then(|mut w| w.write_image_data(&self.rgba).and_then(|()| w.finish()));
-        encoded.map_err(|e| Error::Gpu(format!("encoding a {}x{} PNG: {e}", self.width, self.height)))?;
+        encoded.map_err(|e| {
+            Error::Gpu(format!(
+                "encoding a {}x{} PNG: {e}",
+                self.width, self.height
+            ))
+        })?;
         Ok(out)
     }
 
@@ -177,7 +182,9 @@ mod tests {
         gif.finish(&path).unwrap();
         let mut decoder = gif::DecodeOptions::new();
         decoder.set_color_output(gif::ColorOutput::RGBA);
-        let mut reader = decoder.read_info(std::fs::File::open(&path).unwrap()).unwrap();
+        let mut reader = decoder
+            .read_info(std::fs::File::open(&path).unwrap())
+            .unwrap();
         let mut colours = Vec::new();
         while let Some(frame) = reader.read_next_frame().unwrap() {
             assert_eq!(frame.delay, 4);

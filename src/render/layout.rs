@@ -92,11 +92,18 @@ mod tests {
             ("mode", offset_of!(RenderPush, mode)),
         ];
         let mut checked = 0;
-        for key in ["render/legend.vert", "render/surface.frag", "render/floor.vert"] {
+        for key in [
+            "render/legend.vert",
+            "render/surface.frag",
+            "render/floor.vert",
+        ] {
             let offsets = module(key).struct_offsets("RenderPush");
             assert!(!offsets.is_empty(), "{key}: no RenderPush block");
             for (name, offset) in offsets {
-                let expected = rust.iter().find(|(n, _)| *n == name).map(|(_, o)| *o as u32);
+                let expected = rust
+                    .iter()
+                    .find(|(n, _)| *n == name)
+                    .map(|(_, o)| *o as u32);
                 assert_eq!(Some(offset), expected, "{key}: member `{name}`");
                 checked += 1;
             }
@@ -138,7 +145,10 @@ mod tests {
         assert_eq!(expected.len() as u32, binding::COUNT);
         for key in ["render/surface.vert", "render/shadow.vert"] {
             let found = module(key).block_bindings();
-            assert!(found.contains(&("Positions".to_string(), binding::POSITIONS)), "{key}: {found:?}");
+            assert!(
+                found.contains(&("Positions".to_string(), binding::POSITIONS)),
+                "{key}: {found:?}"
+            );
         }
     }
 }

@@ -35,7 +35,12 @@ impl LegendLayout {
     pub fn fractions(&self, width: u32, height: u32) -> [f32; 4] {
         let x = |p: u32| p as f32 / width.max(1) as f32;
         let y = |p: u32| p as f32 / height.max(1) as f32;
-        [x(self.bar[0]), y(self.bar[1]), x(self.bar[2]), y(self.bar[3])]
+        [
+            x(self.bar[0]),
+            y(self.bar[1]),
+            x(self.bar[2]),
+            y(self.bar[3]),
+        ]
     }
 
     /// [`LegendLayout::fractions`] packed for the push constants (`RenderPush::legend`).
@@ -97,9 +102,19 @@ mod tests {
         for (w, h) in [(160, 120), (480, 360), (1920, 1080)] {
             let l = LegendLayout::for_size(w, h);
             let [x0, y0, x1, y1] = l.bar;
-            assert!(x0 < x1 && x1 <= w && y0 < y1 && y1 <= h, "{w}x{h}: {:?}", l.bar);
-            assert!(y0 >= 2 * text::height(l.scale), "{w}x{h}: no room for the title");
-            assert!(x0 >= text::width("0.75", l.scale), "{w}x{h}: no room for labels");
+            assert!(
+                x0 < x1 && x1 <= w && y0 < y1 && y1 <= h,
+                "{w}x{h}: {:?}",
+                l.bar
+            );
+            assert!(
+                y0 >= 2 * text::height(l.scale),
+                "{w}x{h}: no room for the title"
+            );
+            assert!(
+                x0 >= text::width("0.75", l.scale),
+                "{w}x{h}: no room for labels"
+            );
             let f = l.fractions(w, h);
             assert!(f.iter().all(|v| (0.0..=1.0).contains(v)), "{f:?}");
         }
@@ -116,7 +131,10 @@ mod tests {
             .filter(|&(x, y)| img.pixel(x, y) != Some(bg))
             .collect();
         assert!(marked.len() > 50);
-        assert!(marked.iter().all(|&(x, _)| x < l.bar[2]), "text right of the bar");
+        assert!(
+            marked.iter().all(|&(x, _)| x < l.bar[2]),
+            "text right of the bar"
+        );
         let mut flat = Image::filled(200, 150, bg);
         l.label(&mut flat, ColourMode::Flat, 0.5);
         assert_eq!(flat, Image::filled(200, 150, bg));

@@ -101,12 +101,18 @@ impl RenderOptions {
         if !(16..=8192).contains(&self.width) || !(16..=8192).contains(&self.height) {
             return Err(Error::param(
                 "size",
-                format!("{}x{}: each side must be 16 to 8192 pixels", self.width, self.height),
+                format!(
+                    "{}x{}: each side must be 16 to 8192 pixels",
+                    self.width, self.height
+                ),
             ));
         }
         let range = self.range();
         if !(range.is_finite() && range > 0.0) {
-            return Err(Error::param("range", format!("{range} must be a positive number")));
+            return Err(Error::param(
+                "range",
+                format!("{range} must be a positive number"),
+            ));
         }
         Ok(())
     }
@@ -114,7 +120,12 @@ impl RenderOptions {
 
 /// Parses `WxH` (e.g. `640x480`).
 pub fn parse_size(s: &str) -> Result<(u32, u32)> {
-    let bad = || Error::param("size", format!("`{s}`: expected WIDTHxHEIGHT in pixels, e.g. 640x480"));
+    let bad = || {
+        Error::param(
+            "size",
+            format!("`{s}`: expected WIDTHxHEIGHT in pixels, e.g. 640x480"),
+        )
+    };
     let (w, h) = s.trim().split_once(['x', 'X']).ok_or_else(bad)?;
     let w = w.trim().parse().map_err(|_| bad())?;
     let h = h.trim().parse().map_err(|_| bad())?;

@@ -77,34 +77,46 @@ impl Pipelines {
         p.create_layouts()?;
         p.attrs = p.compute("render/attrs.comp")?;
         let g = |p: &Pipelines, style| p.graphics(style, render_pass, samples, extent);
-        p.floor = g(&p, Style {
-            vert: "render/floor.vert",
-            frag: "render/floor.frag",
-            depth_test: true,
-            depth_write: true,
-            shadow: false,
-        })?;
-        p.shadow = g(&p, Style {
-            vert: "render/shadow.vert",
-            frag: "render/shadow.frag",
-            depth_test: true,
-            depth_write: false,
-            shadow: true,
-        })?;
-        p.surface = g(&p, Style {
-            vert: "render/surface.vert",
-            frag: "render/surface.frag",
-            depth_test: true,
-            depth_write: true,
-            shadow: false,
-        })?;
-        p.legend = g(&p, Style {
-            vert: "render/legend.vert",
-            frag: "render/legend.frag",
-            depth_test: false,
-            depth_write: false,
-            shadow: false,
-        })?;
+        p.floor = g(
+            &p,
+            Style {
+                vert: "render/floor.vert",
+                frag: "render/floor.frag",
+                depth_test: true,
+                depth_write: true,
+                shadow: false,
+            },
+        )?;
+        p.shadow = g(
+            &p,
+            Style {
+                vert: "render/shadow.vert",
+                frag: "render/shadow.frag",
+                depth_test: true,
+                depth_write: false,
+                shadow: true,
+            },
+        )?;
+        p.surface = g(
+            &p,
+            Style {
+                vert: "render/surface.vert",
+                frag: "render/surface.frag",
+                depth_test: true,
+                depth_write: true,
+                shadow: false,
+            },
+        )?;
+        p.legend = g(
+            &p,
+            Style {
+                vert: "render/legend.vert",
+                frag: "render/legend.frag",
+                depth_test: false,
+                depth_write: false,
+                shadow: false,
+            },
+        )?;
         for (handle, name) in [
             (p.attrs, "attrs"),
             (p.floor, "floor"),
@@ -207,10 +219,10 @@ impl Pipelines {
             .layout(self.layout)];
         // SAFETY: valid device, module and layout; the module is destroyed after creation.
         let created = unsafe {
-            let r = self
-                .ctx
-                .device()
-                .create_compute_pipelines(vk::PipelineCache::null(), &info, None);
+            let r =
+                self.ctx
+                    .device()
+                    .create_compute_pipelines(vk::PipelineCache::null(), &info, None);
             self.ctx.device().destroy_shader_module(module, None);
             r
         };
@@ -269,8 +281,8 @@ impl Pipelines {
             .cull_mode(vk::CullModeFlags::NONE)
             .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
             .line_width(1.0);
-        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-            .rasterization_samples(samples);
+        let multisample =
+            vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(samples);
         let stencil = vk::StencilOpState::default()
             .compare_op(vk::CompareOp::NOT_EQUAL)
             .pass_op(vk::StencilOp::REPLACE)
@@ -316,10 +328,10 @@ impl Pipelines {
             .subpass(0)];
         // SAFETY: valid device; every state struct outlives the call; modules freed after.
         let created = unsafe {
-            let r = self
-                .ctx
-                .device()
-                .create_graphics_pipelines(vk::PipelineCache::null(), &info, None);
+            let r =
+                self.ctx
+                    .device()
+                    .create_graphics_pipelines(vk::PipelineCache::null(), &info, None);
             self.ctx.device().destroy_shader_module(vert, None);
             self.ctx.device().destroy_shader_module(frag, None);
             r
@@ -337,7 +349,13 @@ impl Drop for Pipelines {
         let device = self.ctx.device();
         // SAFETY: no pending use (the renderer waits for each render); null handles skipped.
         unsafe {
-            for p in [self.attrs, self.floor, self.shadow, self.surface, self.legend] {
+            for p in [
+                self.attrs,
+                self.floor,
+                self.shadow,
+                self.surface,
+                self.legend,
+            ] {
                 if p != vk::Pipeline::null() {
                     device.destroy_pipeline(p, None);
                 }

@@ -149,13 +149,32 @@ impl Renderer {
             unsafe {
                 let bytes = bytemuck::bytes_of(&push);
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.attrs);
-                device.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, p.layout, 0, &[p.set], &[]);
+                device.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::COMPUTE,
+                    p.layout,
+                    0,
+                    &[p.set],
+                    &[],
+                );
                 device.cmd_push_constants(cmd, p.layout, STAGES, 0, bytes);
-                device.cmd_dispatch(cmd, g.surface_node_count.div_ceil(ATTRS_WORKGROUP).max(1), 1, 1);
+                device.cmd_dispatch(
+                    cmd,
+                    g.surface_node_count.div_ceil(ATTRS_WORKGROUP).max(1),
+                    1,
+                    1,
+                );
                 commands::barrier(ctx, cmd, &[&g.attrs], Access::COMPUTE, vertex_read);
 
                 self.target.begin(cmd, linear(BACKGROUND_RGB));
-                device.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, p.layout, 0, &[p.set], &[]);
+                device.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    p.layout,
+                    0,
+                    &[p.set],
+                    &[],
+                );
                 device.cmd_push_constants(cmd, p.layout, STAGES, 0, bytes);
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.floor);
                 device.cmd_draw(cmd, 6, 1, 0, 0);

@@ -171,7 +171,14 @@ struct Shots {
 }
 
 impl Shots {
-    fn get(&mut self, renderer: &mut Renderer, run: &Run, legend: bool, render_s: &mut f64, count: &mut u32) -> Result<&Image> {
+    fn get(
+        &mut self,
+        renderer: &mut Renderer,
+        run: &Run,
+        legend: bool,
+        render_s: &mut f64,
+        count: &mut u32,
+    ) -> Result<&Image> {
         let slot = &mut self.images[usize::from(legend)];
         if slot.is_none() {
             let t0 = Instant::now();
@@ -186,7 +193,12 @@ impl Shots {
 
 /// Runs `job` for `model` with `params` (its method replaced by each of `job.methods`) on
 /// `ctx`, writing the requested outputs.
-pub fn render_methods(ctx: &Arc<Context>, model: &Model, params: &SimParams, job: &RenderJob) -> Result<RenderReport> {
+pub fn render_methods(
+    ctx: &Arc<Context>,
+    model: &Model,
+    params: &SimParams,
+    job: &RenderJob,
+) -> Result<RenderReport> {
     job.outputs.validate()?;
     if job.methods.is_empty() {
         return Err(Error::param("method", "no method to render"));
@@ -257,24 +269,36 @@ pub fn render_methods(ctx: &Arc<Context>, model: &Model, params: &SimParams, job
         let last = runs.len() - 1;
         let mut gif_cells = Vec::new();
         for (k, run) in runs.iter().enumerate() {
-            let mut shots = Shots { images: [None, None] };
+            let mut shots = Shots {
+                images: [None, None],
+            };
             let volume = format!("V {:.1} %", run.volume_pct);
             if let Some(dir) = &out.frames_dir.as_ref().filter(|_| want_file) {
-                let mut image = shots.get(&mut renderer, run, true, &mut render_s, &mut images)?.clone();
+                let mut image = shots
+                    .get(&mut renderer, run, true, &mut render_s, &mut images)?
+                    .clone();
                 let t0 = Instant::now();
                 sheet::caption(&mut image, &format!("{}  {time}", run.method), &volume);
                 image.save_png(&dir.join(format!("{}_{frame:05}.png", run.method)))?;
                 write_s += t0.elapsed().as_secs_f64();
             }
             if want_gif {
-                let mut image = shots.get(&mut renderer, run, k == last, &mut render_s, &mut images)?.clone();
-                let top = if k == 0 { format!("{}  {time}", run.method) } else { run.method.to_string() };
+                let mut image = shots
+                    .get(&mut renderer, run, k == last, &mut render_s, &mut images)?
+                    .clone();
+                let top = if k == 0 {
+                    format!("{}  {time}", run.method)
+                } else {
+                    run.method.to_string()
+                };
                 sheet::caption(&mut image, &top, &volume);
                 gif_cells.push(image);
             }
             if let Some(column) = sheet_column {
                 let legend = k == 0 && column + 1 == sheet_frames.len();
-                let mut image = shots.get(&mut renderer, run, legend, &mut render_s, &mut images)?.clone();
+                let mut image = shots
+                    .get(&mut renderer, run, legend, &mut render_s, &mut images)?
+                    .clone();
                 sheet::caption(&mut image, "", &volume);
                 sheet_cells[k].push(image);
             }
@@ -283,7 +307,9 @@ pub fn render_methods(ctx: &Arc<Context>, model: &Model, params: &SimParams, job
             let t0 = Instant::now();
             let strip = sheet::row(&gif_cells);
             if gif.is_none() {
-                let delay = (100.0 * seconds_per_frame * f64::from(gif_every)).round().clamp(2.0, 500.0) as u16;
+                let delay = (100.0 * seconds_per_frame * f64::from(gif_every))
+                    .round()
+                    .clamp(2.0, 500.0) as u16;
                 gif = Some(GifWriter::new(strip.width, strip.height, delay)?);
             }
             if let Some(g) = gif.as_mut() {
@@ -305,7 +331,12 @@ pub fn render_methods(ctx: &Arc<Context>, model: &Model, params: &SimParams, job
             .collect();
         let rows: Vec<Vec<String>> = runs
             .iter()
-            .map(|r| vec![r.method.to_string(), format!("min {:.1} %", r.summary.min_volume_pct)])
+            .map(|r| {
+                vec![
+                    r.method.to_string(),
+                    format!("min {:.1} %", r.summary.min_volume_pct),
+                ]
+            })
             .collect();
         sheet::contact_sheet(&sheet_cells, &columns, &rows).save_png(path)?;
     }
@@ -326,7 +357,9 @@ fn progress_bar(job: &RenderJob) -> ProgressBar {
         return ProgressBar::hidden();
     }
     let bar = ProgressBar::new(u64::from(job.frames));
-    if let Ok(style) = ProgressStyle::with_template("{prefix:>9} [{bar:40}] {pos}/{len} frames ({eta})") {
+    if let Ok(style) =
+        ProgressStyle::with_template("{prefix:>9} [{bar:40}] {pos}/{len} frames ({eta})")
+    {
         bar.set_style(style.progress_chars("=> "));
     }
     bar.set_prefix("render");
@@ -354,7 +387,11 @@ mod tests {
     #[test]
     fn outputs_need_something_to_write() {
         let none = Outputs::default();
-        assert!(none.validate().unwrap_err().to_string().contains("nothing to write"));
+        assert!(none
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("nothing to write"));
         let frames = Outputs {
             frames_dir: Some("x".into()),
             every: 0,

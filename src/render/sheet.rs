@@ -8,7 +8,7 @@ use super::text;
 
 /// Text scale for an image `height` pixels tall.
 fn scale_for(height: u32) -> u32 {
-    if height >= 600 {
+    if height >= 300 {
         2
     } else {
         1
@@ -116,7 +116,10 @@ mod tests {
 
     #[test]
     fn row_places_images_left_to_right() {
-        let r = row(&[Image::filled(3, 2, [1, 1, 1]), Image::filled(5, 2, [9, 9, 9])]);
+        let r = row(&[
+            Image::filled(3, 2, [1, 1, 1]),
+            Image::filled(5, 2, [9, 9, 9]),
+        ]);
         assert_eq!((r.width, r.height), (8, 2));
         assert_eq!(r.pixel(2, 1), Some([1, 1, 1]));
         assert_eq!(r.pixel(3, 0), Some([9, 9, 9]));

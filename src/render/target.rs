@@ -68,8 +68,12 @@ impl GpuImage {
             linear: false,
             allocation_scheme: AllocationScheme::GpuAllocatorManaged,
         });
-        let allocation = allocation
-            .map_err(|e| Error::Gpu(format!("allocating image `{name}` ({}x{}): {e}", extent.width, extent.height)))?;
+        let allocation = allocation.map_err(|e| {
+            Error::Gpu(format!(
+                "allocating image `{name}` ({}x{}): {e}",
+                extent.width, extent.height
+            ))
+        })?;
         // SAFETY: the allocation satisfies the image's requirements and is unbound.
         unsafe { device.bind_image_memory(raw, allocation.memory(), allocation.offset()) }
             .vk("vkBindImageMemory")?;
@@ -80,7 +84,8 @@ impl GpuImage {
             .format(format)
             .subresource_range(range(aspect));
         // SAFETY: the image is bound to memory; the create info outlives the call.
-        image.view = unsafe { device.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
+        image.view =
+            unsafe { device.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
         ctx.set_name(raw, name);
         ctx.set_name(image.view, name);
         Ok(image)
@@ -98,7 +103,9 @@ impl Drop for GpuImage {
             }
             device.destroy_image(self.raw, None);
         }
-        if let (Some(allocation), Ok(mut allocator)) = (self.allocation.take(), self.ctx.allocator()) {
+        if let (Some(allocation), Ok(mut allocator)) =
+            (self.allocation.take(), self.ctx.allocator())
+        {
             let _ = allocator.free(allocation);
         }
     }
@@ -240,7 +247,11 @@ impl Target {
                 color: vk::ClearColorValue { float32: clear },
             },
         ];
-        let n = if self.samples == vk::SampleCountFlags::TYPE_1 { 2 } else { 3 };
+        let n = if self.samples == vk::SampleCountFlags::TYPE_1 {
+            2
+        } else {
+            3
+        };
         let info = vk::RenderPassBeginInfo::default()
             .render_pass(self.render_pass)
             .framebuffer(self.framebuffer)
@@ -309,10 +320,14 @@ impl Drop for Target {
         // SAFETY: owners wait for the GPU first; null handles are skipped.
         unsafe {
             if self.framebuffer != vk::Framebuffer::null() {
-                self.ctx.device().destroy_framebuffer(self.framebuffer, None);
+                self.ctx
+                    .device()
+                    .destroy_framebuffer(self.framebuffer, None);
             }
             if self.render_pass != vk::RenderPass::null() {
-                self.ctx.device().destroy_render_pass(self.render_pass, None);
+                self.ctx
+                    .device()
+                    .destroy_render_pass(self.render_pass, None);
             }
         }
     }
@@ -384,8 +399,8 @@ fn create_render_pass(
         subpass = subpass.resolve_attachments(&resolve_ref);
     }
     let subpasses = [subpass];
-    let attachment_stages =
-        vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS;
+    let attachment_stages = vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+        | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS;
     let dependencies = [
         vk::SubpassDependency::default()
             .src_subpass(vk::SUBPASS_EXTERNAL)

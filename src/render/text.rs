@@ -18,7 +18,11 @@ pub fn height(scale: u32) -> u32 {
 pub fn draw(image: &mut Image, x: i64, y: i64, text: &str, scale: u32, rgb: [u8; 3]) {
     let s = i64::from(scale.max(1));
     for (k, ch) in text.chars().enumerate() {
-        let code = if ch.is_ascii() { ch as usize } else { '?' as usize };
+        let code = if ch.is_ascii() {
+            ch as usize
+        } else {
+            '?' as usize
+        };
         let glyph = font8x8::legacy::BASIC_LEGACY[code];
         let left = x + 8 * s * k as i64;
         for (row, bits) in glyph.iter().enumerate() {
@@ -49,7 +53,9 @@ mod tests {
         for y in 0..20 {
             for x in 0..40 {
                 if img.pixel(x, y) != Some(bg) {
-                    assert!((2..2 + width("V1", 2)).contains(&x) && (3..3 + height(2)).contains(&y));
+                    assert!(
+                        (2..2 + width("V1", 2)).contains(&x) && (3..3 + height(2)).contains(&y)
+                    );
                     inside += 1;
                 }
             }
