@@ -19,8 +19,8 @@ pub struct LegendLayout {
 impl LegendLayout {
     /// The legend of a `width` x `height` image: a vertical bar near the right edge.
     pub fn for_size(width: u32, height: u32) -> Self {
-        let scale = if height >= 600 { 2 } else { 1 };
-        let bar_w = (width / 40).clamp(8, 24);
+        let scale = if height >= 160 { 2 } else { 1 };
+        let bar_w = (width / 25).clamp(10, 24);
         let margin = (width / 40).max(6);
         let top = margin + 2 * text::height(scale);
         let bottom = top + (height * 2 / 5).max(20);

@@ -278,7 +278,7 @@ pub fn render_methods(
                     .get(&mut renderer, run, true, &mut render_s, &mut images)?
                     .clone();
                 let t0 = Instant::now();
-                sheet::caption(&mut image, &format!("{}  {time}", run.method), &volume);
+                sheet::caption(&mut image, &[&format!("{}  {time}", run.method), &volume]);
                 image.save_png(&dir.join(format!("{}_{frame:05}.png", run.method)))?;
                 write_s += t0.elapsed().as_secs_f64();
             }
@@ -291,7 +291,7 @@ pub fn render_methods(
                 } else {
                     run.method.to_string()
                 };
-                sheet::caption(&mut image, &top, &volume);
+                sheet::caption(&mut image, &[&top, &volume]);
                 gif_cells.push(image);
             }
             if let Some(column) = sheet_column {
@@ -299,7 +299,7 @@ pub fn render_methods(
                 let mut image = shots
                     .get(&mut renderer, run, legend, &mut render_s, &mut images)?
                     .clone();
-                sheet::caption(&mut image, "", &volume);
+                sheet::caption(&mut image, &[&volume]);
                 sheet_cells[k].push(image);
             }
         }

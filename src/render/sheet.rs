@@ -8,20 +8,22 @@ use super::text;
 
 /// Text scale for an image `height` pixels tall.
 fn scale_for(height: u32) -> u32 {
-    if height >= 300 {
+    if height >= 160 {
         2
     } else {
         1
     }
 }
 
-/// Writes `top` at the top-left and `bottom` at the bottom-left corner of `image`.
-pub fn caption(image: &mut Image, top: &str, bottom: &str) {
+/// Writes `lines` at the top-left corner of `image`, one under the other (the sky is
+/// there, so they do not cover the object).
+pub fn caption(image: &mut Image, lines: &[&str]) {
     let s = scale_for(image.height);
     let pad = i64::from(3 * s + 2);
-    text::draw(image, pad, pad, top, s, TEXT_RGB);
-    let y = i64::from(image.height) - pad - i64::from(text::height(s));
-    text::draw(image, pad, y, bottom, s, TEXT_RGB);
+    let step = i64::from(text::height(s) + 3 * s);
+    for (k, line) in lines.iter().enumerate() {
+        text::draw(image, pad, pad + k as i64 * step, line, s, TEXT_RGB);
+    }
 }
 
 /// The images side by side (all of the first one's height), left to right.
@@ -45,7 +47,7 @@ pub fn contact_sheet(cells: &[Vec<Image>], columns: &[String], rows: &[Vec<Strin
         .and_then(|r| r.first())
         .map(|i| (i.width, i.height))
         .unwrap_or((1, 1));
-    let s = if ch >= 200 { 2 } else { 1 };
+    let s = if ch >= 150 { 2 } else { 1 };
     let line = text::height(s) + 4 * s;
     let gap = 2 * s;
     let label_w = rows

@@ -6,7 +6,7 @@ pub const BACKGROUND_RGB: [u8; 3] = [242, 245, 247];
 /// The floor between grid lines (`FLOOR` in floor.frag).
 pub const FLOOR_RGB: [u8; 3] = [204, 201, 194];
 /// Grid lines on the floor (`GRID` in floor.frag).
-pub const GRID_RGB: [u8; 3] = [153, 153, 148];
+pub const GRID_RGB: [u8; 3] = [173, 173, 168];
 /// The object in the flat colour mode, before lighting (`FLAT` in surface.frag).
 pub const FLAT_RGB: [u8; 3] = [219, 158, 107];
 /// Text of labels and legends.
