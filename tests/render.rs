@@ -300,3 +300,72 @@ fn render_methods_writes_frames_gif_and_sheet() {
     assert!(report.render_s > 0.0 && report.step_s > 0.0);
     assert_no_messages(&ctx);
 }
+
+#[test]
+fn the_cli_writes_a_sheet_and_names_bad_flags() {
+    if !gpu_support::vulkan_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("box");
+    let mesh = tetrasim::mesh::grid::box_tets(glam::DVec3::ZERO, 0.1, [3, 2, 2]);
+    tetrasim::mesh::io::write_tetgen(&prefix, &mesh).unwrap();
+    let sheet = dir.path().join("sheet.png");
+    let tetrasim = || {
+        let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_tetrasim"));
+        c.args([
+            "render",
+            "--preset",
+            "seed",
+            "--frames",
+            "4",
+            "--iterations",
+            "2",
+            "--quiet",
+        ])
+        .arg("--mesh")
+        .arg(&prefix);
+        c
+    };
+    let output = tetrasim()
+        .args([
+            "--method",
+            "all",
+            "--size",
+            "64x48",
+            "--sheet-frames",
+            "2",
+            "--validation",
+        ])
+        .arg("--sheet")
+        .arg(&sheet)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stdout}\n{stderr}");
+    for method in ["mss", "distance", "volume"] {
+        assert!(
+            stdout.lines().any(|l| l.starts_with(method)),
+            "no `{method}` row:\n{stdout}"
+        );
+    }
+    assert!(!stderr.contains("validation:"), "{stderr}");
+    let reader = png::Decoder::new(std::io::BufReader::new(
+        std::fs::File::open(&sheet).unwrap(),
+    ))
+    .read_info()
+    .unwrap();
+    assert!(reader.info().width > 2 * 64 && reader.info().height > 3 * 48);
+
+    for (flags, expected) in [
+        (vec!["--sheet", "x.png", "--size", "10x10"], "size"),
+        (vec!["--sheet", "x.png", "--camera", "1,2,3"], "camera"),
+        (vec![], "nothing to write"),
+    ] {
+        let output = tetrasim().args(&flags).output().unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success(), "{flags:?} succeeded");
+        assert!(stderr.contains(expected), "{flags:?}: {stderr}");
+    }
+}

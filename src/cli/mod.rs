@@ -23,8 +23,8 @@ pub enum Command {
     /// Simulate a mesh dropped on the floor and report volume preservation (the paper's
     /// experiment with `--preset seed`).
     Run(Box<RunArgs>),
-    /// Simulate like `run` on the GPU and draw it offscreen: PNG frames, an animated GIF, a
-    /// contact sheet of every method (coloured by volume ratio by default).
+    /// Simulate like `run` (always on the `vulkan` backend) and draw it offscreen: PNG
+    /// frames, an animated GIF, a contact sheet of every method (coloured by V/V0 by default).
     Render(Box<RenderArgs>),
     /// List the Vulkan devices: driver, limits, timestamps, float atomics and the atomic
     /// path and workgroup size the engine would use on each.

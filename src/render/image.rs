@@ -60,13 +60,18 @@ impl Image {
         }
     }
 
-    /// The image encoded as an 8-bit RGBA PNG.
-    pub fn png_bytes(&self) -> Result<Vec<u8>> {
+    /// The image encoded as an 8-bit RGBA PNG; `compact` trades encoding time (about 6x)
+    /// for a third smaller file.
+    pub fn png_bytes(&self, compact: bool) -> Result<Vec<u8>> {
         let mut out = Vec::new();
         let mut encoder = png::Encoder::new(&mut out, self.width, self.height);
         encoder.set_color(png::ColorType::Rgba);
         encoder.set_depth(png::BitDepth::Eight);
         encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+        encoder.set_compression(match compact {
+            true => png::Compression::Balanced,
+            false => png::Compression::Fast,
+        });
         let encoded = encoder
             .write_header()
             .and_then(|mut w| w.write_image_data(&self.rgba).and_then(|()| w.finish()));
@@ -79,9 +84,9 @@ impl Image {
         Ok(out)
     }
 
-    /// Writes the image as PNG to `path` (atomically).
-    pub fn save_png(&self, path: &Path) -> Result<()> {
-        let bytes = self.png_bytes()?;
+    /// Writes the image as PNG to `path` (atomically); see [`Image::png_bytes`] for `compact`.
+    pub fn save_png(&self, path: &Path, compact: bool) -> Result<()> {
+        let bytes = self.png_bytes(compact)?;
         write_atomic(path, |w| w.write_all(&bytes))
     }
 }
@@ -162,13 +167,15 @@ mod tests {
         assert_eq!(a.pixel(3, 2), Some([200, 100, 0]));
         assert_eq!(a.pixel(2, 2), Some([10, 20, 30]));
         assert_eq!(a.pixel(4, 0), None);
-        let bytes = a.png_bytes().unwrap();
-        let decoder = png::Decoder::new(std::io::Cursor::new(bytes));
-        let mut reader = decoder.read_info().unwrap();
-        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
-        let info = reader.next_frame(&mut buf).unwrap();
-        assert_eq!((info.width, info.height), (4, 3));
-        assert_eq!(&buf[..info.buffer_size()], &a.rgba[..]);
+        for compact in [false, true] {
+            let bytes = a.png_bytes(compact).unwrap();
+            let decoder = png::Decoder::new(std::io::Cursor::new(bytes));
+            let mut reader = decoder.read_info().unwrap();
+            let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+            let info = reader.next_frame(&mut buf).unwrap();
+            assert_eq!((info.width, info.height), (4, 3));
+            assert_eq!(&buf[..info.buffer_size()], &a.rgba[..], "compact {compact}");
+        }
     }
 
     #[test]

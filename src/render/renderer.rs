@@ -76,7 +76,9 @@ impl Renderer {
             frame,
             options: options.clone(),
             legend: LegendLayout::for_size(options.width, options.height),
-            nodes: model.node_count() as u32,
+            nodes: u32::try_from(model.node_count()).map_err(|_| {
+                Error::Mesh(format!("{} nodes exceed u32 indices", model.node_count()))
+            })?,
             ctx: ctx.clone(),
         })
     }

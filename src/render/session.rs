@@ -273,13 +273,13 @@ pub fn render_methods(
                 images: [None, None],
             };
             let volume = format!("V {:.1} %", run.volume_pct);
-            if let Some(dir) = &out.frames_dir.as_ref().filter(|_| want_file) {
+            if let Some(dir) = out.frames_dir.as_ref().filter(|_| want_file) {
                 let mut image = shots
                     .get(&mut renderer, run, true, &mut render_s, &mut images)?
                     .clone();
                 let t0 = Instant::now();
                 sheet::caption(&mut image, &[&format!("{}  {time}", run.method), &volume]);
-                image.save_png(&dir.join(format!("{}_{frame:05}.png", run.method)))?;
+                image.save_png(&dir.join(format!("{}_{frame:05}.png", run.method)), false)?;
                 write_s += t0.elapsed().as_secs_f64();
             }
             if want_gif {
@@ -338,7 +338,7 @@ pub fn render_methods(
                 ]
             })
             .collect();
-        sheet::contact_sheet(&sheet_cells, &columns, &rows).save_png(path)?;
+        sheet::contact_sheet(&sheet_cells, &columns, &rows).save_png(path, true)?;
     }
     write_s += t0.elapsed().as_secs_f64();
     Ok(RenderReport {
