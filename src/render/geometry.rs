@@ -12,7 +12,7 @@ use super::pipelines::Pipelines;
 use crate::error::{Error, Result};
 use crate::gpu::commands::{self, Access};
 use crate::gpu::{Buffer, Context};
-use crate::model::{Csr, Model};
+use crate::model::{adjacency, Model};
 
 /// Buffers the render reads besides the simulation's positions.
 pub struct Geometry {
@@ -26,28 +26,6 @@ pub struct Geometry {
     pub attrs: Buffer,
     /// Every other binding of the render set, with its binding number.
     rest: Vec<(u32, Buffer)>,
-}
-
-/// Row `i` lists the elements that contain node `i`.
-fn csr<'e>(nodes: usize, elements: impl Iterator<Item = &'e [u32]> + Clone) -> Csr {
-    let mut offsets = vec![0u32; nodes + 1];
-    for element in elements.clone() {
-        for &v in element {
-            offsets[v as usize + 1] += 1;
-        }
-    }
-    for i in 0..nodes {
-        offsets[i + 1] += offsets[i];
-    }
-    let mut fill = offsets.clone();
-    let mut items = vec![0u32; offsets[nodes] as usize];
-    for (e, element) in elements.enumerate() {
-        for &v in element {
-            items[fill[v as usize] as usize] = e as u32;
-            fill[v as usize] += 1;
-        }
-    }
-    Csr { offsets, items }
 }
 
 fn bytes<T: bytemuck::Pod>(v: &[T]) -> &[u8] {
@@ -77,8 +55,8 @@ impl Geometry {
             u32::try_from(k).map_err(|_| Error::Mesh(format!("{k} {what} exceed u32 indices")))
         };
         let index_count = count("surface indices", 3 * model.surface.len())?;
-        let faces = csr(n, model.surface.iter().map(|t| t.as_slice()));
-        let tets = csr(n, model.tets.iter().map(|t| t.as_slice()));
+        let faces = adjacency(n, model.surface.iter().map(|t| t.as_slice()));
+        let tets = adjacency(n, model.tets.iter().map(|t| t.as_slice()));
         let surface_nodes: Vec<u32> = (0..n as u32)
             .filter(|&i| faces.offsets[i as usize + 1] > faces.offsets[i as usize])
             .collect();
@@ -170,20 +148,5 @@ impl Geometry {
         for (b, buffer) in &self.rest {
             pipelines.bind(*b, buffer);
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn csr_lists_each_element_under_its_nodes() {
-        let tris = [[0u32, 1, 2], [2, 1, 3]];
-        let c = csr(5, tris.iter().map(|t| t.as_slice()));
-        assert_eq!(c.offsets, vec![0, 1, 3, 5, 6, 6]);
-        assert_eq!(c.row(1), &[0, 1]);
-        assert_eq!(c.row(3), &[1]);
-        assert!(c.row(4).is_empty());
     }
 }

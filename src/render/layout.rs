@@ -71,12 +71,7 @@ mod tests {
     use crate::gpu::spirv::Module;
 
     fn module(key: &str) -> Module {
-        let bytes = crate::shaders::SHADERS
-            .iter()
-            .find(|(k, _)| *k == key)
-            .map(|(_, b)| *b)
-            .unwrap();
-        Module::parse(bytes).unwrap()
+        Module::parse(crate::gpu::kernel::shader(key).unwrap()).unwrap()
     }
 
     #[test]

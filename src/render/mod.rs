@@ -10,6 +10,7 @@
 
 pub mod camera;
 pub mod geometry;
+pub mod gpu_image;
 pub mod image;
 pub mod layout;
 pub mod legend;
