@@ -20,6 +20,7 @@ pub mod params;
 pub mod physics;
 pub mod prep;
 pub mod preset;
+pub mod render;
 pub mod runner;
 pub mod scene;
 pub mod stability;

@@ -3,9 +3,11 @@
 
 mod info;
 mod plan;
+mod render;
 mod run;
 mod stability;
 
+pub use render::RenderArgs;
 pub use run::{DivergedRun, RunArgs};
 
 /// `tetrasim`: volume-preserving mass-spring simulation of tetrahedral meshes.
@@ -28,6 +30,9 @@ pub enum Command {
     Plan(Box<RunArgs>),
     /// Sweep dt x ks per method and write stability heat maps (PNG) and a table.
     Stability(stability::StabilityArgs),
+    /// Simulate like `run` (always on the `vulkan` backend) and draw it offscreen: PNG
+    /// frames, an animated GIF, a contact sheet of every method (coloured by V/V0 by default).
+    Render(Box<RenderArgs>),
     /// List the Vulkan devices: driver, limits, timestamps, float atomics and the atomic
     /// path and workgroup size the engine would use on each.
     Info,
@@ -37,6 +42,7 @@ pub enum Command {
 pub fn execute(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Run(args) => run::execute(*args),
+        Command::Render(args) => render::execute(*args),
         Command::Info => info::execute(),
         Command::Plan(args) => plan::execute(*args),
         Command::Stability(args) => stability::execute(args),

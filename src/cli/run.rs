@@ -31,7 +31,8 @@ pub enum MethodChoice {
 }
 
 impl MethodChoice {
-    fn methods(self) -> Vec<Method> {
+    /// The methods this choice runs, in order.
+    pub fn methods(self) -> Vec<Method> {
         match self {
             MethodChoice::Mss => vec![Method::Mss],
             MethodChoice::MssNode => vec![Method::MssNode],

@@ -236,6 +236,13 @@ impl VulkanBackend {
         self.ctx.validation_messages()
     }
 
+    /// The device-local position buffer (vec4 per node: xyz [m], w = inverse mass [1/kg]),
+    /// for drawing in place (`crate::render`). Holds the last finished frame's positions
+    /// once [`Backend::step_frame`] has returned.
+    pub fn positions(&self) -> &Buffer {
+        &self.buffers.positions
+    }
+
     /// The context (shared with other backends or tests).
     pub fn context(&self) -> &Arc<Context> {
         &self.ctx

@@ -89,6 +89,14 @@ pub struct DeviceInfo {
     pub timestamps: bool,
     /// `shaderBufferFloat32AtomicAdd` of `VK_EXT_shader_atomic_float`.
     pub float_atomic_add: bool,
+    /// Whether that compute queue also supports graphics (needed by `tetrasim render`).
+    pub graphics: bool,
+    /// Sample counts that colour, depth and stencil attachments all support (rendering).
+    #[serde(skip)]
+    pub framebuffer_samples: vk::SampleCountFlags,
+    /// A depth-stencil attachment format with optimal tiling (rendering), if any.
+    #[serde(skip)]
+    pub depth_stencil_format: Option<vk::Format>,
     /// Index of the queue family used for compute (None: the device has no compute queue).
     #[serde(skip)]
     pub compute_family: Option<u32>,
@@ -135,7 +143,14 @@ impl DeviceInfo {
                 .iter()
                 .enumerate()
                 .filter(|(_, f)| f.queue_flags.contains(vk::QueueFlags::COMPUTE))
-                .max_by_key(|(_, f)| f.timestamp_valid_bits > 0);
+                // Timestamps first, then a family that also draws (the renderer shares the queue).
+                .max_by_key(|(i, f)| {
+                    (
+                        f.timestamp_valid_bits > 0,
+                        f.queue_flags.contains(vk::QueueFlags::GRAPHICS),
+                        std::cmp::Reverse(*i),
+                    )
+                });
             let limits = props.limits;
             let text = |c: std::result::Result<&CStr, _>| {
                 c.map(|c| c.to_string_lossy().into_owned())
@@ -149,6 +164,17 @@ impl DeviceInfo {
                 _ => "other",
             };
             let v = props.api_version;
+            let depth_stencil_format = [
+                vk::Format::D32_SFLOAT_S8_UINT,
+                vk::Format::D24_UNORM_S8_UINT,
+            ]
+            .into_iter()
+            .find(|&f| {
+                instance
+                    .get_physical_device_format_properties(pd, f)
+                    .optimal_tiling_features
+                    .contains(vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT)
+            });
             Ok(DeviceInfo {
                 index,
                 name: text(props.device_name_as_c_str()),
@@ -175,6 +201,12 @@ impl DeviceInfo {
                 timestamps: compute.is_some_and(|(_, f)| f.timestamp_valid_bits > 0)
                     && limits.timestamp_period > 0.0,
                 float_atomic_add,
+                graphics: compute
+                    .is_some_and(|(_, f)| f.queue_flags.contains(vk::QueueFlags::GRAPHICS)),
+                framebuffer_samples: limits.framebuffer_color_sample_counts
+                    & limits.framebuffer_depth_sample_counts
+                    & limits.framebuffer_stencil_sample_counts,
+                depth_stencil_format,
                 compute_family: compute.map(|(i, _)| i as u32),
                 timestamp_bits: compute.map(|(_, f)| f.timestamp_valid_bits).unwrap_or(0),
                 api: v,
@@ -374,6 +406,9 @@ mod tests {
             timestamp_period_ns: 1.0,
             timestamps: true,
             float_atomic_add: false,
+            graphics: true,
+            framebuffer_samples: vk::SampleCountFlags::TYPE_1,
+            depth_stencil_format: None,
             compute_family: Some(0),
             timestamp_bits: 64,
             api,

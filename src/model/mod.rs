@@ -316,7 +316,7 @@ fn place(nodes: &[DVec3], placement: Placement) -> Result<Vec<DVec3>> {
 }
 
 /// Row `i` lists the indices of the elements that contain node `i`.
-fn adjacency<'e>(nodes: usize, elements: impl Iterator<Item = &'e [u32]> + Clone) -> Csr {
+pub fn adjacency<'e>(nodes: usize, elements: impl Iterator<Item = &'e [u32]> + Clone) -> Csr {
     let mut offsets = vec![0u32; nodes + 1];
     for element in elements.clone() {
         for &v in element {

@@ -1,0 +1,163 @@
+//! `tetrasim render`: `run`'s scene and physics flags, always on the `vulkan` backend, plus
+//! what to draw and where to write it.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use anyhow::Context as _;
+
+use super::run::RunArgs;
+use crate::gpu::{Context, ContextOptions};
+use crate::launch::stage;
+use crate::render::{
+    parse_size, render_methods, Camera, ColourMode, Outputs, RenderJob, RenderOptions,
+};
+use crate::runner::SurfaceOutput;
+
+/// Arguments of `tetrasim render`.
+#[derive(Debug, clap::Args)]
+pub struct RenderArgs {
+    /// The scene and physics, as for `run` (`--backend` is ignored: rendering runs the
+    /// `vulkan` backend; `--every` is the period of `--frames-dir`).
+    #[command(flatten)]
+    pub run: RunArgs,
+    /// Write a PNG of each method every `--every` frames into this folder
+    /// (`METHOD_FFFFF.png`).
+    #[arg(long)]
+    pub frames_dir: Option<PathBuf>,
+    /// Write an animated GIF of the methods side by side.
+    #[arg(long)]
+    pub gif: Option<PathBuf>,
+    /// Frames between GIF frames (default: about 60 GIF frames over the run).
+    #[arg(long)]
+    pub gif_every: Option<u32>,
+    /// Write a contact sheet: one row per method, `--sheet-frames` frames side by side.
+    #[arg(long)]
+    pub sheet: Option<PathBuf>,
+    /// Columns of the contact sheet (frames sampled evenly from the first to the last).
+    #[arg(long, default_value_t = 5)]
+    pub sheet_frames: u32,
+    /// Image size WIDTHxHEIGHT in pixels (of one method's picture).
+    #[arg(long, default_value = "480x360")]
+    pub size: String,
+    /// Camera `ex,ey,ez,tx,ty,tz` [m] (default: fitted to the object's starting bounds).
+    #[arg(long)]
+    pub camera: Option<String>,
+    /// Surface colour: flat, volume (V/V0 per node) or strain (per node, of its springs).
+    #[arg(long, value_enum, default_value = "volume")]
+    pub colour: ColourMode,
+    /// Half range of the colour map around neutral (default 0.5 for volume, 0.2 for strain).
+    #[arg(long)]
+    pub range: Option<f32>,
+    /// Multisample anti-aliasing samples per pixel (4, 2 or 1).
+    #[arg(long, default_value_t = 4)]
+    pub samples: u32,
+}
+
+/// Runs `tetrasim render`.
+pub fn execute(args: RenderArgs) -> anyhow::Result<()> {
+    let run = &args.run;
+    if run.metrics.is_some() {
+        anyhow::bail!("--metrics is not written by `render`; use `tetrasim run --metrics FILE`");
+    }
+    let (width, height) = parse_size(&args.size)?;
+    let camera = args
+        .camera
+        .as_deref()
+        .map(str::parse::<Camera>)
+        .transpose()?;
+    let render = RenderOptions {
+        width,
+        height,
+        samples: args.samples,
+        colour: args.colour,
+        range: args.range,
+        camera,
+    };
+    render.validate()?;
+    let (scene, methods) = run.scene_and_methods()?;
+    let staged = stage(&scene).with_context(|| match &run.scene {
+        Some(path) => format!("staging the scene {}", path.display()),
+        None => format!("building the model of {}", run.mesh.display()),
+    })?;
+    for note in &staged.notes {
+        eprintln!("{note}");
+    }
+    let (model, params) = (&staged.model, &staged.params);
+    let ctx = Arc::new(Context::new(&ContextOptions {
+        device: run
+            .device
+            .as_deref()
+            .unwrap_or("auto")
+            .parse()
+            .unwrap_or_default(),
+        validation: run.validation,
+    })?);
+    let job = RenderJob {
+        frames: staged.frames,
+        methods,
+        render,
+        outputs: Outputs {
+            frames_dir: args.frames_dir.clone(),
+            every: run.every,
+            gif: args.gif.clone(),
+            gif_every: args.gif_every,
+            sheet: args.sheet.clone(),
+            sheet_columns: args.sheet_frames,
+            meshes: match &run.out_dir {
+                Some(dir) => Some(SurfaceOutput::new(dir, run.every, run.format)?),
+                None => None,
+            },
+        },
+        workgroup_size: run.workgroup_size,
+        progress: !run.quiet,
+    };
+    eprintln!(
+        "{}: {} nodes, {} tets, {} surface triangles; {} frames on `{}`, {}x{} pixels",
+        staged.label,
+        model.node_count(),
+        model.tets.len(),
+        model.surface.len(),
+        staged.frames,
+        ctx.info().name,
+        width,
+        height
+    );
+    let report = render_methods(&ctx, model, params, &job)?;
+    println!("method    min vol %  final vol %  frames");
+    for m in &report.methods {
+        println!(
+            "{:<9} {:>9.2}  {:>11.2}  {:>6}{}",
+            m.method.name(),
+            m.min_volume_pct,
+            m.final_volume_pct,
+            m.frames_run,
+            m.divergence
+                .as_deref()
+                .map(|d| format!("  {d}"))
+                .unwrap_or_default()
+        );
+    }
+    let steps = f64::from(staged.frames) * report.methods.len() as f64;
+    println!(
+        "stepping {:.3} ms/frame/method; rendering {:.3} ms/image ({} images, {} samples/pixel); writing {:.3} s in all",
+        1e3 * report.step_s / steps.max(1.0),
+        1e3 * report.render_s / f64::from(report.images.max(1)),
+        report.images,
+        report.samples,
+        report.write_s
+    );
+    for message in &report.validation_messages {
+        eprintln!("validation: {message}");
+    }
+    for (what, path) in [
+        ("frames", &args.frames_dir),
+        ("gif", &args.gif),
+        ("sheet", &args.sheet),
+    ] {
+        if let Some(p) = path {
+            eprintln!("{what} written to {}", p.display());
+        }
+    }
+    Ok(())
+}
