@@ -8,6 +8,7 @@ use ash::vk;
 
 use super::buffer::Buffer;
 use super::context::Context;
+use super::descriptors::BindingLayout;
 use super::layout::PushConstants;
 use crate::error::{Error, Result, VkContext};
 
@@ -33,10 +34,8 @@ pub struct Kernel {
     pub workgroup_size: u32,
     max_groups: u32,
     pipeline: vk::Pipeline,
-    layout: vk::PipelineLayout,
-    set_layout: vk::DescriptorSetLayout,
-    pool: vk::DescriptorPool,
-    set: vk::DescriptorSet,
+    /// Last, so that it is freed after the pipeline built on it.
+    binding: BindingLayout,
 }
 
 impl Kernel {
@@ -62,47 +61,29 @@ impl Kernel {
         workgroup_size: u32,
         constants: &[u32],
     ) -> Result<Self> {
+        let binding = BindingLayout::with_buffers(
+            ctx,
+            name,
+            bindings,
+            vk::ShaderStageFlags::COMPUTE,
+            std::mem::size_of::<PushConstants>() as u32,
+        )?;
         let mut k = Kernel {
             ctx: ctx.clone(),
             name: name.to_string(),
             workgroup_size,
             max_groups: ctx.info().max_workgroup_count[0],
             pipeline: vk::Pipeline::null(),
-            layout: vk::PipelineLayout::null(),
-            set_layout: vk::DescriptorSetLayout::null(),
-            pool: vk::DescriptorPool::null(),
-            set: vk::DescriptorSet::null(),
+            binding,
         };
-        k.build(ctx, key, bindings, constants)?;
+        k.build(ctx, key, constants)?;
         Ok(k)
     }
 
-    fn build(
-        &mut self,
-        ctx: &Context,
-        key: &str,
-        bindings: &[(u32, &Buffer)],
-        constants: &[u32],
-    ) -> Result<()> {
+    fn build(&mut self, ctx: &Context, key: &str, constants: &[u32]) -> Result<()> {
         let device = ctx.device();
-        let layout_bindings: Vec<_> = bindings
-            .iter()
-            .map(|(b, _)| {
-                vk::DescriptorSetLayoutBinding::default()
-                    .binding(*b)
-                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                    .descriptor_count(1)
-                    .stage_flags(vk::ShaderStageFlags::COMPUTE)
-            })
-            .collect();
         let code = ash::util::read_spv(&mut std::io::Cursor::new(shader(key)?))
             .map_err(|e| Error::Gpu(format!("shader `{key}` is not valid SPIR-V: {e}")))?;
-        let pool_sizes = [vk::DescriptorPoolSize::default()
-            .ty(vk::DescriptorType::STORAGE_BUFFER)
-            .descriptor_count(bindings.len().max(1) as u32)];
-        let ranges = [vk::PushConstantRange::default()
-            .stage_flags(vk::ShaderStageFlags::COMPUTE)
-            .size(std::mem::size_of::<PushConstants>() as u32)];
         let spec_values: Vec<u32> = std::iter::once(self.workgroup_size)
             .chain(constants.iter().copied())
             .collect();
@@ -118,24 +99,9 @@ impl Kernel {
         let spec = vk::SpecializationInfo::default()
             .map_entries(&spec_entries)
             .data(&spec_data);
-        // SAFETY: valid device; every create info outlives its call; handles are stored in
-        // `self` as soon as they exist, so `destroy` frees them on any later error.
+        // SAFETY: valid device; every create info outlives its call; the pipeline is stored
+        // in `self` as soon as it exists, so Drop frees it; the module is freed at once.
         unsafe {
-            self.set_layout = device
-                .create_descriptor_set_layout(
-                    &vk::DescriptorSetLayoutCreateInfo::default().bindings(&layout_bindings),
-                    None,
-                )
-                .vk("vkCreateDescriptorSetLayout")?;
-            let set_layouts = [self.set_layout];
-            self.layout = device
-                .create_pipeline_layout(
-                    &vk::PipelineLayoutCreateInfo::default()
-                        .set_layouts(&set_layouts)
-                        .push_constant_ranges(&ranges),
-                    None,
-                )
-                .vk("vkCreatePipelineLayout")?;
             let module = device
                 .create_shader_module(&vk::ShaderModuleCreateInfo::default().code(&code), None)
                 .vk("vkCreateShaderModule")?;
@@ -146,46 +112,15 @@ impl Kernel {
                 .specialization_info(&spec);
             let info = [vk::ComputePipelineCreateInfo::default()
                 .stage(stage)
-                .layout(self.layout)];
+                .layout(self.binding.layout)];
             let pipelines = device.create_compute_pipelines(vk::PipelineCache::null(), &info, None);
             device.destroy_shader_module(module, None);
             self.pipeline = pipelines.map_err(|(_, e)| Error::Vulkan {
                 call: "vkCreateComputePipelines",
                 result: e,
             })?[0];
-            self.pool = device
-                .create_descriptor_pool(
-                    &vk::DescriptorPoolCreateInfo::default()
-                        .max_sets(1)
-                        .pool_sizes(&pool_sizes),
-                    None,
-                )
-                .vk("vkCreateDescriptorPool")?;
-            self.set = device
-                .allocate_descriptor_sets(
-                    &vk::DescriptorSetAllocateInfo::default()
-                        .descriptor_pool(self.pool)
-                        .set_layouts(&set_layouts),
-                )
-                .vk("vkAllocateDescriptorSets")?[0];
-            let infos: Vec<[vk::DescriptorBufferInfo; 1]> =
-                bindings.iter().map(|(_, buf)| [buf.descriptor()]).collect();
-            let writes: Vec<_> = bindings
-                .iter()
-                .zip(&infos)
-                .map(|((b, _), info)| {
-                    vk::WriteDescriptorSet::default()
-                        .dst_set(self.set)
-                        .dst_binding(*b)
-                        .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                        .buffer_info(info)
-                })
-                .collect();
-            device.update_descriptor_sets(&writes, &[]);
         }
         ctx.set_name(self.pipeline, &self.name);
-        ctx.set_name(self.layout, &self.name);
-        ctx.set_name(self.set, &self.name);
         Ok(())
     }
 
@@ -211,47 +146,25 @@ impl Kernel {
     /// Records binding, push constants and a dispatch covering `elements` invocations.
     pub fn record(&self, cmd: vk::CommandBuffer, push: &PushConstants, elements: u32) {
         let device = self.ctx.device();
-        // SAFETY: `cmd` is recording; the pipeline, layout and set are alive.
-        unsafe {
-            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
-            device.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::COMPUTE,
-                self.layout,
-                0,
-                &[self.set],
-                &[],
-            );
-            device.cmd_push_constants(
-                cmd,
-                self.layout,
-                vk::ShaderStageFlags::COMPUTE,
-                0,
-                bytemuck::bytes_of(push),
-            );
-            device.cmd_dispatch(cmd, self.groups(elements).max(1), 1, 1);
-        }
+        // SAFETY: `cmd` is recording; the pipeline is alive.
+        unsafe { device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline) };
+        self.binding.record(
+            cmd,
+            vk::PipelineBindPoint::COMPUTE,
+            bytemuck::bytes_of(push),
+        );
+        // SAFETY: `cmd` is recording with the pipeline, set and push constants bound.
+        unsafe { device.cmd_dispatch(cmd, self.groups(elements).max(1), 1, 1) };
     }
 }
 
 impl Drop for Kernel {
-    /// Frees every handle. The GPU must be done with the kernel (owners wait first).
+    /// Frees the pipeline; the layouts and set go with `binding` after it. The GPU must be
+    /// done with the kernel (owners wait first).
     fn drop(&mut self) {
-        let device = self.ctx.device();
-        // SAFETY: the caller guarantees no pending use; null handles are skipped.
-        unsafe {
-            if self.pool != vk::DescriptorPool::null() {
-                device.destroy_descriptor_pool(self.pool, None);
-            }
-            if self.pipeline != vk::Pipeline::null() {
-                device.destroy_pipeline(self.pipeline, None);
-            }
-            if self.layout != vk::PipelineLayout::null() {
-                device.destroy_pipeline_layout(self.layout, None);
-            }
-            if self.set_layout != vk::DescriptorSetLayout::null() {
-                device.destroy_descriptor_set_layout(self.set_layout, None);
-            }
+        if self.pipeline != vk::Pipeline::null() {
+            // SAFETY: the caller guarantees no pending use.
+            unsafe { self.ctx.device().destroy_pipeline(self.pipeline, None) };
         }
     }
 }

@@ -120,7 +120,7 @@ mod tests {
     use std::mem::{offset_of, size_of};
 
     use super::*;
-    use crate::gpu::spirv::Module;
+    use crate::gpu::spirv::{assert_struct_offsets, Module};
 
     fn module(key: &str) -> Module {
         let bytes = crate::shaders::SHADERS
@@ -156,23 +156,15 @@ mod tests {
         ];
         // integrate uses floor_on/friction/gravity, volume_sum the tet count: together they
         // name most members; every member the shader keeps must sit where Rust puts it.
-        let mut checked = 0;
-        for key in [
-            "passes/integrate.comp",
-            "passes/volume.comp#ext",
-            "passes/spring_scatter.comp#cas",
-        ] {
-            let offsets = module(key).struct_offsets("PushConstants");
-            assert!(!offsets.is_empty(), "{key}: no PushConstants block found");
-            for (name, offset) in offsets {
-                let expected = rust
-                    .iter()
-                    .find(|(n, _)| *n == name)
-                    .map(|(_, o)| *o as u32);
-                assert_eq!(Some(offset), expected, "{key}: member `{name}`");
-                checked += 1;
-            }
-        }
+        let checked = assert_struct_offsets(
+            &[
+                "passes/integrate.comp",
+                "passes/volume.comp#ext",
+                "passes/spring_scatter.comp#cas",
+            ],
+            "PushConstants",
+            &rust,
+        );
         assert!(checked >= 12);
     }
 

@@ -6,6 +6,7 @@
 pub mod buffer;
 pub mod commands;
 pub mod context;
+pub mod descriptors;
 pub mod device;
 pub mod kernel;
 pub mod layout;
@@ -14,6 +15,7 @@ pub mod timing;
 
 pub use buffer::Buffer;
 pub use context::{list_devices, Context, ContextOptions};
+pub use descriptors::BindingLayout;
 pub use device::{AtomicsPath, DeviceInfo, DeviceSelector};
 pub use kernel::Kernel;
 pub use timing::{PassTime, Timer};

@@ -167,6 +167,28 @@ impl Module {
     }
 }
 
+/// Test helper: checks that every member of the struct `block` in each shader of `keys`
+/// sits at the offset `rust` gives for that name (a member Rust lacks fails too), that each
+/// shader has the block, and returns how many members were checked.
+#[cfg(test)]
+pub(crate) fn assert_struct_offsets(keys: &[&str], block: &str, rust: &[(&str, usize)]) -> usize {
+    let mut checked = 0;
+    for key in keys {
+        let bytes = crate::gpu::kernel::shader(key).unwrap();
+        let offsets = Module::parse(bytes).unwrap().struct_offsets(block);
+        assert!(!offsets.is_empty(), "{key}: no {block} block found");
+        for (name, offset) in offsets {
+            let expected = rust
+                .iter()
+                .find(|(n, _)| *n == name)
+                .map(|(_, o)| *o as u32);
+            assert_eq!(Some(offset), expected, "{key}: member `{name}`");
+            checked += 1;
+        }
+    }
+    checked
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

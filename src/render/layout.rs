@@ -68,7 +68,7 @@ mod tests {
     use std::mem::{offset_of, size_of};
 
     use super::*;
-    use crate::gpu::spirv::Module;
+    use crate::gpu::spirv::{assert_struct_offsets, Module};
 
     fn module(key: &str) -> Module {
         Module::parse(crate::gpu::kernel::shader(key).unwrap()).unwrap()
@@ -86,23 +86,15 @@ mod tests {
             ("range", offset_of!(RenderPush, range)),
             ("mode", offset_of!(RenderPush, mode)),
         ];
-        let mut checked = 0;
-        for key in [
-            "render/legend.vert",
-            "render/surface.frag",
-            "render/floor.vert",
-        ] {
-            let offsets = module(key).struct_offsets("RenderPush");
-            assert!(!offsets.is_empty(), "{key}: no RenderPush block");
-            for (name, offset) in offsets {
-                let expected = rust
-                    .iter()
-                    .find(|(n, _)| *n == name)
-                    .map(|(_, o)| *o as u32);
-                assert_eq!(Some(offset), expected, "{key}: member `{name}`");
-                checked += 1;
-            }
-        }
+        let checked = assert_struct_offsets(
+            &[
+                "render/legend.vert",
+                "render/surface.frag",
+                "render/floor.vert",
+            ],
+            "RenderPush",
+            &rust,
+        );
         assert!(checked >= 3 * rust.len(), "only {checked} members checked");
     }
 

@@ -9,7 +9,7 @@ use ash::vk;
 use super::layout::{binding, RenderPush};
 use crate::error::{Error, Result, VkContext};
 use crate::gpu::kernel::shader;
-use crate::gpu::{Buffer, Context};
+use crate::gpu::{BindingLayout, Buffer, Context};
 
 /// Stages that see the descriptor set and the push constants.
 pub const STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
@@ -35,12 +35,6 @@ struct Style {
 /// Every render pipeline, the shared layout and the descriptor set. Freed on drop.
 pub struct Pipelines {
     ctx: Arc<Context>,
-    /// The shared pipeline layout.
-    pub layout: vk::PipelineLayout,
-    set_layout: vk::DescriptorSetLayout,
-    pool: vk::DescriptorPool,
-    /// The one descriptor set (binding 0 is re-pointed at each render's position buffer).
-    pub set: vk::DescriptorSet,
     /// `attrs` (compute).
     pub attrs: vk::Pipeline,
     /// `floor`, `shadow`, `surface`, `legend` (graphics).
@@ -51,6 +45,9 @@ pub struct Pipelines {
     pub surface: vk::Pipeline,
     /// The legend's colour bar.
     pub legend: vk::Pipeline,
+    /// The shared pipeline layout and its one descriptor set (binding 0 is re-pointed at
+    /// each render's position buffer). Last, so that it is freed after the pipelines.
+    pub binding: BindingLayout,
 }
 
 impl Pipelines {
@@ -62,19 +59,23 @@ impl Pipelines {
         samples: vk::SampleCountFlags,
         extent: vk::Extent2D,
     ) -> Result<Self> {
+        let bindings: Vec<u32> = (0..binding::COUNT).collect();
+        let binding = BindingLayout::new(
+            ctx,
+            "render",
+            &bindings,
+            STAGES,
+            std::mem::size_of::<RenderPush>() as u32,
+        )?;
         let mut p = Pipelines {
             ctx: ctx.clone(),
-            layout: vk::PipelineLayout::null(),
-            set_layout: vk::DescriptorSetLayout::null(),
-            pool: vk::DescriptorPool::null(),
-            set: vk::DescriptorSet::null(),
             attrs: vk::Pipeline::null(),
             floor: vk::Pipeline::null(),
             shadow: vk::Pipeline::null(),
             surface: vk::Pipeline::null(),
             legend: vk::Pipeline::null(),
+            binding,
         };
-        p.create_layouts()?;
         p.attrs = p.compute("render/attrs.comp")?;
         let g = |p: &Pipelines, style| p.graphics(style, render_pass, samples, extent);
         p.floor = g(
@@ -129,71 +130,9 @@ impl Pipelines {
         Ok(p)
     }
 
-    fn create_layouts(&mut self) -> Result<()> {
-        let device = self.ctx.device();
-        let bindings: Vec<_> = (0..binding::COUNT)
-            .map(|b| {
-                vk::DescriptorSetLayoutBinding::default()
-                    .binding(b)
-                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                    .descriptor_count(1)
-                    .stage_flags(STAGES)
-            })
-            .collect();
-        let ranges = [vk::PushConstantRange::default()
-            .stage_flags(STAGES)
-            .size(std::mem::size_of::<RenderPush>() as u32)];
-        let pool_sizes = [vk::DescriptorPoolSize::default()
-            .ty(vk::DescriptorType::STORAGE_BUFFER)
-            .descriptor_count(binding::COUNT)];
-        // SAFETY: valid device; create infos outlive the calls; handles are stored at once so
-        // that Drop frees them on a later error.
-        unsafe {
-            self.set_layout = device
-                .create_descriptor_set_layout(
-                    &vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings),
-                    None,
-                )
-                .vk("vkCreateDescriptorSetLayout")?;
-            let set_layouts = [self.set_layout];
-            self.layout = device
-                .create_pipeline_layout(
-                    &vk::PipelineLayoutCreateInfo::default()
-                        .set_layouts(&set_layouts)
-                        .push_constant_ranges(&ranges),
-                    None,
-                )
-                .vk("vkCreatePipelineLayout")?;
-            self.pool = device
-                .create_descriptor_pool(
-                    &vk::DescriptorPoolCreateInfo::default()
-                        .max_sets(1)
-                        .pool_sizes(&pool_sizes),
-                    None,
-                )
-                .vk("vkCreateDescriptorPool")?;
-            self.set = device
-                .allocate_descriptor_sets(
-                    &vk::DescriptorSetAllocateInfo::default()
-                        .descriptor_pool(self.pool)
-                        .set_layouts(&set_layouts),
-                )
-                .vk("vkAllocateDescriptorSets")?[0];
-        }
-        self.ctx.set_name(self.set, "render");
-        Ok(())
-    }
-
     /// Points `binding` of the set at `buffer`. The GPU must not be using the set.
     pub fn bind(&self, binding: u32, buffer: &Buffer) {
-        let info = [buffer.descriptor()];
-        let write = [vk::WriteDescriptorSet::default()
-            .dst_set(self.set)
-            .dst_binding(binding)
-            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-            .buffer_info(&info)];
-        // SAFETY: the set is not in use by pending work (renders wait for their fence).
-        unsafe { self.ctx.device().update_descriptor_sets(&write, &[]) };
+        self.binding.bind(binding, buffer);
     }
 
     fn module(&self, key: &str) -> Result<vk::ShaderModule> {
@@ -216,7 +155,7 @@ impl Pipelines {
             .name(c"main");
         let info = [vk::ComputePipelineCreateInfo::default()
             .stage(stage)
-            .layout(self.layout)];
+            .layout(self.binding.layout)];
         // SAFETY: valid device, module and layout; the module is destroyed after creation.
         let created = unsafe {
             let r =
@@ -323,7 +262,7 @@ impl Pipelines {
             .multisample_state(&multisample)
             .depth_stencil_state(&depth)
             .color_blend_state(&blend)
-            .layout(self.layout)
+            .layout(self.binding.layout)
             .render_pass(render_pass)
             .subpass(0)];
         // SAFETY: valid device; every state struct outlives the call; modules freed after.
@@ -344,7 +283,8 @@ impl Pipelines {
 }
 
 impl Drop for Pipelines {
-    /// Frees every handle. The GPU must be done with them (owners wait first).
+    /// Frees the pipelines; the layouts and set go with `binding` after them. The GPU must be
+    /// done with them (owners wait first).
     fn drop(&mut self) {
         let device = self.ctx.device();
         // SAFETY: no pending use (the renderer waits for each render); null handles skipped.
@@ -359,15 +299,6 @@ impl Drop for Pipelines {
                 if p != vk::Pipeline::null() {
                     device.destroy_pipeline(p, None);
                 }
-            }
-            if self.pool != vk::DescriptorPool::null() {
-                device.destroy_descriptor_pool(self.pool, None);
-            }
-            if self.layout != vk::PipelineLayout::null() {
-                device.destroy_pipeline_layout(self.layout, None);
-            }
-            if self.set_layout != vk::DescriptorSetLayout::null() {
-                device.destroy_descriptor_set_layout(self.set_layout, None);
             }
         }
     }

@@ -21,7 +21,7 @@ use super::geometry::Geometry;
 use super::image::Image;
 use super::layout::{binding, RenderPush};
 use super::legend::LegendLayout;
-use super::pipelines::{Pipelines, ATTRS_WORKGROUP, STAGES};
+use super::pipelines::{Pipelines, ATTRS_WORKGROUP};
 use super::style::{linear, BACKGROUND_RGB};
 use super::target::Target;
 use super::RenderOptions;
@@ -151,15 +151,7 @@ impl Renderer {
             unsafe {
                 let bytes = bytemuck::bytes_of(&push);
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.attrs);
-                device.cmd_bind_descriptor_sets(
-                    cmd,
-                    vk::PipelineBindPoint::COMPUTE,
-                    p.layout,
-                    0,
-                    &[p.set],
-                    &[],
-                );
-                device.cmd_push_constants(cmd, p.layout, STAGES, 0, bytes);
+                p.binding.record(cmd, vk::PipelineBindPoint::COMPUTE, bytes);
                 device.cmd_dispatch(
                     cmd,
                     g.surface_node_count.div_ceil(ATTRS_WORKGROUP).max(1),
@@ -169,15 +161,8 @@ impl Renderer {
                 commands::barrier(ctx, cmd, &[&g.attrs], Access::COMPUTE, vertex_read);
 
                 self.target.begin(cmd, linear(BACKGROUND_RGB));
-                device.cmd_bind_descriptor_sets(
-                    cmd,
-                    vk::PipelineBindPoint::GRAPHICS,
-                    p.layout,
-                    0,
-                    &[p.set],
-                    &[],
-                );
-                device.cmd_push_constants(cmd, p.layout, STAGES, 0, bytes);
+                p.binding
+                    .record(cmd, vk::PipelineBindPoint::GRAPHICS, bytes);
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.floor);
                 device.cmd_draw(cmd, 6, 1, 0, 0);
                 device.cmd_bind_index_buffer(cmd, g.triangles.raw, 0, vk::IndexType::UINT32);
