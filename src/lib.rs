@@ -17,6 +17,7 @@ pub mod metrics;
 pub mod model;
 pub mod params;
 pub mod physics;
+pub mod prep;
 pub mod preset;
 pub mod runner;
 pub mod scene;

@@ -3,7 +3,11 @@
 
 pub mod grid;
 pub mod io;
+pub mod repair;
+pub mod shapes;
+pub mod simplify;
 pub mod topology;
+pub mod voxel;
 
 use glam::DVec3;
 
