@@ -8,7 +8,7 @@ use std::path::Path;
 use std::process::Command;
 
 use common::box_mesh;
-use tetrasim::bench::report::{write_outputs, OUTPUT_FILES};
+use tetrasim::bench::report::{equal_work_pairs, write_outputs, OUTPUT_FILES};
 use tetrasim::bench::scaling::{self, ScalingOptions};
 use tetrasim::bench::suite::write_json;
 use tetrasim::bench::{
@@ -222,7 +222,7 @@ fn tradeoff_writes_files_and_measures_against_its_reference() {
     let model = model(&params);
     let spec = SweepSpec {
         methods: vec![Method::Mss, Method::Volume],
-        iterations: vec![1, 8],
+        iterations: vec![1, 2, 8],
         substeps: vec![1, 2],
         omegas: vec![1.5],
         omega_iterations: 8,
@@ -252,7 +252,18 @@ fn tradeoff_writes_files_and_measures_against_its_reference() {
     )
     .unwrap();
     assert_eq!(records.len(), spec.points().len());
-    assert_eq!(records.len(), 2 + 4 + 1);
+    assert_eq!(records.len(), 2 + 6 + 1);
+    // Equal work: 1 iteration x 2 substeps against 2 iterations x 1 substep, nothing else.
+    let pairs = equal_work_pairs(&records);
+    assert_eq!(pairs.len(), 1);
+    assert_eq!(
+        (
+            pairs[0].substeps.iterations,
+            pairs[0].substeps.substeps,
+            pairs[0].iterations.iterations
+        ),
+        (1, 2, 2)
+    );
 
     // The reference's own settings on the reference's backend: no position error at all;
     // a coarser setting: some.

@@ -138,6 +138,61 @@ pub fn equal_cost_pairs(records: &[TradeoffRecord]) -> Vec<EqualCostPair<'_>> {
     pairs
 }
 
+/// Every pair of a setting with several substeps and the one-substep setting of the same
+/// method (omega 1) with as many iterations per frame (`iterations x substeps` equal): equal
+/// work in the constraint passes, whatever the timing noise.
+pub fn equal_work_pairs(records: &[TradeoffRecord]) -> Vec<EqualCostPair<'_>> {
+    let usable = |r: &&TradeoffRecord| !r.diverged && r.omega == 1.0;
+    records
+        .iter()
+        .filter(usable)
+        .filter(|s| s.substeps > 1 && s.method != "mss" && s.method != "mss-node")
+        .filter_map(|s| {
+            records
+                .iter()
+                .filter(usable)
+                .find(|r| {
+                    r.substeps == 1
+                        && r.method == s.method
+                        && r.iterations == s.iterations * s.substeps
+                })
+                .map(|i| EqualCostPair {
+                    substeps: s,
+                    iterations: i,
+                })
+        })
+        .collect()
+}
+
+fn pair_table(out: &mut String, pairs: &[EqualCostPair<'_>]) {
+    let _ = writeln!(out, "| substeps setting | ms | vol err % | pos rms | iterations setting | ms | vol err % | pos rms | lower volume error |");
+    let _ = writeln!(
+        out,
+        "| --- | ---: | ---: | ---: | --- | ---: | ---: | ---: | --- |"
+    );
+    for p in pairs {
+        let (s, i) = (p.substeps, p.iterations);
+        let _ = writeln!(
+            out,
+            "| {} | {:.3} | {:.3} | {} | {} | {:.3} | {:.3} | {} | {} |",
+            setting(s),
+            s.ms_per_frame,
+            s.volume_error_pct,
+            pos(s.pos_rms_rel),
+            setting(i),
+            i.ms_per_frame,
+            i.volume_error_pct,
+            pos(i.pos_rms_rel),
+            if p.substeps_win_volume() {
+                "substeps"
+            } else {
+                "iterations"
+            }
+        );
+    }
+    let _ = writeln!(out, "\n{}", verdict(pairs));
+}
+
 /// The Markdown report: front, cheapest settings per budget, substeps against iterations.
 pub fn report(records: &[TradeoffRecord]) -> String {
     let mut out = String::new();
@@ -193,39 +248,21 @@ pub fn report(records: &[TradeoffRecord]) -> String {
          against the one-substep setting of the same method with more iterations whose \
          measured cost is closest (within a factor {EQUAL_COST_RATIO}).\n"
     );
-    let _ = writeln!(out, "| substeps setting | ms | vol err % | pos rms | iterations setting | ms | vol err % | pos rms | lower volume error |");
+    pair_table(&mut out, &pairs);
     let _ = writeln!(
         out,
-        "| --- | ---: | ---: | ---: | --- | ---: | ---: | ---: | --- |"
+        "\n### At equal work\n\nThe same question with cost counted as constraint iterations \
+         per frame (`iterations x substeps` equal), which timing noise cannot move; a substep \
+         also repeats the spring and integration passes, so it costs a little more.\n"
     );
-    for p in &pairs {
-        let (s, i) = (p.substeps, p.iterations);
-        let _ = writeln!(
-            out,
-            "| {} | {:.3} | {:.3} | {} | {} | {:.3} | {:.3} | {} | {} |",
-            setting(s),
-            s.ms_per_frame,
-            s.volume_error_pct,
-            pos(s.pos_rms_rel),
-            setting(i),
-            i.ms_per_frame,
-            i.volume_error_pct,
-            pos(i.pos_rms_rel),
-            if p.substeps_win_volume() {
-                "substeps"
-            } else {
-                "iterations"
-            }
-        );
-    }
-    let _ = writeln!(out, "\n{}", verdict(&pairs));
+    pair_table(&mut out, &equal_work_pairs(records));
     out
 }
 
 /// One sentence per method: how many equal-cost pairs substeps win on each error.
 pub fn verdict(pairs: &[EqualCostPair<'_>]) -> String {
     if pairs.is_empty() {
-        return "No equal-cost pairs: the sweep needs several substep counts and iteration counts."
+        return "No pairs to compare: the sweep needs several substep counts and matching iteration counts.\n"
             .into();
     }
     let mut methods: Vec<&str> = pairs.iter().map(|p| p.substeps.method.as_str()).collect();
@@ -248,7 +285,7 @@ pub fn verdict(pairs: &[EqualCostPair<'_>]) -> String {
         };
         let _ = writeln!(
             out,
-            "- {m}: {answer} on volume error ({vol} of {} equal-cost pairs); substeps have the \
+            "- {m}: {answer} on volume error ({vol} of {} pairs); substeps have the \
              lower position error in {posw} of {}.",
             of.len(),
             known.len()

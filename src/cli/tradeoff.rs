@@ -5,7 +5,9 @@ use std::path::PathBuf;
 use anyhow::Context as _;
 
 use super::bench::{choose_backends, GpuArgs};
-use crate::bench::report::{equal_cost_pairs, front_table, verdict, write_outputs};
+use crate::bench::report::{
+    equal_cost_pairs, equal_work_pairs, front_table, verdict, write_outputs,
+};
 use crate::bench::scaling::{self, ScalingOptions, DEFAULT_SIZES};
 use crate::bench::{
     run_tradeoff, Backends, ReferenceSettings, SimulateOptions, SweepSpec, TradeoffOptions,
@@ -18,8 +20,12 @@ use crate::runner::{build_model, load_mesh};
 #[derive(Debug, clap::Args)]
 pub struct TradeoffArgs {
     /// Mesh (TetGen prefix).
-    #[arg(long)]
-    pub mesh: PathBuf,
+    #[arg(long, required_unless_present = "from_json")]
+    pub mesh: Option<PathBuf>,
+    /// Do not run: read the records of an earlier run (its tradeoff.json) and write the
+    /// report, CSV and plots again into --out.
+    #[arg(long, conflicts_with = "mesh")]
+    pub from_json: Option<PathBuf>,
     /// Folder for tradeoff.csv, tradeoff.json, report.md and the PNG plots.
     #[arg(long)]
     pub out: PathBuf,
@@ -67,8 +73,19 @@ pub struct TradeoffArgs {
 
 /// Runs `tetrasim tradeoff`.
 pub fn execute_tradeoff(args: TradeoffArgs) -> anyhow::Result<()> {
+    if let Some(path) = &args.from_json {
+        let text =
+            std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+        let mut records: Vec<crate::bench::TradeoffRecord> = serde_json::from_str(&text)
+            .with_context(|| format!("{}: not a tradeoff.json", path.display()))?;
+        crate::bench::report::mark_pareto(&mut records);
+        return finish(&args, &records);
+    }
+    let Some(mesh) = &args.mesh else {
+        anyhow::bail!("give --mesh PREFIX (or --from-json FILE)");
+    };
     let preset = Preset::seed();
-    let loaded = load_mesh(&args.mesh)?;
+    let loaded = load_mesh(mesh)?;
     let model = build_model(&loaded.mesh, &preset.params, preset.placement)
         .with_context(|| format!("building the model of {}", loaded.label))?;
     let mut spec = if args.quick {
@@ -141,13 +158,19 @@ pub fn execute_tradeoff(args: TradeoffArgs) -> anyhow::Result<()> {
             )
         },
     )?;
-    println!(
-        "Pareto front (ms per frame on {}, volume error):",
-        options.backend
-    );
-    print!("{}", front_table(&records));
-    print!("{}", verdict(&equal_cost_pairs(&records)));
-    for path in write_outputs(&args.out, &records)? {
+    finish(&args, &records)
+}
+
+/// Prints the Pareto front and the verdicts, and writes the files.
+fn finish(args: &TradeoffArgs, records: &[crate::bench::TradeoffRecord]) -> anyhow::Result<()> {
+    let backend = records.first().map_or("?", |r| r.backend.as_str());
+    println!("Pareto front (ms per frame on {backend}, volume error):");
+    print!("{}", front_table(records));
+    println!("Substeps or iterations at equal measured cost:");
+    print!("{}", verdict(&equal_cost_pairs(records)));
+    println!("At equal iterations per frame (iterations x substeps):");
+    print!("{}", verdict(&equal_work_pairs(records)));
+    for path in write_outputs(&args.out, records)? {
         eprintln!("wrote {}", path.display());
     }
     Ok(())
