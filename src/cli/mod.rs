@@ -1,14 +1,18 @@
 //! The command line of `tetrasim`: clap structures and the glue from arguments to the library.
 //! `main.rs` only parses and dispatches to [`execute`].
 
+mod bench;
 mod info;
 mod plan;
 mod render;
 mod run;
 mod stability;
+mod tradeoff;
 
+pub use bench::BenchArgs;
 pub use render::RenderArgs;
 pub use run::{DivergedRun, RunArgs};
+pub use tradeoff::{ScalingArgs, TradeoffArgs};
 
 /// `tetrasim`: volume-preserving mass-spring simulation of tetrahedral meshes.
 #[derive(Debug, clap::Parser)]
@@ -36,6 +40,14 @@ pub enum Command {
     /// List the Vulkan devices: driver, limits, timestamps, float atomics and the atomic
     /// path and workgroup size the engine would use on each.
     Info,
+    /// Headless benchmark: every mesh x method x backend, frame-time percentiles, GPU pass
+    /// times, throughput and volume accuracy.
+    Bench(Box<BenchArgs>),
+    /// Speed-versus-accuracy sweep (iterations, substeps, omega, method) on one mesh: CSV,
+    /// JSON, Pareto front and PNG plots.
+    Tradeoff(Box<TradeoffArgs>),
+    /// Cost per element against mesh size (a voxel-meshed sphere at several sizes).
+    Scaling(Box<ScalingArgs>),
 }
 
 /// Runs a parsed command line.
@@ -46,5 +58,8 @@ pub fn execute(cli: Cli) -> anyhow::Result<()> {
         Command::Info => info::execute(),
         Command::Plan(args) => plan::execute(*args),
         Command::Stability(args) => stability::execute(args),
+        Command::Bench(args) => bench::execute(*args),
+        Command::Tradeoff(args) => tradeoff::execute_tradeoff(*args),
+        Command::Scaling(args) => tradeoff::execute_scaling(*args),
     }
 }

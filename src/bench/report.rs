@@ -1,0 +1,385 @@
+//! What `tetrasim tradeoff` concludes and writes: Pareto fronts, the cheapest setting per
+//! volume-error budget, substeps against iterations at equal cost, and the files (CSV, JSON,
+//! Markdown report, PNG plots).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use super::pareto::pareto_front;
+use super::plot::{write_png, LogChart, Series, SeriesKind, PLOT_SIZE};
+use super::tradeoff::TradeoffRecord;
+use crate::error::{Error, Result};
+
+/// Volume-error budgets [%] the report answers "cheapest setting" for.
+pub const VOLUME_BUDGETS: [f64; 6] = [10.0, 5.0, 2.0, 1.0, 0.5, 0.2];
+
+/// Cost ratio within which two settings count as "equal cost".
+pub const EQUAL_COST_RATIO: f64 = 1.5;
+
+fn volume_point(r: &TradeoffRecord) -> (f64, f64) {
+    if r.diverged {
+        (f64::NAN, f64::NAN)
+    } else {
+        (r.ms_per_frame, r.volume_error_pct)
+    }
+}
+
+fn position_point(r: &TradeoffRecord) -> (f64, f64) {
+    match r.pos_rms_rel {
+        Some(e) if !r.diverged => (r.ms_per_frame, e),
+        _ => (f64::NAN, f64::NAN),
+    }
+}
+
+/// Sets `pareto_volume` and `pareto_position` on every record (diverged runs are never on
+/// a front).
+pub fn mark_pareto(records: &mut [TradeoffRecord]) {
+    let vol: Vec<(f64, f64)> = records.iter().map(volume_point).collect();
+    let pos: Vec<(f64, f64)> = records.iter().map(position_point).collect();
+    let (fv, fp) = (pareto_front(&vol), pareto_front(&pos));
+    for (i, r) in records.iter_mut().enumerate() {
+        r.pareto_volume = fv.contains(&i);
+        r.pareto_position = fp.contains(&i);
+    }
+}
+
+fn setting(r: &TradeoffRecord) -> String {
+    format!(
+        "{} it {} ss {} omega {}",
+        r.method, r.iterations, r.substeps, r.omega
+    )
+}
+
+fn pos(e: Option<f64>) -> String {
+    e.map_or("-".to_string(), |e| format!("{e:.2e}"))
+}
+
+/// The Pareto front of (cost, volume error), cheapest first, as a table.
+pub fn front_table(records: &[TradeoffRecord]) -> String {
+    let mut front: Vec<&TradeoffRecord> = records.iter().filter(|r| r.pareto_volume).collect();
+    front.sort_by(|a, b| a.ms_per_frame.total_cmp(&b.ms_per_frame));
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{:<9} {:>4} {:>3} {:>5} {:>10} {:>10} {:>9} {:>9} {:>9}",
+        "method", "it", "ss", "omega", "ms/frame", "vol err %", "min vol%", "pos rms", "pos max"
+    );
+    for r in front {
+        let _ = writeln!(
+            out,
+            "{:<9} {:>4} {:>3} {:>5} {:>10.3} {:>10.3} {:>9.2} {:>9} {:>9}",
+            r.method,
+            r.iterations,
+            r.substeps,
+            r.omega,
+            r.ms_per_frame,
+            r.volume_error_pct,
+            r.min_volume_pct,
+            pos(r.pos_rms_rel),
+            pos(r.pos_max_rel)
+        );
+    }
+    out
+}
+
+/// The cheapest run (lowest median ms per frame) whose volume error is at most `budget` %.
+pub fn cheapest_for(records: &[TradeoffRecord], budget: f64) -> Option<&TradeoffRecord> {
+    records
+        .iter()
+        .filter(|r| !r.diverged && r.volume_error_pct <= budget)
+        .min_by(|a, b| a.ms_per_frame.total_cmp(&b.ms_per_frame))
+}
+
+/// A setting with several substeps against the single-substep setting of the same method
+/// (omega 1) whose measured cost is closest.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EqualCostPair<'a> {
+    /// The setting with `substeps > 1`.
+    pub substeps: &'a TradeoffRecord,
+    /// The setting with one substep and more iterations.
+    pub iterations: &'a TradeoffRecord,
+}
+
+impl EqualCostPair<'_> {
+    /// Whether the substep setting has the smaller volume error.
+    pub fn substeps_win_volume(&self) -> bool {
+        self.substeps.volume_error_pct < self.iterations.volume_error_pct
+    }
+
+    /// Whether the substep setting has the smaller RMS position error (`None`: not known).
+    pub fn substeps_win_position(&self) -> Option<bool> {
+        Some(self.substeps.pos_rms_rel? < self.iterations.pos_rms_rel?)
+    }
+}
+
+/// Every equal-cost pair (costs within [`EQUAL_COST_RATIO`]) of the constraint methods.
+pub fn equal_cost_pairs(records: &[TradeoffRecord]) -> Vec<EqualCostPair<'_>> {
+    let usable = |r: &&TradeoffRecord| !r.diverged && r.omega == 1.0 && r.ms_per_frame > 0.0;
+    let mut pairs = Vec::new();
+    for s in records.iter().filter(usable).filter(|r| r.substeps > 1) {
+        let closest = records
+            .iter()
+            .filter(usable)
+            .filter(|r| r.substeps == 1 && r.method == s.method && r.iterations > s.iterations)
+            .min_by(|a, b| {
+                let d = |r: &TradeoffRecord| (r.ms_per_frame / s.ms_per_frame).ln().abs();
+                d(a).total_cmp(&d(b))
+            });
+        if let Some(i) = closest {
+            let ratio = i.ms_per_frame / s.ms_per_frame;
+            if (1.0 / EQUAL_COST_RATIO..=EQUAL_COST_RATIO).contains(&ratio) {
+                pairs.push(EqualCostPair {
+                    substeps: s,
+                    iterations: i,
+                });
+            }
+        }
+    }
+    pairs
+}
+
+/// Every pair of a setting with several substeps and the one-substep setting of the same
+/// method (omega 1) with as many iterations per frame (`iterations x substeps` equal): equal
+/// work in the constraint passes, whatever the timing noise.
+pub fn equal_work_pairs(records: &[TradeoffRecord]) -> Vec<EqualCostPair<'_>> {
+    let usable = |r: &&TradeoffRecord| !r.diverged && r.omega == 1.0;
+    records
+        .iter()
+        .filter(usable)
+        .filter(|s| s.substeps > 1 && s.method != "mss" && s.method != "mss-node")
+        .filter_map(|s| {
+            records
+                .iter()
+                .filter(usable)
+                .find(|r| {
+                    r.substeps == 1
+                        && r.method == s.method
+                        && r.iterations == s.iterations * s.substeps
+                })
+                .map(|i| EqualCostPair {
+                    substeps: s,
+                    iterations: i,
+                })
+        })
+        .collect()
+}
+
+fn pair_table(out: &mut String, pairs: &[EqualCostPair<'_>]) {
+    let _ = writeln!(out, "| substeps setting | ms | vol err % | pos rms | iterations setting | ms | vol err % | pos rms | lower volume error |");
+    let _ = writeln!(
+        out,
+        "| --- | ---: | ---: | ---: | --- | ---: | ---: | ---: | --- |"
+    );
+    for p in pairs {
+        let (s, i) = (p.substeps, p.iterations);
+        let _ = writeln!(
+            out,
+            "| {} | {:.3} | {:.3} | {} | {} | {:.3} | {:.3} | {} | {} |",
+            setting(s),
+            s.ms_per_frame,
+            s.volume_error_pct,
+            pos(s.pos_rms_rel),
+            setting(i),
+            i.ms_per_frame,
+            i.volume_error_pct,
+            pos(i.pos_rms_rel),
+            if p.substeps_win_volume() {
+                "substeps"
+            } else {
+                "iterations"
+            }
+        );
+    }
+    let _ = writeln!(out, "\n{}", verdict(pairs));
+}
+
+/// The Markdown report: front, cheapest settings per budget, substeps against iterations.
+pub fn report(records: &[TradeoffRecord]) -> String {
+    let mut out = String::new();
+    let first = records.first();
+    let _ = writeln!(
+        out,
+        "# Trade-off on {} ({} tets, {} springs), backend {}\n",
+        first.map_or("?", |r| r.mesh.as_str()),
+        first.map_or(0, |r| r.tets),
+        first.map_or(0, |r| r.springs),
+        first.map_or("?", |r| r.backend.as_str())
+    );
+    let diverged = records.iter().filter(|r| r.diverged).count();
+    let _ = writeln!(
+        out,
+        "{} settings, {diverged} diverged. Cost: median ms per frame. Volume error: largest \
+         |V/V0 - 1| over the frames. Position error: node distance to the method's converged \
+         reference, over the bounding-box diagonal.\n",
+        records.len()
+    );
+    let _ = writeln!(
+        out,
+        "## Pareto front (cost, volume error)\n\n```text\n{}```\n",
+        front_table(records)
+    );
+    let _ = writeln!(out, "## Cheapest setting for a volume error budget\n");
+    let _ = writeln!(
+        out,
+        "| volume error <= | setting | ms/frame | volume error % | pos rms |"
+    );
+    let _ = writeln!(out, "| ---: | --- | ---: | ---: | ---: |");
+    for budget in VOLUME_BUDGETS {
+        match cheapest_for(records, budget) {
+            Some(r) => {
+                let _ = writeln!(
+                    out,
+                    "| {budget} % | {} | {:.3} | {:.3} | {} |",
+                    setting(r),
+                    r.ms_per_frame,
+                    r.volume_error_pct,
+                    pos(r.pos_rms_rel)
+                );
+            }
+            None => {
+                let _ = writeln!(out, "| {budget} % | none of the settings | - | - | - |");
+            }
+        }
+    }
+    let pairs = equal_cost_pairs(records);
+    let _ = writeln!(
+        out,
+        "\n## Substeps or iterations at equal cost\n\nEach setting with several substeps \
+         against the one-substep setting of the same method with more iterations whose \
+         measured cost is closest (within a factor {EQUAL_COST_RATIO}).\n"
+    );
+    pair_table(&mut out, &pairs);
+    let _ = writeln!(
+        out,
+        "\n### At equal work\n\nThe same question with cost counted as constraint iterations \
+         per frame (`iterations x substeps` equal), which timing noise cannot move; a substep \
+         also repeats the spring and integration passes, so it costs a little more.\n"
+    );
+    pair_table(&mut out, &equal_work_pairs(records));
+    out
+}
+
+/// One sentence per method: how many equal-cost pairs substeps win on each error.
+pub fn verdict(pairs: &[EqualCostPair<'_>]) -> String {
+    if pairs.is_empty() {
+        return "No pairs to compare: the sweep needs several substep counts and matching iteration counts.\n"
+            .into();
+    }
+    let mut methods: Vec<&str> = pairs.iter().map(|p| p.substeps.method.as_str()).collect();
+    methods.dedup();
+    let mut out = String::new();
+    for m in methods {
+        let of: Vec<&EqualCostPair<'_>> = pairs.iter().filter(|p| p.substeps.method == m).collect();
+        let vol = of.iter().filter(|p| p.substeps_win_volume()).count();
+        let known: Vec<bool> = of
+            .iter()
+            .filter_map(|p| p.substeps_win_position())
+            .collect();
+        let posw = known.iter().filter(|&&w| w).count();
+        let answer = if 2 * vol > of.len() {
+            "substeps beat iterations"
+        } else if 2 * vol < of.len() {
+            "iterations beat substeps"
+        } else {
+            "neither wins"
+        };
+        let _ = writeln!(
+            out,
+            "- {m}: {answer} on volume error ({vol} of {} pairs); substeps have the \
+             lower position error in {posw} of {}.",
+            of.len(),
+            known.len()
+        );
+    }
+    out
+}
+
+fn chart(records: &[TradeoffRecord], volume: bool) -> LogChart {
+    let point = if volume { volume_point } else { position_point };
+    let mut methods: Vec<&str> = records.iter().map(|r| r.method.as_str()).collect();
+    methods.dedup();
+    let mut series: Vec<Series> = methods
+        .iter()
+        .map(|m| Series {
+            label: m.to_string(),
+            points: records
+                .iter()
+                .filter(|r| r.method == *m)
+                .map(point)
+                .collect(),
+            kind: SeriesKind::Points,
+        })
+        .collect();
+    let mut front: Vec<(f64, f64)> = records
+        .iter()
+        .filter(|r| {
+            if volume {
+                r.pareto_volume
+            } else {
+                r.pareto_position
+            }
+        })
+        .map(point)
+        .collect();
+    front.sort_by(|a, b| a.0.total_cmp(&b.0));
+    series.push(Series {
+        label: "Pareto front".into(),
+        points: front,
+        kind: SeriesKind::Front,
+    });
+    let mesh = records
+        .first()
+        .map_or("?", |r| r.mesh.rsplit('/').next().unwrap_or(&r.mesh));
+    let backend = records.first().map_or("?", |r| r.backend.as_str());
+    LogChart {
+        title: format!(
+            "{mesh}: cost vs {} ({backend})",
+            if volume {
+                "volume error"
+            } else {
+                "position error"
+            }
+        ),
+        x_label: format!("ms per frame ({backend}, median)"),
+        y_label: if volume {
+            "max |V/V0 - 1| [%]".into()
+        } else {
+            "RMS node error / bbox diagonal".into()
+        },
+        series,
+    }
+}
+
+/// Files written by [`write_outputs`].
+pub const OUTPUT_FILES: [&str; 5] = [
+    "tradeoff.csv",
+    "tradeoff.json",
+    "report.md",
+    "cost_vs_volume_error.png",
+    "cost_vs_position_error.png",
+];
+
+/// Writes the CSV, JSON, report and plots into `dir` (created if missing); returns the paths.
+pub fn write_outputs(dir: &Path, records: &[TradeoffRecord]) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let paths: Vec<PathBuf> = OUTPUT_FILES.iter().map(|f| dir.join(f)).collect();
+    write_csv(&paths[0], records)?;
+    let json = serde_json::to_string_pretty(records)
+        .map_err(|e| Error::param("json", format!("cannot serialise the records: {e}")))?;
+    crate::runner::write_atomically(&paths[1], json.as_bytes())?;
+    crate::runner::write_atomically(&paths[2], report(records).as_bytes())?;
+    write_png(&paths[3], &chart(records, true), PLOT_SIZE)?;
+    write_png(&paths[4], &chart(records, false), PLOT_SIZE)?;
+    Ok(paths)
+}
+
+/// Writes serialisable rows as CSV with a header (through a temporary file and a rename).
+pub fn write_csv<T: serde::Serialize>(path: &Path, rows: &[T]) -> Result<()> {
+    crate::mesh::io::write_atomic(path, |w| {
+        let mut writer = csv::Writer::from_writer(w);
+        for row in rows {
+            writer.serialize(row).map_err(std::io::Error::other)?;
+        }
+        writer.flush()
+    })
+}

@@ -1,0 +1,237 @@
+//! The measured frame loop of the benchmarks and the trade-off study: the same steps as
+//! [`crate::runner::run`] (step a frame, then sample the volume), plus per-frame wall times,
+//! warm-up frames whose times are dropped, GPU pass times over the timed frames only, and
+//! node positions read back at chosen frames for the position error.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use glam::DVec3;
+
+use crate::backend::{Backend, Divergence, GpuReport};
+use crate::engine::{EngineOptions, VulkanBackend};
+use crate::error::{Error, Result};
+use crate::gpu::{Context, ContextOptions};
+use crate::metrics::volume_pct;
+use crate::model::Model;
+use crate::params::SimParams;
+use crate::runner::create_backend;
+
+/// Creates backends by name; every `vulkan` backend shares one Vulkan context (one instance,
+/// one device), created on first use.
+pub struct Backends {
+    gpu: EngineOptions,
+    ctx: Option<Arc<Context>>,
+}
+
+/// A backend, with the Vulkan one kept concrete so its pass timers can be reset after the
+/// warm-up frames.
+pub enum Solver {
+    /// The `vulkan` backend.
+    Vulkan(Box<VulkanBackend>),
+    /// `cpu` or `cpu-ref`.
+    Other(Box<dyn Backend>),
+}
+
+impl Solver {
+    /// The backend behind the common interface.
+    pub fn backend(&mut self) -> &mut dyn Backend {
+        match self {
+            Solver::Vulkan(b) => b.as_mut(),
+            Solver::Other(b) => b.as_mut(),
+        }
+    }
+
+    /// Forgets GPU pass times measured so far (nothing on CPU backends).
+    pub fn reset_timing(&mut self) -> Result<()> {
+        match self {
+            Solver::Vulkan(b) => b.reset_pass_times(),
+            Solver::Other(_) => Ok(()),
+        }
+    }
+}
+
+impl Backends {
+    /// Backends with these GPU options (device, validation, workgroup size).
+    pub fn new(gpu: EngineOptions) -> Self {
+        Backends { gpu, ctx: None }
+    }
+
+    /// The backend `name` (`vulkan`, `cpu`, `cpu-ref`) for `model` with `params`.
+    pub fn create(&mut self, name: &str, model: &Model, params: &SimParams) -> Result<Solver> {
+        if name != "vulkan" {
+            return Ok(Solver::Other(create_backend(name, model, params)?));
+        }
+        let ctx = match &self.ctx {
+            Some(ctx) => ctx.clone(),
+            None => {
+                let ctx = Arc::new(Context::new(&ContextOptions {
+                    device: self.gpu.device.clone(),
+                    validation: self.gpu.validation,
+                })?);
+                self.ctx = Some(ctx.clone());
+                ctx
+            }
+        };
+        Ok(Solver::Vulkan(Box::new(VulkanBackend::with_context(
+            ctx,
+            model,
+            params,
+            self.gpu.workgroup_size,
+        )?)))
+    }
+}
+
+/// How many frames to run and what to keep.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimulateOptions {
+    /// Frames simulated first whose wall times are dropped (they still advance the scene).
+    pub warmup: u32,
+    /// Timed frames after the warm-up.
+    pub frames: u32,
+    /// Read the node positions back after every this many frames (counted from the start,
+    /// warm-up included) and after the last frame; `None`: never.
+    pub sample_every: Option<u32>,
+}
+
+impl SimulateOptions {
+    /// All frames, warm-up included.
+    pub fn total_frames(&self) -> u32 {
+        self.warmup + self.frames
+    }
+
+    /// The frames (1-based count of completed frames) after which positions are read back.
+    pub fn sample_frames(&self) -> Vec<u32> {
+        let total = self.total_frames();
+        let Some(every) = self.sample_every.filter(|&e| e > 0) else {
+            return Vec::new();
+        };
+        let mut frames: Vec<u32> = (1..=total).filter(|f| f % every == 0).collect();
+        if total > 0 && frames.last() != Some(&total) {
+            frames.push(total);
+        }
+        frames
+    }
+}
+
+/// Node positions after a frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sample {
+    /// Frames completed when the positions were read (1-based).
+    pub frame: u32,
+    /// Node positions [m].
+    pub positions: Vec<DVec3>,
+}
+
+/// What one simulation measured.
+#[derive(Debug, Clone)]
+pub struct Simulation {
+    /// Backend name.
+    pub backend: String,
+    /// Wall time of each timed frame's `step_frame` [ms] (warm-up frames left out).
+    pub frame_ms: Vec<f64>,
+    /// Volume percentage after every completed frame, warm-up included.
+    pub volume_pct: Vec<f64>,
+    /// Inverted tets after every completed frame.
+    pub inverted: Vec<u32>,
+    /// Positions at [`SimulateOptions::sample_frames`] (fewer when the run diverged).
+    pub samples: Vec<Sample>,
+    /// Where and why the run diverged, if it did.
+    pub divergence: Option<String>,
+    /// Device, atomics and GPU pass times over the timed frames (`vulkan` only).
+    pub gpu: Option<GpuReport>,
+}
+
+/// Runs `options.total_frames()` frames of `solver` on `model` (see the module doc). A
+/// divergence ends the run early and is recorded, not returned as an error.
+pub fn simulate(
+    solver: &mut Solver,
+    model: &Model,
+    params: &SimParams,
+    options: &SimulateOptions,
+) -> Result<Simulation> {
+    let total = options.total_frames();
+    if total == 0 {
+        return Err(Error::param("frames", "must be at least 1"));
+    }
+    let sample_frames = options.sample_frames();
+    let rest = model.total_rest_volume();
+    let mut sim = Simulation {
+        backend: solver.backend().name().to_string(),
+        frame_ms: Vec::with_capacity(options.frames as usize),
+        volume_pct: Vec::with_capacity(total as usize),
+        inverted: Vec::with_capacity(total as usize),
+        samples: Vec::with_capacity(sample_frames.len()),
+        divergence: None,
+        gpu: None,
+    };
+    for frame in 0..total {
+        if frame == options.warmup && options.warmup > 0 {
+            solver.reset_timing()?;
+        }
+        let backend = solver.backend();
+        let t0 = Instant::now();
+        let stepped = backend.step_frame();
+        let ms = 1e3 * t0.elapsed().as_secs_f64();
+        match stepped {
+            Ok(()) => {}
+            Err(Error::Diverged(d)) => {
+                sim.divergence = Some(d.to_string());
+                break;
+            }
+            Err(e) => return Err(e),
+        }
+        if frame >= options.warmup {
+            sim.frame_ms.push(ms);
+        }
+        let sample = backend.volume()?;
+        let pct = volume_pct(sample, rest);
+        if !pct.is_finite() {
+            let d = Divergence {
+                frame,
+                substep: None,
+                method: params.method.name().to_string(),
+                node: None,
+                cause: "the total volume became non-finite (positions unbounded)".to_string(),
+            };
+            sim.divergence = Some(d.to_string());
+            break;
+        }
+        sim.volume_pct.push(pct);
+        sim.inverted.push(sample.inverted);
+        if sample_frames.contains(&(frame + 1)) {
+            sim.samples.push(Sample {
+                frame: frame + 1,
+                positions: backend.state()?.positions,
+            });
+        }
+    }
+    sim.gpu = solver.backend().gpu_report()?;
+    Ok(sim)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sample_frames_include_the_last() {
+        let o = SimulateOptions {
+            warmup: 2,
+            frames: 9,
+            sample_every: Some(5),
+        };
+        assert_eq!(o.sample_frames(), vec![5, 10, 11]);
+        let none = SimulateOptions {
+            sample_every: None,
+            ..o.clone()
+        };
+        assert!(none.sample_frames().is_empty());
+        let exact = SimulateOptions {
+            warmup: 0,
+            frames: 10,
+            sample_every: Some(5),
+        };
+        assert_eq!(exact.sample_frames(), vec![5, 10]);
+    }
+}

@@ -1,0 +1,265 @@
+//! `tetrasim bench`: every mesh x method x backend, warm-up then timed frames; frame-time
+//! percentiles, throughput, GPU pass times and accuracy in one [`BenchRecord`] each.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use super::accuracy::{accuracy, element_iterations_per_frame, Reference, ReferenceSettings};
+use super::simulate::{simulate, Backends, SimulateOptions, Simulation};
+use super::stats::FrameTimes;
+use crate::error::{Error, Result};
+use crate::metrics::RunRecord;
+use crate::model::Model;
+use crate::params::{ConstraintCombine, Method, SimParams};
+
+/// One mesh to benchmark: its label (path) and its model.
+#[derive(Debug, Clone)]
+pub struct BenchMesh {
+    /// Label for the record (usually the path).
+    pub label: String,
+    /// The placed model.
+    pub model: Model,
+}
+
+/// What to run.
+#[derive(Debug, Clone)]
+pub struct BenchOptions {
+    /// Methods, in order.
+    pub methods: Vec<Method>,
+    /// Backend names, in order.
+    pub backends: Vec<String>,
+    /// Warm-up frames (simulated, not timed) and timed frames.
+    pub frames: SimulateOptions,
+    /// Also measure the position error against this reference (one reference run per mesh
+    /// and method, shared by the backends).
+    pub reference: Option<ReferenceSettings>,
+}
+
+/// One (mesh, method, backend) result. The fields of `tetrasim run`'s JSON come first
+/// (flattened), with `ms_per_frame` the **median** timed frame; per-frame series cover all
+/// frames, warm-up included.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BenchRecord {
+    /// The run record (its `passes` is left empty: see [`BenchRecord::passes`]).
+    #[serde(flatten)]
+    pub run: RunRecord,
+    /// Mean timed frame [ms].
+    pub ms_mean: f64,
+    /// 10th percentile of the timed frames [ms].
+    pub ms_p10: f64,
+    /// 90th percentile of the timed frames [ms].
+    pub ms_p90: f64,
+    /// Frames per second at the median frame time.
+    pub fps: f64,
+    /// Elements (springs, or tets for `volume`) x iterations x substeps per second at the
+    /// median frame time.
+    pub element_iterations_per_s: f64,
+    /// Warm-up frames (simulated, not timed).
+    pub warmup_frames: u32,
+    /// Timed frames.
+    pub timed_frames: u32,
+    /// GPU time per frame of each pass over the timed frames [ms] (empty on CPU backends).
+    pub passes: BTreeMap<String, f64>,
+    /// Largest `|V/V0 - 1|` over the frames [%].
+    pub volume_error_pct: f64,
+    /// RMS node distance to the reference over the bounding-box diagonal (`None` without
+    /// `--accuracy` or when the run diverged).
+    pub pos_rms_rel: Option<f64>,
+    /// Largest node distance to the reference over the bounding-box diagonal.
+    pub pos_max_rel: Option<f64>,
+}
+
+/// Builds the record of `sim`, run with `params` on `mesh`.
+pub fn record(
+    mesh: &BenchMesh,
+    params: &SimParams,
+    options: &SimulateOptions,
+    sim: &Simulation,
+    reference: Option<&Reference>,
+) -> Result<BenchRecord> {
+    let model = &mesh.model;
+    let acc = accuracy(sim, params, model, reference)?;
+    let times = FrameTimes::of(&sim.frame_ms);
+    let mut run = RunRecord {
+        method: params.method.name().to_string(),
+        backend: sim.backend.clone(),
+        mesh: mesh.label.clone(),
+        nodes: model.node_count(),
+        tets: model.tets.len(),
+        springs: model.springs.len(),
+        frames: options.total_frames(),
+        frames_run: 0,
+        dt: params.dt,
+        substeps: params.substeps,
+        iterations: params.iterations,
+        omega: params.omega,
+        ks: params.ks,
+        kd: params.kd,
+        friction: params.friction,
+        combine: match params.combine {
+            ConstraintCombine::Average => "average",
+            ConstraintCombine::Sum => "sum",
+        }
+        .to_string(),
+        volume_pct: sim.volume_pct.clone(),
+        inverted_tets: sim.inverted.clone(),
+        min_volume_pct: 0.0,
+        avg_volume_pct: 0.0,
+        max_inverted_tets: 0,
+        ms_per_frame: times.median,
+        wall_s: 1e-3 * sim.frame_ms.iter().sum::<f64>(),
+        diverged: sim.divergence.is_some(),
+        divergence: sim.divergence.clone(),
+        device: sim.gpu.as_ref().map(|g| g.device.clone()),
+        atomics: sim.gpu.as_ref().map(|g| g.atomics.clone()),
+        passes: None,
+    };
+    run.summarise();
+    run.ms_per_frame = times.median;
+    let passes = sim
+        .gpu
+        .as_ref()
+        .map(|g| g.passes.iter().cloned().collect())
+        .unwrap_or_default();
+    Ok(BenchRecord {
+        run,
+        ms_mean: times.mean,
+        ms_p10: times.p10,
+        ms_p90: times.p90,
+        fps: times.fps(),
+        element_iterations_per_s: element_iterations_per_frame(model, params) * times.fps(),
+        warmup_frames: options.warmup,
+        timed_frames: sim.frame_ms.len() as u32,
+        passes,
+        volume_error_pct: acc.volume.volume_error_pct,
+        pos_rms_rel: acc.position.map(|p| p.rms_rel),
+        pos_max_rel: acc.position.map(|p| p.max_rel),
+    })
+}
+
+/// Runs every mesh x method x backend with `params` (its method replaced). `progress` gets
+/// one line per finished record.
+pub fn run_suite(
+    meshes: &[BenchMesh],
+    params: &SimParams,
+    options: &BenchOptions,
+    backends: &mut Backends,
+    progress: &mut dyn FnMut(&BenchRecord),
+) -> Result<Vec<BenchRecord>> {
+    if options.frames.frames == 0 {
+        return Err(Error::param("frames", "must be at least 1 timed frame"));
+    }
+    let mut records = Vec::new();
+    for mesh in meshes {
+        for &method in &options.methods {
+            let params = SimParams {
+                method,
+                ..params.clone()
+            };
+            let sim_options = SimulateOptions {
+                sample_every: options.reference.as_ref().map(|_| 10),
+                ..options.frames.clone()
+            };
+            let reference = match &options.reference {
+                Some(settings) => Some(Reference::run(
+                    backends,
+                    &mesh.model,
+                    &params,
+                    settings,
+                    &sim_options,
+                )?),
+                None => None,
+            };
+            for backend in &options.backends {
+                let mut solver = backends.create(backend, &mesh.model, &params)?;
+                let sim = simulate(&mut solver, &mesh.model, &params, &sim_options)?;
+                let r = record(mesh, &params, &sim_options, &sim, reference.as_ref())?;
+                progress(&r);
+                records.push(r);
+            }
+        }
+    }
+    Ok(records)
+}
+
+/// Mesh label without folders (`meshes/sphere` -> `sphere`).
+fn short(label: &str) -> &str {
+    label.rsplit(['/', '\\']).next().unwrap_or(label)
+}
+
+/// The benchmark table: one row per record.
+pub fn table(records: &[BenchRecord]) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{:<12} {:>7} {:<9} {:<8} {:>9} {:>9} {:>9} {:>8} {:>10} {:>8} {:>8} {:>9}",
+        "mesh",
+        "tets",
+        "method",
+        "backend",
+        "ms median",
+        "p10",
+        "p90",
+        "fps",
+        "Melem-it/s",
+        "min vol%",
+        "avg vol%",
+        "pos rms"
+    );
+    for r in records {
+        let pos = r
+            .pos_rms_rel
+            .map_or("-".to_string(), |e| format!("{e:.2e}"));
+        let note = if r.run.diverged { "  diverged" } else { "" };
+        let _ = writeln!(
+            out,
+            "{:<12} {:>7} {:<9} {:<8} {:>9.3} {:>9.3} {:>9.3} {:>8.1} {:>10.2} {:>8.2} {:>8.2} {:>9}{note}",
+            short(&r.run.mesh),
+            r.run.tets,
+            r.run.method,
+            r.run.backend,
+            r.run.ms_per_frame,
+            r.ms_p10,
+            r.ms_p90,
+            r.fps,
+            r.element_iterations_per_s / 1e6,
+            r.run.min_volume_pct,
+            r.run.avg_volume_pct,
+            pos
+        );
+    }
+    out
+}
+
+/// GPU pass times of the records that have them, one line per record.
+pub fn pass_lines(records: &[BenchRecord]) -> String {
+    let mut out = String::new();
+    for r in records.iter().filter(|r| !r.passes.is_empty()) {
+        let total: f64 = r.passes.values().sum();
+        let mut parts: Vec<(&String, &f64)> = r.passes.iter().collect();
+        parts.sort_by(|a, b| b.1.total_cmp(a.1));
+        let list: Vec<String> = parts
+            .iter()
+            .map(|(name, ms)| format!("{name} {ms:.3}"))
+            .collect();
+        let _ = writeln!(
+            out,
+            "{} {} {}: GPU {total:.3} ms/frame = {}",
+            short(&r.run.mesh),
+            r.run.method,
+            r.run.backend,
+            list.join(" + ")
+        );
+    }
+    out
+}
+
+/// Writes `records` as a pretty JSON array (through a temporary file and a rename).
+pub fn write_json(path: &Path, records: &[BenchRecord]) -> Result<()> {
+    let text = serde_json::to_string_pretty(records)
+        .map_err(|e| Error::param("json", format!("cannot serialise the records: {e}")))?;
+    crate::runner::write_atomically(path, text.as_bytes())
+}

@@ -1,0 +1,206 @@
+//! `tetrasim bench`: headless benchmark of mesh x method x backend (see [`crate::bench`]).
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Context as _;
+
+use crate::bench::suite::{pass_lines, table, write_json};
+use crate::bench::{
+    run_suite, Backends, BenchMesh, BenchOptions, ReferenceSettings, SimulateOptions,
+    BUNDLED_MESHES,
+};
+use crate::engine::EngineOptions;
+use crate::params::Method;
+use crate::preset::Preset;
+use crate::runner::{build_model, load_mesh, BACKENDS, DEFAULT_TARGET_TETS};
+
+/// GPU options shared by the study commands.
+#[derive(Debug, Clone, clap::Args)]
+pub struct GpuArgs {
+    /// GPU for the `vulkan` backend: an index or a name fragment from `tetrasim info`.
+    #[arg(long)]
+    pub device: Option<String>,
+    /// GPU workgroup size (a power of two; default from the device limits).
+    #[arg(long)]
+    pub workgroup_size: Option<u32>,
+}
+
+impl GpuArgs {
+    /// The engine options (never validation: it would distort timings).
+    pub fn options(&self) -> EngineOptions {
+        EngineOptions {
+            device: self
+                .device
+                .as_deref()
+                .unwrap_or("auto")
+                .parse()
+                .unwrap_or_default(),
+            validation: false,
+            workgroup_size: self.workgroup_size,
+            ..EngineOptions::default()
+        }
+    }
+}
+
+/// Whether a Vulkan device exists.
+pub fn vulkan_available() -> bool {
+    matches!(crate::gpu::list_devices(), Ok(d) if !d.is_empty())
+}
+
+/// The backends to use: `given`, or `defaults` minus `vulkan` when no device exists (with a
+/// note). Unknown names are errors.
+pub fn choose_backends(given: &[String], defaults: &[&str]) -> anyhow::Result<Vec<String>> {
+    for b in given {
+        if !BACKENDS.contains(&b.as_str()) {
+            anyhow::bail!(
+                "unknown backend `{b}`; known backends: {}",
+                BACKENDS.join(", ")
+            );
+        }
+    }
+    if !given.is_empty() {
+        return Ok(given.to_vec());
+    }
+    let vulkan = vulkan_available();
+    if !vulkan {
+        eprintln!("note: no Vulkan device, so no `vulkan` rows (install mesa-vulkan-drivers)");
+    }
+    Ok(defaults
+        .iter()
+        .filter(|&&b| b != "vulkan" || vulkan)
+        .map(|b| b.to_string())
+        .collect())
+}
+
+/// A bundled mesh relative to the working directory, else to the source tree.
+pub fn bundled_path(prefix: &str) -> PathBuf {
+    let here = Path::new(prefix);
+    if Path::new(&format!("{prefix}.node")).is_file() {
+        return here.to_path_buf();
+    }
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(prefix)
+}
+
+/// Arguments of `tetrasim bench`.
+#[derive(Debug, clap::Args)]
+pub struct BenchArgs {
+    /// Also benchmark this mesh (TetGen prefix); repeatable.
+    #[arg(long)]
+    pub mesh: Vec<PathBuf>,
+    /// Leave out the bundled meshes (meshes/sphere, box, torus).
+    #[arg(long)]
+    pub no_bundled: bool,
+    /// Methods (default: all four); repeatable or comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub method: Vec<Method>,
+    /// Backends: vulkan, cpu, cpu-ref (default: vulkan and cpu); repeatable or
+    /// comma-separated.
+    #[arg(long, value_delimiter = ',')]
+    pub backend: Vec<String>,
+    /// Warm-up frames, simulated but not timed (default 20; --quick 5). The 0.1 m drop
+    /// lasts 143 frames: runs shorter than that never reach the floor.
+    #[arg(long)]
+    pub warmup: Option<u32>,
+    /// Timed frames (default 280; --quick 60).
+    #[arg(long)]
+    pub frames: Option<u32>,
+    /// Few frames: a smoke run that finishes in well under two minutes.
+    #[arg(long)]
+    pub quick: bool,
+    /// Constraint iterations per time step (default: the seed preset's 10).
+    #[arg(long)]
+    pub iterations: Option<u32>,
+    /// Time steps per frame (default 1); dt is scaled to keep 1 ms of simulated time per frame.
+    #[arg(long)]
+    pub substeps: Option<u32>,
+    /// Also measure the position error against a converged cpu-ref run (slow).
+    #[arg(long)]
+    pub accuracy: bool,
+    /// Iterations of the reference run.
+    #[arg(long, default_value_t = 100)]
+    pub ref_iterations: u32,
+    /// Substeps of the reference run.
+    #[arg(long, default_value_t = 8)]
+    pub ref_substeps: u32,
+    /// Write one JSON record per (mesh, method, backend) to this file.
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+    #[command(flatten)]
+    pub gpu: GpuArgs,
+}
+
+/// Runs `tetrasim bench`.
+pub fn execute(args: BenchArgs) -> anyhow::Result<()> {
+    let preset = Preset::seed();
+    let mut params = preset.params.clone();
+    if let Some(it) = args.iterations {
+        params.iterations = it;
+    }
+    if let Some(ss) = args.substeps {
+        params.dt = crate::bench::accuracy::frame_time(&params) / f64::from(ss.max(1));
+        params.substeps = ss;
+    }
+    params.validate()?;
+    let mut paths: Vec<PathBuf> = Vec::new();
+    if !args.no_bundled {
+        paths.extend(BUNDLED_MESHES.iter().map(|p| bundled_path(p)));
+    }
+    paths.extend(args.mesh.iter().cloned());
+    if paths.is_empty() {
+        anyhow::bail!("no meshes: give --mesh or leave out --no-bundled");
+    }
+    let mut meshes = Vec::new();
+    for path in &paths {
+        let loaded = load_mesh(path, DEFAULT_TARGET_TETS)?;
+        let model = build_model(&loaded.mesh, &params, preset.placement)
+            .with_context(|| format!("building the model of {}", loaded.label))?;
+        meshes.push(BenchMesh {
+            label: loaded.label,
+            model,
+        });
+    }
+    let (warmup, frames) = if args.quick { (5, 60) } else { (20, 280) };
+    let options = BenchOptions {
+        methods: if args.method.is_empty() {
+            Method::ALL.to_vec()
+        } else {
+            args.method.clone()
+        },
+        backends: choose_backends(&args.backend, &["vulkan", "cpu"])?,
+        frames: SimulateOptions {
+            warmup: args.warmup.unwrap_or(warmup),
+            frames: args.frames.unwrap_or(frames),
+            sample_every: None,
+        },
+        reference: args.accuracy.then(|| ReferenceSettings {
+            backend: "cpu-ref".into(),
+            iterations: args.ref_iterations,
+            substeps: args.ref_substeps,
+        }),
+    };
+    eprintln!(
+        "bench: {} meshes x {} methods x backends {}; {} warm-up + {} timed frames; dt {} s x {} substeps, {} iterations",
+        meshes.len(),
+        options.methods.len(),
+        options.backends.join(", "),
+        options.frames.warmup,
+        options.frames.frames,
+        params.dt,
+        params.substeps,
+        params.iterations
+    );
+    let mut backends = Backends::new(args.gpu.options());
+    let records = run_suite(&meshes, &params, &options, &mut backends, &mut |r| {
+        eprintln!(
+            "  {} {} {}: {:.3} ms/frame",
+            r.run.mesh, r.run.method, r.run.backend, r.run.ms_per_frame
+        )
+    })?;
+    print!("{}", table(&records));
+    print!("{}", pass_lines(&records));
+    if let Some(path) = &args.json {
+        write_json(path, &records)?;
+        eprintln!("records written to {}", path.display());
+    }
+    Ok(())
+}
