@@ -23,7 +23,7 @@ pub enum SeriesKind {
 }
 
 /// One named set of points `(x, y)`; points with a non-positive or non-finite coordinate
-/// cannot be shown on log axes and are left out.
+/// cannot be shown on log axes and are left out. An empty label adds no legend entry.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Series {
     /// Legend text.
@@ -83,6 +83,20 @@ fn visible(p: &(f64, f64)) -> bool {
     p.0.is_finite() && p.1.is_finite() && p.0 > 0.0 && p.1 > 0.0
 }
 
+/// A tick label: integers without decimals, small values in exponent form.
+fn tick(v: f64) -> String {
+    let a = v.abs();
+    if a >= 1e6 || (a > 0.0 && a < 0.01) {
+        format!("{v:.0e}")
+    } else if a >= 10.0 {
+        format!("{v:.0}")
+    } else if a >= 1.0 {
+        format!("{v:.1}")
+    } else {
+        format!("{v:.2}")
+    }
+}
+
 /// Range covering `values` with a margin of a fifth of a decade each side.
 fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = values.fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
@@ -134,8 +148,8 @@ fn draw(
         .y_desc(&chart.y_label)
         .label_style((FONT, 13))
         .axis_desc_style((FONT, 15))
-        .x_label_formatter(&|v| format!("{v:.3}"))
-        .y_label_formatter(&|v| format!("{v:.2e}"))
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
         .draw()?;
     let mut colour_index = 0;
     for s in &chart.series {
@@ -144,9 +158,12 @@ fn draw(
             SeriesKind::Front => {
                 let style = ShapeStyle::from(&BLACK).stroke_width(2);
                 ctx.draw_series(LineSeries::new(pts.clone(), style))?;
-                ctx.draw_series(pts.iter().map(|&p| Circle::new(p, 7, style)))?
-                    .label(&s.label)
-                    .legend(move |(x, y)| Circle::new((x + 10, y), 6, style));
+                let rings = ctx.draw_series(pts.iter().map(|&p| Circle::new(p, 7, style)))?;
+                if !s.label.is_empty() {
+                    rings
+                        .label(&s.label)
+                        .legend(move |(x, y)| Circle::new((x + 10, y), 6, style));
+                }
             }
             SeriesKind::Points | SeriesKind::Line => {
                 let colour = COLOURS[colour_index % COLOURS.len()];
@@ -189,6 +206,14 @@ pub fn write_png(path: &Path, chart: &LogChart, size: (u32, u32)) -> Result<()> 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn ticks_are_short() {
+        assert_eq!(
+            [tick(1000.0), tick(2.5), tick(0.25), tick(0.001), tick(2e6)],
+            ["1000", "2.5", "0.25", "1e-3", "2e6"].map(String::from)
+        );
+    }
 
     #[test]
     fn log_range_pads_and_handles_empty() {

@@ -31,15 +31,28 @@ fn position_point(r: &TradeoffRecord) -> (f64, f64) {
     }
 }
 
-/// Sets `pareto_volume` and `pareto_position` on every record (diverged runs are never on
-/// a front).
+/// Sets `pareto_volume` (over all settings) and `pareto_position` (within each method: the
+/// position errors of different methods are measured against different references, so they
+/// are not compared) on every record. Diverged runs are never on a front.
 pub fn mark_pareto(records: &mut [TradeoffRecord]) {
     let vol: Vec<(f64, f64)> = records.iter().map(volume_point).collect();
+    let fv = pareto_front(&vol);
+    let methods: Vec<String> = records.iter().map(|r| r.method.clone()).collect();
     let pos: Vec<(f64, f64)> = records.iter().map(position_point).collect();
-    let (fv, fp) = (pareto_front(&vol), pareto_front(&pos));
     for (i, r) in records.iter_mut().enumerate() {
         r.pareto_volume = fv.contains(&i);
-        r.pareto_position = fp.contains(&i);
+        let masked: Vec<(f64, f64)> = pos
+            .iter()
+            .zip(&methods)
+            .map(|(&p, m)| {
+                if *m == methods[i] {
+                    p
+                } else {
+                    (f64::NAN, f64::NAN)
+                }
+            })
+            .collect();
+        r.pareto_position = pareto_front(&masked).contains(&i);
     }
 }
 
@@ -310,23 +323,37 @@ fn chart(records: &[TradeoffRecord], volume: bool) -> LogChart {
             kind: SeriesKind::Points,
         })
         .collect();
-    let mut front: Vec<(f64, f64)> = records
-        .iter()
-        .filter(|r| {
-            if volume {
-                r.pareto_volume
+    // One front over all settings for the volume error; one per method for the position
+    // error (each method has its own reference).
+    let groups: Vec<Option<&str>> = if volume {
+        vec![None]
+    } else {
+        methods.iter().map(|m| Some(*m)).collect()
+    };
+    for (k, group) in groups.into_iter().enumerate() {
+        let mut front: Vec<(f64, f64)> = records
+            .iter()
+            .filter(|r| group.map_or(true, |m| r.method == m))
+            .filter(|r| {
+                if volume {
+                    r.pareto_volume
+                } else {
+                    r.pareto_position
+                }
+            })
+            .map(point)
+            .collect();
+        front.sort_by(|a, b| a.0.total_cmp(&b.0));
+        series.push(Series {
+            label: if k == 0 {
+                "Pareto front".into()
             } else {
-                r.pareto_position
-            }
-        })
-        .map(point)
-        .collect();
-    front.sort_by(|a, b| a.0.total_cmp(&b.0));
-    series.push(Series {
-        label: "Pareto front".into(),
-        points: front,
-        kind: SeriesKind::Front,
-    });
+                String::new()
+            },
+            points: front,
+            kind: SeriesKind::Front,
+        });
+    }
     let mesh = records
         .first()
         .map_or("?", |r| r.mesh.rsplit('/').next().unwrap_or(&r.mesh));

@@ -200,12 +200,25 @@ pub struct ScalingArgs {
     /// Sizes 1000 and 4000, 5 timed frames.
     #[arg(long)]
     pub quick: bool,
+    /// Do not run: read an earlier scaling.json and write the CSV and plot again into --out.
+    #[arg(long)]
+    pub from_json: Option<PathBuf>,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }
 
 /// Runs `tetrasim scaling`.
 pub fn execute_scaling(args: ScalingArgs) -> anyhow::Result<()> {
+    if let Some(path) = &args.from_json {
+        let text =
+            std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+        let records: Vec<scaling::ScalingRecord> = serde_json::from_str(&text)
+            .with_context(|| format!("{}: not a scaling.json", path.display()))?;
+        for path in scaling::write_outputs(&args.out, &records)? {
+            eprintln!("wrote {}", path.display());
+        }
+        return Ok(());
+    }
     let preset = Preset::seed();
     let sizes = match (args.sizes.is_empty(), args.quick) {
         (false, _) => args.sizes.clone(),
