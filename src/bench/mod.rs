@@ -4,7 +4,8 @@
 //!   position samples) and [`Backends`], which shares one Vulkan context between backends;
 //! - [`accuracy`]: volume % and position error against a converged reference run;
 //! - [`suite`]: `tetrasim bench` (mesh x method x backend);
-//! - [`tradeoff`] and [`report`]: `tetrasim tradeoff` (sweep, Pareto front, answers, files);
+//! - [`tradeoff`], [`report`] and [`tradeoff_files`]: `tetrasim tradeoff` (sweep, Pareto
+//!   front, answers, files);
 //! - [`scaling`]: `tetrasim scaling` (cost per element against mesh size);
 //! - [`plot`]: log-log PNG charts; [`pareto`], [`stats`]: small helpers.
 //!
@@ -20,6 +21,7 @@ pub mod simulate;
 pub mod stats;
 pub mod suite;
 pub mod tradeoff;
+pub mod tradeoff_files;
 
 pub use accuracy::{Accuracy, PositionError, Reference, ReferenceSettings, VolumeStats};
 pub use simulate::{simulate, Backends, Sample, SimulateOptions, Simulation, Solver};
