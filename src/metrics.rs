@@ -63,7 +63,7 @@ pub struct RunRecord {
     pub kd: f64,
     /// Floor friction.
     pub friction: f64,
-    /// Constraint combination (`average` or `sum`).
+    /// Constraint combination (`scaled`, `sum` or `average`).
     pub combine: String,
     /// Volume percentage after each completed frame.
     pub volume_pct: Vec<f64>,
@@ -221,7 +221,7 @@ mod tests {
             ks: 5000.0,
             kd: 15.0,
             friction: 0.0,
-            combine: "average".into(),
+            combine: "scaled".into(),
             volume_pct: pct,
             inverted_tets: inverted,
             min_volume_pct: f64::NAN,

@@ -57,15 +57,44 @@ pub enum MassMode {
 }
 
 /// How the forces of one iteration's constraints are combined per node (physics.md,
-/// "Iterations, relaxation and substeps").
+/// "Momentum-conserving scaling" and "Iterations, relaxation and substeps").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum ConstraintCombine {
-    /// Divide each node's sum by the number of constraints of that kind touching it
-    /// (the default: stable on real meshes).
-    Average,
-    /// Plain Jacobi summation, the paper's literal reading (diverges on real meshes).
+    /// Momentum-conserving scaling (the default): each constraint's `A` weighs node `k`'s
+    /// inverse mass by `d_k`, the number of constraints of that kind touching it, and its
+    /// forces are applied whole, so they sum to zero and conserve linear and angular momentum.
+    Scaled,
+    /// Plain Jacobi summation, the paper's literal reading (`d_k = 1`; conserves momentum but
+    /// diverges on real meshes at omega 1).
     Sum,
+    /// The first edition's per-node averaging: each node's sum is divided by `d_k`. Kept only
+    /// as a comparison: it does not conserve momentum (a body on a frictionless floor slides).
+    Average,
+}
+
+impl ConstraintCombine {
+    /// The name used on the command line, in scene files and in records.
+    pub fn name(self) -> &'static str {
+        match self {
+            ConstraintCombine::Scaled => "scaled",
+            ConstraintCombine::Sum => "sum",
+            ConstraintCombine::Average => "average",
+        }
+    }
+
+    /// The two per-node factors of a node touched by `degree` constraints of one kind,
+    /// `(a_scale, apply_weight)`: node `k`'s inverse mass enters a constraint's
+    /// `A = sum_k a_scale_k w_k |grad_k C|^2`, and the node's summed constraint forces are
+    /// multiplied by `apply_weight` (before `omega`). Every backend uses this function.
+    pub fn node_factors(self, degree: u32) -> (f64, f64) {
+        let d = f64::from(degree.max(1));
+        match self {
+            ConstraintCombine::Scaled => (d, 1.0),
+            ConstraintCombine::Sum => (1.0, 1.0),
+            ConstraintCombine::Average => (1.0, 1.0 / d),
+        }
+    }
 }
 
 /// Which float-atomic path the Vulkan engine uses for scatter passes.
@@ -92,7 +121,7 @@ pub struct SimParams {
     pub substeps: u32,
     /// Constraint iterations per time step (ignored by `mss`, `mss-node`).
     pub iterations: u32,
-    /// Relaxation factor applied to each iteration's averaged constraint forces.
+    /// Relaxation factor applied to each iteration's combined constraint forces.
     pub omega: f64,
     /// Spring stiffness [N/m].
     pub ks: f64,
@@ -132,7 +161,7 @@ impl Default for SimParams {
             floor: true,
             friction: 0.0,
             mass: MassMode::PerNode { mass: 1.0 },
-            combine: ConstraintCombine::Average,
+            combine: ConstraintCombine::Scaled,
             constraint_epsilon: default_constraint_epsilon(),
             atomics: AtomicsMode::Auto,
         }

@@ -9,7 +9,7 @@
 //! substeps = 1
 //! iterations = 10
 //! omega = 1.0
-//! combine = "average" # or "sum"
+//! combine = "scaled" # momentum-conserving (default), or "sum", or "average" (first edition)
 //! atomics = "auto"    # or "ext", "cas"
 //! epsilon = 1e-20     # skip a constraint whose denominator A is at or below this
 //! gravity = 9.81      # m/s^2, along -Y
@@ -73,7 +73,7 @@ pub struct Solver {
     pub substeps: u32,
     /// Constraint iterations per time step.
     pub iterations: u32,
-    /// Relaxation of averaged constraint forces.
+    /// Relaxation of each iteration's combined constraint forces.
     pub omega: f64,
     /// Per-node combination of constraint forces.
     pub combine: ConstraintCombine,

@@ -22,7 +22,8 @@ fn residual<const K: usize>(
     v: [DVec3; K],
     f: [DVec3; K],
 ) -> f64 {
-    let lambda = implicit_lambda(c, &grad, &w, &v, &f, DT, 1e-20).expect("not degenerate");
+    let lambda =
+        implicit_lambda(c, &grad, &w, &[1.0; K], &v, &f, DT, 1e-20).expect("not degenerate");
     (0..K).fold(c, |acc, k| {
         let v_next = v[k] + (f[k] - grad[k] * lambda) * (w[k] * DT);
         acc + DT * grad[k].dot(v_next)

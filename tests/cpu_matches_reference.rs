@@ -50,9 +50,10 @@ fn cpu_follows_cpu_ref_for_100_frames() {
         }
         run_frames(&mut fast, 100);
         let (a, b) = (reference.state().unwrap(), fast.state().unwrap());
-        // The ball has touched the floor on the way.
+        // The ball has touched the floor on the way (the floor constraint lands nodes on
+        // y = 0 up to rounding).
         assert!(
-            lowest == 0.0,
+            lowest.abs() < 1e-12,
             "{method}: lowest node only reached {lowest} m"
         );
         let d = max_distance(&a.positions, &b.positions);

@@ -135,7 +135,7 @@ fn springs_only_and_volume_with_floor_plan_differently() {
         volume.pass_list(),
         [
             "spring_scatter",
-            "10 x (volume, constraint_apply)",
+            "10 x (volume, constraint_apply[floor])",
             "integrate[floor]",
             "check",
             "volume_sum"
@@ -188,7 +188,7 @@ fn plan_cli_prints_the_pass_lists() {
     );
     assert!(
         b.contains(
-            "per time step: spring_scatter -> 10 x (volume, constraint_apply) -> integrate[floor]\n"
+            "per time step: spring_scatter -> 10 x (volume, constraint_apply[floor]) -> integrate[floor]\n"
         ),
         "{b}"
     );

@@ -8,7 +8,8 @@
 #define B_POSITIONS 0
 // Per node, vec4: xyz = velocity [m/s], w = mass [kg].
 #define B_VELOCITIES 1
-// Per node, vec4: xyz = force F of the current step [N] (float view for atomics).
+// Per node, vec4: xyz = force F of the current step [N] (float view for atomics),
+// w = the floor's normal force [N], already part of F.y (physics/floor.glsl).
 #define B_FORCES 2
 // Per node, vec4: xyz = this iteration's summed constraint forces [N].
 #define B_CONSTRAINT_SUM 3
@@ -18,8 +19,9 @@
 #define B_TETS 5
 // Per tet: rest volume [m^3].
 #define B_REST_VOLUMES 6
-// Per node: weight applied to the constraint sum (1 / constraint count, or 1 for `sum`).
-#define B_CONSTRAINT_WEIGHT 7
+// Per node: its number of constraints of the method's kind d_k (float), for the combine
+// mode's factors (physics/implicit.glsl).
+#define B_CONSTRAINT_DEGREE 7
 // Node -> springs CSR: N + 1 offsets, then the spring indices.
 #define B_NODE_SPRING_OFFSETS 8
 #define B_NODE_SPRING_ITEMS 9
@@ -28,6 +30,11 @@
 // Divergence status (check.comp): flags (1 non-finite, 2 too fast), first bad node
 // (u32::MAX when none), speed limit [m/s], unused.
 #define B_STATUS 11
+
+// Values of pc.combine (src/gpu/layout.rs, `combine`).
+#define COMBINE_SCALED 0u
+#define COMBINE_SUM 1u
+#define COMBINE_AVERAGE 2u
 
 // One spring: its two nodes and rest length [m] (16 bytes, one 128-bit load).
 struct Spring {
@@ -56,7 +63,7 @@ layout(push_constant, std430) uniform PushConstants {
     uint spring_count;
     uint tet_count;
     float epsilon;   // constraints with A <= epsilon are skipped (constraint_epsilon)
-    uint pad1;
+    uint combine;    // COMBINE_SCALED, COMBINE_SUM or COMBINE_AVERAGE
 } pc;
 
 // Workgroup size along X, chosen by the host from the device limits.

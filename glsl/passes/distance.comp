@@ -15,6 +15,7 @@ layout(std430, set = 0, binding = B_POSITIONS) readonly restrict buffer Position
 layout(std430, set = 0, binding = B_VELOCITIES) readonly restrict buffer Velocities { vec4 velocities[]; };
 layout(std430, set = 0, binding = B_FORCES) readonly restrict buffer Forces { vec4 forces[]; };
 layout(std430, set = 0, binding = B_SPRINGS) readonly restrict buffer Springs { Spring springs[]; };
+layout(std430, set = 0, binding = B_CONSTRAINT_DEGREE) readonly restrict buffer Degrees { float degrees[]; };
 layout(std430, set = 0, binding = B_CONSTRAINT_SUM) buffer SumF { float sum_f[]; };
 layout(std430, set = 0, binding = B_CONSTRAINT_SUM) buffer SumU { uint sum_u[]; };
 DECLARE_ATOMIC_ADD_CAS(sum_u)
@@ -30,8 +31,8 @@ void main() {
     vec3 ga = distance_gradient_i(xa.xyz, xb.xyz);
     float a = 0.0;
     float b = 0.0;
-    implicit_accumulate(a, b, ga, xa.w, velocities[sp.a].xyz, forces[sp.a].xyz, pc.dt);
-    implicit_accumulate(a, b, -ga, xb.w, velocities[sp.b].xyz, forces[sp.b].xyz, pc.dt);
+    implicit_accumulate(a, b, ga, xa.w, combine_a_scale(pc.combine, degrees[sp.a]), velocities[sp.a].xyz, forces[sp.a].xyz, pc.dt);
+    implicit_accumulate(a, b, -ga, xb.w, combine_a_scale(pc.combine, degrees[sp.b]), velocities[sp.b].xyz, forces[sp.b].xyz, pc.dt);
     float lambda = implicit_lambda(distance_value(xa.xyz, xb.xyz, sp.rest), a, b, pc.dt, pc.epsilon);
     if (lambda != 0.0) {
         ATOMIC_ADD_VEC3(sum_f, sum_u, sp.a, -lambda * ga);

@@ -1,12 +1,16 @@
 #version 460
-// Pass `integrate`: symplectic Euler (physics.md Eqs. 2, 3), floor contact, force reset.
-//   v += dt * w * F   (F already holds m g),   x += dt * v,
-// then a node below y = 0 goes back onto it, its normal velocity is clamped to >= 0 and its
-// tangential velocity scaled by (1 - friction); finally F = m g for the next step.
+// Pass `integrate`: the floor's final solve, symplectic Euler (physics.md Eqs. 2, 3) with
+// floor friction, force reset.
+//   F.y gets the floor force (physics/floor.glsl; the only floor solve of springs-only
+//   methods, a repeat of constraint_apply's last one otherwise),
+//   v += dt * w * F   (F already holds m g); a node in contact (floor force > 0) loses
+//   `friction` of its tangential velocity;  x += dt * v;
+// finally F = m g for the next step.
 #include "common/version.glsl"
 #include "common/bindings.glsl"
+#include "physics/floor.glsl"
 
-// 1 when the scene has a floor; 0 compiles the contact test away (specialisation constant 1,
+// 1 when the scene has a floor; 0 compiles the contact solve away (specialisation constant 1,
 // set by the engine plan).
 layout(constant_id = 1) const uint FLOOR = 1u;
 
@@ -22,13 +26,17 @@ void main() {
     vec4 p = positions[i];
     vec4 v = velocities[i];
     float w = p.w;
-    vec3 vn = v.xyz + pc.dt * w * forces[i].xyz;
-    vec3 xn = p.xyz + pc.dt * vn;
-    if (FLOOR != 0u && pc.floor_on != 0u && xn.y < 0.0) {
-        xn.y = 0.0;
-        vn.y = max(vn.y, 0.0);
-        vn.xz *= 1.0 - pc.friction;
+    vec4 f = forces[i];
+    bool contact = false;
+    if (FLOOR != 0u && pc.floor_on != 0u) {
+        f = floor_solve(f, p.y, v.y, w, pc.dt);
+        contact = f.w > 0.0;
     }
+    vec3 vn = v.xyz + pc.dt * w * f.xyz;
+    if (contact) {
+        vn = floor_friction(vn, pc.friction);
+    }
+    vec3 xn = p.xyz + pc.dt * vn;
     positions[i] = vec4(xn, w);
     velocities[i] = vec4(vn, v.w);
     forces[i] = vec4(0.0, -pc.gravity * v.w, 0.0, 0.0);

@@ -15,6 +15,7 @@ layout(std430, set = 0, binding = B_VELOCITIES) readonly restrict buffer Velocit
 layout(std430, set = 0, binding = B_FORCES) readonly restrict buffer Forces { vec4 forces[]; };
 layout(std430, set = 0, binding = B_TETS) readonly restrict buffer Tets { uvec4 tets[]; };
 layout(std430, set = 0, binding = B_REST_VOLUMES) readonly restrict buffer RestVolumes { float rest_volumes[]; };
+layout(std430, set = 0, binding = B_CONSTRAINT_DEGREE) readonly restrict buffer Degrees { float degrees[]; };
 layout(std430, set = 0, binding = B_CONSTRAINT_SUM) buffer SumF { float sum_f[]; };
 layout(std430, set = 0, binding = B_CONSTRAINT_SUM) buffer SumU { uint sum_u[]; };
 DECLARE_ATOMIC_ADD_CAS(sum_u)
@@ -32,7 +33,7 @@ void main() {
     float b = 0.0;
     for (int k = 0; k < 4; ++k) {
         uint node = tet[k];
-        implicit_accumulate(a, b, g[k], p[k].w, velocities[node].xyz, forces[node].xyz, pc.dt);
+        implicit_accumulate(a, b, g[k], p[k].w, combine_a_scale(pc.combine, degrees[node]), velocities[node].xyz, forces[node].xyz, pc.dt);
     }
     float c = volume_value(p[0].xyz, p[1].xyz, p[2].xyz, p[3].xyz, rest_volumes[t]);
     float lambda = implicit_lambda(c, a, b, pc.dt, pc.epsilon);

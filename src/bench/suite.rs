@@ -13,7 +13,7 @@ use super::stats::FrameTimes;
 use crate::error::{Error, Result};
 use crate::metrics::RunRecord;
 use crate::model::Model;
-use crate::params::{ConstraintCombine, Method, SimParams};
+use crate::params::{Method, SimParams};
 
 /// One mesh to benchmark: its label (path) and its model.
 #[derive(Debug, Clone)]
@@ -99,11 +99,7 @@ pub fn record(
         ks: params.ks,
         kd: params.kd,
         friction: params.friction,
-        combine: match params.combine {
-            ConstraintCombine::Average => "average",
-            ConstraintCombine::Sum => "sum",
-        }
-        .to_string(),
+        combine: params.combine.name().to_string(),
         volume_pct: sim.volume_pct.clone(),
         inverted_tets: sim.inverted.clone(),
         min_volume_pct: 0.0,

@@ -105,7 +105,8 @@ pub struct RunArgs {
     /// Gravity along -Y [m/s^2].
     #[arg(long)]
     pub gravity: Option<f64>,
-    /// Per-node combination of constraint forces.
+    /// How constraint forces are combined: `scaled` (momentum-conserving, default), `sum`
+    /// (the paper's literal reading), `average` (first edition, drifts; for comparison).
     #[arg(long, value_enum)]
     pub combine: Option<ConstraintCombine>,
     /// Skip a constraint whose denominator A is at or below this.

@@ -11,10 +11,10 @@ use super::{check_state, diverged, node_tet_corners, Bad};
 use crate::backend::{Backend, State, VolumeSample};
 use crate::error::Result;
 use crate::model::{Csr, Model};
-use crate::params::{ConstraintCombine, Method, SimParams};
+use crate::params::{Method, SimParams};
 use crate::physics::{
-    distance_constraint, implicit_lambda, resolve_floor, spring_force, symplectic_euler,
-    tet_volume, volume_constraint, Vector,
+    distance_constraint, floor_force, implicit_lambda, integrate_node, spring_force, tet_volume,
+    volume_constraint, Vector,
 };
 
 /// Smallest number of elements one parallel task handles.
@@ -49,9 +49,14 @@ pub struct ParallelBackend {
     node_spring_ends: Csr,
     /// node -> `4 * tet + corner`.
     node_tet_corners: Csr,
-    /// Factor applied to a node's summed constraint forces: `omega / degree` (average) or
-    /// `omega` (sum), for the method's constraint kind.
+    /// Scale of each node's inverse mass in a constraint's `A` (its constraint count for
+    /// the momentum-conserving scaling, else 1; `ConstraintCombine::node_factors`).
+    a_scale: Vec<f32>,
+    /// Factor applied to a node's summed constraint forces: `omega` times the combine
+    /// mode's apply weight.
     constraint_scale: Vec<f32>,
+    /// The floor's normal force on each node in the current step [N] (`>= 0`).
+    floor_force: Vec<f32>,
     x: Vec<Vec3A>,
     v: Vec<Vec3A>,
     /// Total force of the current step [N].
@@ -83,16 +88,16 @@ impl ParallelBackend {
                 ends.items.push(2 * s + end);
             }
         }
-        let degree = |i: usize| match params.method {
-            Method::Volume => model.tet_degree[i],
-            _ => model.spring_degree(i),
-        };
-        let omega = params.omega as f32;
-        let constraint_scale = (0..n)
-            .map(|i| match params.combine {
-                ConstraintCombine::Average if degree(i) > 0 => omega / degree(i) as f32,
-                _ => omega,
-            })
+        let factors: Vec<(f64, f64)> = model
+            .constraint_degrees(params.method)
+            .unwrap_or_default()
+            .into_iter()
+            .map(|d| params.combine.node_factors(d))
+            .collect();
+        let a_scale = factors.iter().map(|f| f.0 as f32).collect();
+        let constraint_scale = factors
+            .iter()
+            .map(|f| (f.1 * params.omega) as f32)
             .collect();
         let to32 = |v: &[f64]| v.iter().map(|&a| a as f32).collect::<Vec<f32>>();
         Ok(ParallelBackend {
@@ -116,7 +121,9 @@ impl ParallelBackend {
             rest_volume: to32(&model.rest_volume),
             node_spring_ends: ends,
             node_tet_corners: node_tet_corners(model),
+            a_scale,
             constraint_scale,
+            floor_force: vec![0.0; n],
             x: model
                 .positions
                 .iter()
@@ -196,6 +203,7 @@ impl ParallelBackend {
     /// One Jacobi sweep of distance constraints, then the per-node gather into `F`.
     fn distance_pass(&mut self) {
         let (x, v, f, w, k) = (&self.x, &self.v, &self.f, &self.inv_mass, self.k);
+        let a_scale = &self.a_scale;
         let (springs, rest) = (&self.springs, &self.rest_length);
         self.spring_out
             .par_iter_mut()
@@ -208,6 +216,7 @@ impl ParallelBackend {
                     c,
                     &grad,
                     &ids.map(|i| w[i]),
+                    &ids.map(|i| a_scale[i]),
                     &ids.map(|i| v[i]),
                     &ids.map(|i| f[i]),
                     k.dt,
@@ -220,18 +229,28 @@ impl ParallelBackend {
             &self.node_spring_ends,
             &self.constraint_scale,
         );
+        let contact = FloorContact {
+            on: self.floor,
+            x: &self.x,
+            v: &self.v,
+            w: &self.inv_mass,
+            dt: self.k.dt,
+        };
         self.f
             .par_iter_mut()
+            .zip(self.floor_force.par_iter_mut())
             .enumerate()
             .with_min_len(CHUNK)
-            .for_each(|(i, f)| {
+            .for_each(|(i, (f, n))| {
                 *f += gather_ends(ends.row(i), out) * scale[i];
+                contact.solve(i, f, n);
             });
     }
 
     /// One Jacobi sweep of volume constraints, then the per-node gather into `F`.
     fn volume_pass(&mut self) {
         let (x, v, f, w, k) = (&self.x, &self.v, &self.f, &self.inv_mass, self.k);
+        let a_scale = &self.a_scale;
         let (tets, rest) = (&self.tets, &self.rest_volume);
         self.tet_out
             .par_iter_mut()
@@ -244,6 +263,7 @@ impl ParallelBackend {
                     c,
                     &grad,
                     &ids.map(|i| w[i]),
+                    &ids.map(|i| a_scale[i]),
                     &ids.map(|i| v[i]),
                     &ids.map(|i| f[i]),
                     k.dt,
@@ -256,35 +276,49 @@ impl ParallelBackend {
             &self.node_tet_corners,
             &self.constraint_scale,
         );
+        let contact = FloorContact {
+            on: self.floor,
+            x: &self.x,
+            v: &self.v,
+            w: &self.inv_mass,
+            dt: self.k.dt,
+        };
         self.f
             .par_iter_mut()
+            .zip(self.floor_force.par_iter_mut())
             .enumerate()
             .with_min_len(CHUNK)
-            .for_each(|(i, f)| {
+            .for_each(|(i, (f, n))| {
                 let mut sum = Vec3A::ZERO;
                 for &e in corners.row(i) {
                     sum += out[(e >> 2) as usize][(e & 3) as usize];
                 }
                 *f += sum * scale[i];
+                contact.solve(i, f, n);
             });
     }
 
-    /// Pass `integrate`: symplectic Euler and the floor. Returns the first node that is
-    /// non-finite or faster than the speed limit.
+    /// Pass `integrate`: the floor's final solve, symplectic Euler with floor friction.
+    /// Returns the first node that is non-finite or faster than the speed limit.
     fn integrate_pass(&mut self) -> Option<(usize, Bad)> {
-        let (f, w, k, floor) = (&self.f, &self.inv_mass, self.k, self.floor);
+        let (w, k) = (&self.inv_mass, self.k);
         let limit2 = self.speed_limit * self.speed_limit;
+        let (on, dt) = (self.floor, self.k.dt);
         self.x
             .par_iter_mut()
             .zip(self.v.par_iter_mut())
+            .zip(self.f.par_iter_mut().zip(self.floor_force.par_iter_mut()))
             .enumerate()
             .with_min_len(CHUNK)
-            .filter_map(|(i, (x, v))| {
-                let (mut x1, mut v1) = symplectic_euler(*x, *v, f[i], w[i], k.dt);
-                if floor {
-                    (x1, v1) = resolve_floor(x1, v1, k.friction);
+            .filter_map(|(i, ((x, v), (f, n)))| {
+                if on {
+                    let other = f.y - *n;
+                    *n = floor_force(x.y, v.y, other, w[i], dt);
+                    f.y = other + *n;
                 }
+                let (x1, v1) = integrate_node(*x, *v, *f, w[i], k.dt, *n > 0.0, k.friction);
                 (*x, *v) = (x1, v1);
+                *n = 0.0;
                 if !(x1.is_finite() && v1.is_finite()) {
                     Some((i, Bad::NonFinite))
                 } else if v1.length_squared() > limit2 {
@@ -307,6 +341,29 @@ impl ParallelBackend {
             }
         }
         self.integrate_pass()
+    }
+}
+
+/// What the per-node floor solve reads: the state at the start of the step.
+#[derive(Clone, Copy)]
+struct FloorContact<'a> {
+    on: bool,
+    x: &'a [Vec3A],
+    v: &'a [Vec3A],
+    w: &'a [f32],
+    dt: f32,
+}
+
+impl FloorContact<'_> {
+    /// Re-solves node `i`'s floor force `n` against its total force `f` (which holds the
+    /// old `n`), updating both.
+    #[inline]
+    fn solve(&self, i: usize, f: &mut Vec3A, n: &mut f32) {
+        if self.on {
+            let other = f.y - *n;
+            *n = floor_force(self.x[i].y, self.v[i].y, other, self.w[i], self.dt);
+            f.y = other + *n;
+        }
     }
 }
 

@@ -7,10 +7,10 @@ use super::{check_state, diverged, Bad};
 use crate::backend::{Backend, State, VolumeSample};
 use crate::error::Result;
 use crate::model::Model;
-use crate::params::{ConstraintCombine, Method, SimParams};
+use crate::params::{Method, SimParams};
 use crate::physics::{
-    distance_constraint, implicit_lambda, resolve_floor, spring_force, symplectic_euler,
-    tet_volume, volume_constraint,
+    distance_constraint, floor_force, implicit_lambda, integrate_node, spring_force, tet_volume,
+    volume_constraint,
 };
 
 /// The forces of steps 1 and 2 of one time step, per node [N]; their sum is the `F` that is
@@ -23,13 +23,17 @@ pub struct Forces {
     pub springs: Vec<DVec3>,
     /// Constraint forces of all iterations, combined and relaxed.
     pub constraints: Vec<DVec3>,
+    /// The floor's normal force (along +Y, `>= 0`; zero without a floor).
+    pub floor: Vec<f64>,
 }
 
 impl Forces {
     /// The total force on each node.
     pub fn total(&self) -> Vec<DVec3> {
         (0..self.gravity.len())
-            .map(|i| self.gravity[i] + self.springs[i] + self.constraints[i])
+            .map(|i| {
+                self.gravity[i] + self.springs[i] + self.constraints[i] + DVec3::Y * self.floor[i]
+            })
             .collect()
     }
 }
@@ -73,7 +77,8 @@ impl ReferenceBackend {
 
     /// Steps 1 and 2 of a time step at the current state: gravity, springs (spring-centric
     /// for every method but `mss-node`, which gathers per node), then `iterations` Jacobi
-    /// sweeps of the method's constraints.
+    /// sweeps of the method's constraints, each followed by the floor's solve, and the
+    /// floor's final solve.
     pub fn forces(&self) -> Forces {
         let n = self.model.node_count();
         let down = DVec3::new(0.0, -self.params.gravity, 0.0);
@@ -84,36 +89,46 @@ impl ReferenceBackend {
         };
         let mut total: Vec<DVec3> = (0..n).map(|i| gravity[i] + springs[i]).collect();
         let mut constraints = vec![DVec3::ZERO; n];
-        let degree = match self.params.method {
-            Method::Mss | Method::MssNode => {
-                return Forces {
-                    gravity,
-                    springs,
-                    constraints,
-                }
-            }
-            Method::Distance => (0..n).map(|i| self.model.spring_degree(i)).collect(),
-            Method::Volume => self.model.tet_degree.clone(),
-        };
-        for _ in 0..self.params.iterations {
-            let sum = match self.params.method {
-                Method::Distance => self.distance_sweep(&total),
-                _ => self.volume_sweep(&total),
-            };
-            for i in 0..n {
-                let combined = match self.params.combine {
-                    ConstraintCombine::Average if degree[i] > 0 => sum[i] / f64::from(degree[i]),
-                    _ => sum[i],
+        let mut floor = vec![0.0; n];
+        if let Some(degree) = self.model.constraint_degrees(self.params.method) {
+            let factors: Vec<(f64, f64)> = degree
+                .iter()
+                .map(|&d| self.params.combine.node_factors(d))
+                .collect();
+            let a_scale: Vec<f64> = factors.iter().map(|f| f.0).collect();
+            for _ in 0..self.params.iterations {
+                let sum = match self.params.method {
+                    Method::Distance => self.distance_sweep(&total, &a_scale),
+                    _ => self.volume_sweep(&total, &a_scale),
                 };
-                let delta = combined * self.params.omega;
-                total[i] += delta;
-                constraints[i] += delta;
+                for i in 0..n {
+                    let delta = sum[i] * (factors[i].1 * self.params.omega);
+                    total[i] += delta;
+                    constraints[i] += delta;
+                }
+                self.floor_solve(&mut total, &mut floor);
             }
         }
+        self.floor_solve(&mut total, &mut floor);
         Forces {
             gravity,
             springs,
             constraints,
+            floor,
+        }
+    }
+
+    /// Solves every node's floor contact against the current total force `total` (which
+    /// includes the floor forces `floor` found so far) and updates both.
+    fn floor_solve(&self, total: &mut [DVec3], floor: &mut [f64]) {
+        if !self.params.floor {
+            return;
+        }
+        for (i, (f, n)) in total.iter_mut().zip(floor.iter_mut()).enumerate() {
+            let other = f.y - *n;
+            let w = self.model.inv_mass[i];
+            *n = floor_force(self.x[i].y, self.v[i].y, other, w, self.params.dt);
+            f.y = other + *n;
         }
     }
 
@@ -160,13 +175,13 @@ impl ReferenceBackend {
 
     /// One Jacobi sweep of distance constraints against the force `f`: per-node sums of
     /// `-lambda grad C`.
-    fn distance_sweep(&self, f: &[DVec3]) -> Vec<DVec3> {
+    fn distance_sweep(&self, f: &[DVec3], a_scale: &[f64]) -> Vec<DVec3> {
         let mut sum = vec![DVec3::ZERO; self.model.node_count()];
         for (s, &[i, j]) in self.model.springs.iter().enumerate() {
             let ids = [i as usize, j as usize];
             let (c, grad) =
                 distance_constraint(self.x[ids[0]], self.x[ids[1]], self.model.rest_length[s]);
-            if let Some(lambda) = self.lambda(c, &grad, ids, f) {
+            if let Some(lambda) = self.lambda(c, &grad, ids, f, a_scale) {
                 for k in 0..2 {
                     sum[ids[k]] -= grad[k] * lambda;
                 }
@@ -176,12 +191,12 @@ impl ReferenceBackend {
     }
 
     /// One Jacobi sweep of volume constraints against the force `f`.
-    fn volume_sweep(&self, f: &[DVec3]) -> Vec<DVec3> {
+    fn volume_sweep(&self, f: &[DVec3], a_scale: &[f64]) -> Vec<DVec3> {
         let mut sum = vec![DVec3::ZERO; self.model.node_count()];
         for (t, tet) in self.model.tets.iter().enumerate() {
             let ids = tet.map(|i| i as usize);
             let (c, grad) = volume_constraint(ids.map(|i| self.x[i]), self.model.rest_volume[t]);
-            if let Some(lambda) = self.lambda(c, &grad, ids, f) {
+            if let Some(lambda) = self.lambda(c, &grad, ids, f, a_scale) {
                 for k in 0..4 {
                     sum[ids[k]] -= grad[k] * lambda;
                 }
@@ -196,14 +211,17 @@ impl ReferenceBackend {
         grad: &[DVec3; K],
         ids: [usize; K],
         f: &[DVec3],
+        a_scale: &[f64],
     ) -> Option<f64> {
         let w = ids.map(|i| self.model.inv_mass[i]);
+        let s = ids.map(|i| a_scale[i]);
         let v = ids.map(|i| self.v[i]);
         let fk = ids.map(|i| f[i]);
         implicit_lambda(
             c,
             grad,
             &w,
+            &s,
             &v,
             &fk,
             self.params.dt,
@@ -215,7 +233,8 @@ impl ReferenceBackend {
     /// faster than the speed limit, if any.
     fn step(&mut self) -> Option<(usize, Bad)> {
         let limit = self.speed_limit;
-        let f = self.forces().total();
+        let forces = self.forces();
+        let f = forces.total();
         let p = &self.params;
         let mut bad = None;
         let nodes = self
@@ -224,10 +243,8 @@ impl ReferenceBackend {
             .zip(self.v.iter_mut())
             .zip(f.iter().zip(&self.model.inv_mass));
         for (i, ((x, v), (&f, &w))) in nodes.enumerate() {
-            (*x, *v) = symplectic_euler(*x, *v, f, w, p.dt);
-            if p.floor {
-                (*x, *v) = resolve_floor(*x, *v, p.friction);
-            }
+            let contact = forces.floor[i] > 0.0;
+            (*x, *v) = integrate_node(*x, *v, f, w, p.dt, contact, p.friction);
             if bad.is_none() {
                 if !(x.is_finite() && v.is_finite()) {
                     bad = Some((i, Bad::NonFinite));

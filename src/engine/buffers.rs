@@ -11,7 +11,7 @@ use super::plan::{BufferId, EnginePlan};
 use crate::gpu::layout::{vec4, GpuSpring};
 use crate::gpu::{Buffer, Context};
 use crate::model::Model;
-use crate::params::{ConstraintCombine, Method, SimParams};
+use crate::params::SimParams;
 use crate::{Error, Result};
 
 /// Device-local state and rest data, plus the host-visible copy of the volume partials.
@@ -30,8 +30,8 @@ pub(crate) struct SimBuffers {
     pub rest_volumes: Option<Buffer>,
     /// vec4 per node: one iteration's constraint sums (`distance`, `volume`).
     pub constraint_sum: Option<Buffer>,
-    /// float per node: weight of the constraint sum (`distance`, `volume`).
-    pub weights: Option<Buffer>,
+    /// float per node: its constraint count `d_k` (`distance`, `volume`).
+    pub degrees: Option<Buffer>,
     /// Node -> springs CSR offsets and items (`mss-node`).
     pub node_springs: Option<(Buffer, Buffer)>,
     /// One [`crate::gpu::layout::VolumePartial`] per volume_sum workgroup.
@@ -96,22 +96,14 @@ impl SimBuffers {
                 pad: 0.0,
             })
             .collect();
-        let constrained = plan.has(BufferId::Weights);
-        let weights = constrained.then(|| {
-            (0..n)
-                .map(|i| {
-                    let count = match params.method {
-                        Method::Volume => model.tet_degree[i],
-                        _ => model.spring_degree(i),
-                    };
-                    match (params.combine, count) {
-                        (_, 0) => 0.0f32,
-                        (ConstraintCombine::Average, c) => 1.0 / c as f32,
-                        (ConstraintCombine::Sum, _) => 1.0,
-                    }
-                })
-                .collect::<Vec<f32>>()
-        });
+        let constrained = plan.has(BufferId::Degrees);
+        // Per node: its constraint count d_k as a float; the shaders turn it into the A
+        // scale and apply weight of `ConstraintCombine::node_factors` (push constant
+        // `combine`).
+        let degrees = constrained
+            .then(|| model.constraint_degrees(params.method))
+            .flatten()
+            .map(|d| d.iter().map(|&c| c as f32).collect::<Vec<f32>>());
         let upload = |id: BufferId, data: &[u8]| Buffer::with_data(ctx, id.name(), data);
         let optional = |id: BufferId, data: &dyn Fn() -> Vec<u8>| -> Result<Option<Buffer>> {
             match plan.has(id) {
@@ -131,8 +123,8 @@ impl SimBuffers {
                 bytes(&floats(&model.rest_volume)).to_vec()
             })?,
             constraint_sum: optional(BufferId::ConstraintSum, &|| vec![0u8; n * 16])?,
-            weights: match weights {
-                Some(w) => Some(upload(BufferId::Weights, bytes(&w))?),
+            degrees: match degrees {
+                Some(w) => Some(upload(BufferId::Degrees, bytes(&w))?),
                 None => None,
             },
             node_springs: match (
@@ -178,7 +170,7 @@ impl SimBuffers {
             BufferId::Tets => Some(&self.tets),
             BufferId::RestVolumes => self.rest_volumes.as_ref(),
             BufferId::ConstraintSum => self.constraint_sum.as_ref(),
-            BufferId::Weights => self.weights.as_ref(),
+            BufferId::Degrees => self.degrees.as_ref(),
             BufferId::NodeSpringOffsets => self.node_springs.as_ref().map(|b| &b.0),
             BufferId::NodeSpringItems => self.node_springs.as_ref().map(|b| &b.1),
             BufferId::Partials => Some(&self.partials),
@@ -221,7 +213,7 @@ const ALL_BUFFERS: [BufferId; 12] = [
     BufferId::Tets,
     BufferId::RestVolumes,
     BufferId::ConstraintSum,
-    BufferId::Weights,
+    BufferId::Degrees,
     BufferId::NodeSpringOffsets,
     BufferId::NodeSpringItems,
     BufferId::Partials,

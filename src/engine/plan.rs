@@ -6,7 +6,7 @@
 //! cannot drift from the engine.
 //!
 //! What a scene does not use is not built: no rest volumes without `volume`, no constraint
-//! sums or weights without `distance`/`volume`, no node-spring adjacency without `mss-node`,
+//! sums or degrees without `distance`/`volume`, no node-spring adjacency without `mss-node`,
 //! no floor test in `integrate` without a floor (specialisation constant 1), and no
 //! `volume_sum` pass or partials copy in the frame without per-frame metrics. The `check`
 //! pass (divergence) and its 16-byte status copy are always there.
@@ -34,7 +34,7 @@ pub enum BufferId {
     /// vec4 per node (`distance`, `volume`).
     ConstraintSum,
     /// float per node (`distance`, `volume`).
-    Weights,
+    Degrees,
     /// N + 1 u32 (`mss-node`).
     NodeSpringOffsets,
     /// 2 S u32 (`mss-node`).
@@ -56,7 +56,7 @@ impl BufferId {
             BufferId::Tets => "tets",
             BufferId::RestVolumes => "rest volumes",
             BufferId::ConstraintSum => "constraint sums",
-            BufferId::Weights => "constraint weights",
+            BufferId::Degrees => "constraint degrees",
             BufferId::NodeSpringOffsets => "node-spring offsets",
             BufferId::NodeSpringItems => "node-spring items",
             BufferId::Partials => "volume partials",
@@ -74,7 +74,7 @@ impl BufferId {
             BufferId::Tets => binding::TETS,
             BufferId::RestVolumes => binding::REST_VOLUMES,
             BufferId::ConstraintSum => binding::CONSTRAINT_SUM,
-            BufferId::Weights => binding::CONSTRAINT_WEIGHT,
+            BufferId::Degrees => binding::CONSTRAINT_DEGREE,
             BufferId::NodeSpringOffsets => binding::NODE_SPRING_OFFSETS,
             BufferId::NodeSpringItems => binding::NODE_SPRING_ITEMS,
             BufferId::Partials => binding::VOLUME_PARTIALS,
@@ -137,8 +137,8 @@ impl PassPlan {
     /// Name with its specialisation, e.g. `integrate[floor]`.
     pub fn label(&self) -> String {
         match (self.name, self.constants.first()) {
-            ("integrate", Some(1)) => "integrate[floor]".to_string(),
-            ("integrate", Some(_)) => "integrate[no floor]".to_string(),
+            ("integrate" | "constraint_apply", Some(1)) => format!("{}[floor]", self.name),
+            ("integrate" | "constraint_apply", Some(_)) => format!("{}[no floor]", self.name),
             _ => self.name.to_string(),
         }
     }
@@ -224,7 +224,7 @@ impl EnginePlan {
         }
         if constrained {
             buffers.push((ConstraintSum, 16 * n, 0));
-            buffers.push((Weights, 4 * n, 0));
+            buffers.push((Degrees, 4 * n, 0));
         }
         if method == Method::MssNode {
             buffers.push((NodeSpringOffsets, 4 * (n + 1), 0));
@@ -296,6 +296,7 @@ impl EnginePlan {
                         (Forces, Read),
                         (Tets, Read),
                         (RestVolumes, Read),
+                        (Degrees, Read),
                         (ConstraintSum, ReadWrite),
                     ],
                     Repeat::Iteration,
@@ -309,22 +310,27 @@ impl EnginePlan {
                         (Velocities, Read),
                         (Forces, Read),
                         (Springs, Read),
+                        (Degrees, Read),
                         (ConstraintSum, ReadWrite),
                     ],
                     Repeat::Iteration,
                 ),
             });
-            passes.push(pass(
+            let mut apply = pass(
                 "constraint_apply",
                 false,
                 counts.nodes,
                 vec![
+                    (Positions, Read),
+                    (Velocities, Read),
                     (Forces, ReadWrite),
                     (ConstraintSum, ReadWrite),
-                    (Weights, Read),
+                    (Degrees, Read),
                 ],
                 Repeat::Iteration,
-            ));
+            );
+            apply.constants = vec![u32::from(params.floor)];
+            passes.push(apply);
         }
         let mut integrate = pass(
             "integrate",

@@ -5,7 +5,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use crate::params::SimParams;
+use crate::params::{ConstraintCombine, SimParams};
 
 /// Descriptor binding numbers of set 0 (the `B_*` macros in glsl/common/bindings.glsl).
 pub mod binding {
@@ -23,8 +23,8 @@ pub mod binding {
     pub const TETS: u32 = 5;
     /// float per tet: rest volume [m^3].
     pub const REST_VOLUMES: u32 = 6;
-    /// float per node: weight of the constraint sum (1 / count, or 1).
-    pub const CONSTRAINT_WEIGHT: u32 = 7;
+    /// float per node: its number of constraints of the method's kind (`d_k`).
+    pub const CONSTRAINT_DEGREE: u32 = 7;
     /// Node -> springs CSR offsets (N + 1).
     pub const NODE_SPRING_OFFSETS: u32 = 8;
     /// Node -> springs CSR items.
@@ -61,8 +61,19 @@ pub struct PushConstants {
     pub tet_count: u32,
     /// A constraint is skipped when its `A` is at or below this (`constraint_epsilon`).
     pub epsilon: f32,
-    /// Padding to 16 bytes.
-    pub pad1: u32,
+    /// How constraint forces are combined: [`combine::SCALED`], [`combine::SUM`] or
+    /// [`combine::AVERAGE`] (`ConstraintCombine`).
+    pub combine: u32,
+}
+
+/// Values of [`PushConstants::combine`] (the `COMBINE_*` macros in bindings.glsl).
+pub mod combine {
+    /// Momentum-conserving scaling.
+    pub const SCALED: u32 = 0;
+    /// Plain summation.
+    pub const SUM: u32 = 1;
+    /// Per-node averaging (first edition).
+    pub const AVERAGE: u32 = 2;
 }
 
 impl PushConstants {
@@ -80,7 +91,11 @@ impl PushConstants {
             spring_count: springs as u32,
             tet_count: tets as u32,
             epsilon: params.constraint_epsilon as f32,
-            pad1: 0,
+            combine: match params.combine {
+                ConstraintCombine::Scaled => combine::SCALED,
+                ConstraintCombine::Sum => combine::SUM,
+                ConstraintCombine::Average => combine::AVERAGE,
+            },
         }
     }
 }
@@ -152,7 +167,7 @@ mod tests {
             ("spring_count", offset_of!(PushConstants, spring_count)),
             ("tet_count", offset_of!(PushConstants, tet_count)),
             ("epsilon", offset_of!(PushConstants, epsilon)),
-            ("pad1", offset_of!(PushConstants, pad1)),
+            ("combine", offset_of!(PushConstants, combine)),
         ];
         // integrate uses floor_on/friction/gravity, volume_sum the tet count: together they
         // name most members; every member the shader keeps must sit where Rust puts it.
@@ -220,7 +235,7 @@ mod tests {
             ("Springs", binding::SPRINGS),
             ("Tets", binding::TETS),
             ("RestVolumes", binding::REST_VOLUMES),
-            ("Weights", binding::CONSTRAINT_WEIGHT),
+            ("Degrees", binding::CONSTRAINT_DEGREE),
             ("NodeSpringOffsets", binding::NODE_SPRING_OFFSETS),
             ("NodeSpringItems", binding::NODE_SPRING_ITEMS),
             ("Partials", binding::VOLUME_PARTIALS),

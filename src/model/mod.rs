@@ -44,7 +44,7 @@ pub struct Model {
     pub rest_volume: Vec<f64>,
     /// For each node, the springs touching it (node-centric order).
     pub node_springs: Csr,
-    /// For each node, the number of tets touching it (volume-constraint averaging).
+    /// For each node, the number of tets touching it (`d_k` of the volume constraints).
     pub tet_degree: Vec<u32>,
     /// Boundary triangles, outward, for rendering and surface output.
     pub surface: Vec<[u32; 3]>,
@@ -56,9 +56,25 @@ impl Model {
         self.positions.len()
     }
 
-    /// Number of springs touching each node (distance-constraint averaging).
+    /// Number of springs touching each node (`d_k` of the distance constraints).
     pub fn spring_degree(&self, node: usize) -> u32 {
         self.node_springs.offsets[node + 1] - self.node_springs.offsets[node]
+    }
+
+    /// For each node, the number of the method's constraints touching it (`d_k` of the
+    /// momentum-conserving scaling): springs for `distance`, tets for `volume`; `None` for
+    /// the springs-only methods.
+    pub fn constraint_degrees(&self, method: crate::params::Method) -> Option<Vec<u32>> {
+        use crate::params::Method;
+        match method {
+            Method::Mss | Method::MssNode => None,
+            Method::Distance => Some(
+                (0..self.node_count())
+                    .map(|i| self.spring_degree(i))
+                    .collect(),
+            ),
+            Method::Volume => Some(self.tet_degree.clone()),
+        }
     }
 
     /// Sum of rest volumes [m^3].

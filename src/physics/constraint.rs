@@ -33,23 +33,28 @@ pub fn volume_constraint<V: Vector>(p: [V; 4], rest: V::Real) -> (V::Real, [V; 4
 }
 
 /// The first-order implicit multiplier of one constraint (physics.md, "Implicit constraint
-/// enforcement"):
+/// enforcement" with the second edition's "Momentum-conserving scaling"):
 ///
 /// ```text
-/// A = sum_k w_k |grad_k C|^2
+/// A = sum_k s_k w_k |grad_k C|^2
 /// B = C / dt^2 + sum_k grad_k C . (v_k / dt + w_k F_k)
 /// lambda = B / A
 /// ```
 ///
 /// `c` is the constraint value, `grad`, `w` [1/kg], `v` [m/s] and `f` [N] the gradient, inverse
-/// mass, velocity and current total force of each node it touches, `dt` the time step [s].
-/// Returns `None` (skip the constraint) when `A <= epsilon` or `A` is not finite. The force
-/// on node `k` is then `-lambda grad_k C`.
+/// mass, velocity and current total force of each node it touches, `s` each node's scale of
+/// its inverse mass in `A` (`d_k`, its constraint count, for the momentum-conserving
+/// scaling; 1 for the paper's plain form; see
+/// [`ConstraintCombine::node_factors`](crate::params::ConstraintCombine::node_factors)),
+/// `dt` the time step [s]. Returns `None` (skip the constraint) when `A <= epsilon` or `A`
+/// is not finite. The force on node `k` is then `-lambda grad_k C`.
 #[inline]
+#[allow(clippy::too_many_arguments)]
 pub fn implicit_lambda<V: Vector, const K: usize>(
     c: V::Real,
     grad: &[V; K],
     w: &[V::Real; K],
+    s: &[V::Real; K],
     v: &[V; K],
     f: &[V; K],
     dt: V::Real,
@@ -59,7 +64,7 @@ pub fn implicit_lambda<V: Vector, const K: usize>(
     let mut a = V::Real::ZERO;
     let mut b = c * inv_dt * inv_dt;
     for k in 0..K {
-        a += w[k] * grad[k].dot(grad[k]);
+        a += s[k] * w[k] * grad[k].dot(grad[k]);
         b += grad[k].dot(v[k] * inv_dt + f[k] * w[k]);
     }
     if a > epsilon && a.is_finite() {
@@ -123,6 +128,7 @@ mod tests {
         let lambda = implicit_lambda(
             c,
             &grad,
+            &[1.0; 4],
             &[1.0; 4],
             &[DVec3::ZERO; 4],
             &[DVec3::ZERO; 4],

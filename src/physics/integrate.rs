@@ -12,23 +12,52 @@ pub fn symplectic_euler<V: Vector>(x: V, v: V, f: V, w: V::Real, dt: V::Real) ->
     (x + v1 * dt, v1)
 }
 
-/// The floor plane `y = 0`: a node strictly below it is put back on it, its normal (Y)
-/// velocity is clamped to be non-negative and its tangential velocity is scaled by
-/// `1 - friction`. Nodes on or above the floor are returned unchanged. Returns `(x', v')`.
+/// Floor contact (physics.md, second edition, "Contact without false restitution"): the floor
+/// `y = 0` as a one-sided constraint `C = y >= 0` on one node, solved exactly in the implicit
+/// framework, so no position is ever projected and no correction turns into velocity.
+///
+/// `y` [m] and `vy` [m/s] are the node's height and vertical velocity at the start of the
+/// step, `fy_other` [N] every other vertical force on it (gravity, springs, constraints), `w`
+/// its inverse mass [1/kg] and `dt` the step [s]. Returns the floor's normal force [N]: the
+/// smallest `n >= 0` with `y + dt (vy + dt w (fy_other + n)) >= 0`, i.e. the node ends the
+/// step on or above the floor and a node at rest on it keeps zero normal velocity. Pinned
+/// nodes (`w = 0`) get none.
 #[inline]
-pub fn resolve_floor<V: Vector>(x: V, v: V, friction: V::Real) -> (V, V) {
-    let height = x.y();
-    let below = height < V::Real::ZERO;
-    if !below {
-        return (x, v);
+pub fn floor_force<R: Real>(y: R, vy: R, fy_other: R, w: R, dt: R) -> R {
+    if w <= R::ZERO {
+        return R::ZERO;
     }
+    let needed = -(y + dt * vy) / (dt * dt * w) - fy_other;
+    needed.max(R::ZERO)
+}
+
+/// Friction of a node in floor contact (its floor force is positive): the tangential part of
+/// `v` (X and Z) is scaled by `1 - friction`, the normal part is kept.
+#[inline]
+pub fn floor_friction<V: Vector>(v: V, friction: V::Real) -> V {
     let up = V::UNIT_Y;
     let vn = v.dot(up);
-    let tangential = v - up * vn;
-    (
-        x - up * height,
-        tangential * (V::Real::ONE - friction) + up * vn.max(V::Real::ZERO),
-    )
+    (v - up * vn) * (V::Real::ONE - friction) + up * vn
+}
+
+/// Symplectic Euler with floor friction: `v' = v + dt w F`; a node in contact (`contact`:
+/// its floor force is positive) loses `friction` of its tangential velocity; then
+/// `x' = x + dt v'`. Returns `(x', v')`.
+#[inline]
+pub fn integrate_node<V: Vector>(
+    x: V,
+    v: V,
+    f: V,
+    w: V::Real,
+    dt: V::Real,
+    contact: bool,
+    friction: V::Real,
+) -> (V, V) {
+    let mut v1 = v + f * (w * dt);
+    if contact {
+        v1 = floor_friction(v1, friction);
+    }
+    (x + v1 * dt, v1)
 }
 
 #[cfg(test)]
@@ -37,22 +66,46 @@ mod tests {
     use glam::{DVec3, Vec3A};
 
     #[test]
-    fn floor_projects_position_and_clamps_velocity() {
-        let (x, v) = resolve_floor(
-            DVec3::new(0.5, -0.01, 2.0),
-            DVec3::new(2.0, -3.0, -4.0),
-            0.25,
-        );
-        assert_eq!(x, DVec3::new(0.5, 0.0, 2.0));
-        assert_eq!(v, DVec3::new(1.5, 0.0, -3.0));
-        let (x, v) = resolve_floor(Vec3A::new(0.0, -1.0, 0.0), Vec3A::new(0.0, 2.0, 1.0), 1.0);
-        assert_eq!((x, v), (Vec3A::ZERO, Vec3A::new(0.0, 2.0, 0.0)));
+    fn floor_force_lands_the_node_on_the_floor() {
+        let (dt, w) = (1e-3, 0.5);
+        // Falling at 2 m/s from 1 mm: it would end at -1 mm - dt^2 w 10; the floor stops it at 0.
+        let n: f64 = floor_force(1e-3, -2.0, -10.0, w, dt);
+        assert!(n > 0.0);
+        let vy = -2.0 + dt * w * (-10.0 + n);
+        assert!((1e-3 + dt * vy).abs() < 1e-15, "ends at {}", 1e-3 + dt * vy);
+        // Resting on the floor under gravity: the floor carries exactly the weight.
+        let n: f64 = floor_force(0.0, 0.0, -9.81 / w, w, dt);
+        assert!((n - 9.81 / w).abs() < 1e-9);
+        // Moving up or high above: no force; pinned: no force.
+        assert_eq!(floor_force(0.0, 1.0, -1.0, w, dt), 0.0);
+        assert_eq!(floor_force(1.0, -1.0, -1.0, w, dt), 0.0);
+        assert_eq!(floor_force(-1.0, -1.0, -1.0, 0.0, dt), 0.0);
     }
 
     #[test]
-    fn nodes_above_floor_are_untouched() {
-        let (x, v) = resolve_floor(DVec3::new(0.0, 0.0, 0.0), DVec3::new(1.0, -1.0, 0.0), 0.5);
-        assert_eq!((x, v), (DVec3::ZERO, DVec3::new(1.0, -1.0, 0.0)));
+    fn friction_scales_tangential_velocity_of_nodes_in_contact() {
+        let v = floor_friction(DVec3::new(2.0, -3.0, -4.0), 0.25);
+        assert_eq!(v, DVec3::new(1.5, -3.0, -3.0));
+        let (x, v) = integrate_node(
+            Vec3A::ZERO,
+            Vec3A::new(2.0, 0.0, 0.0),
+            Vec3A::ZERO,
+            1.0,
+            0.5,
+            true,
+            1.0,
+        );
+        assert_eq!((x, v), (Vec3A::ZERO, Vec3A::ZERO));
+        let (x, _) = integrate_node(
+            Vec3A::ZERO,
+            Vec3A::new(2.0, 0.0, 0.0),
+            Vec3A::ZERO,
+            1.0,
+            0.5,
+            false,
+            1.0,
+        );
+        assert_eq!(x, Vec3A::new(1.0, 0.0, 0.0));
     }
 
     #[test]

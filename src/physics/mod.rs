@@ -8,8 +8,10 @@
 //!    [`volume_constraint`]) reads `x(t)`, `v(t)` and the current `F`, gets its multiplier
 //!    from [`implicit_lambda`] and contributes `-lambda grad_k C` to each of its nodes; the
 //!    per-node sums are combined ([`ConstraintCombine`](crate::params::ConstraintCombine))
-//!    and added to `F`, times `omega`;
-//! 3. [`symplectic_euler`], then [`resolve_floor`].
+//!    and added to `F`, times `omega`; then each node's [`floor_force`] is solved again
+//!    against the new `F` (the floor is a one-sided constraint in the same iterations);
+//! 3. the floor force once more (the only floor solve for springs-only methods), then
+//!    [`integrate_node`]: symplectic Euler, with [`floor_friction`] for nodes in contact.
 //!
 //! Choices the specification leaves open (documented here, in `docs/PHYSICS.md`, and exposed
 //! where they are parameters):
@@ -18,7 +20,8 @@
 //!   [`SimParams::constraint_epsilon`](crate::params::SimParams::constraint_epsilon) is
 //!   skipped (multiplier 0);
 //! - gravity enters `F` as `m g`, so a pinned node (`w = 0`) does not fall;
-//! - the floor acts on nodes strictly below `y = 0`.
+//! - the floor never moves a node: it pushes (never pulls) just enough that the node ends the
+//!   step on `y = 0` or above; a node with a positive floor force is in contact.
 
 mod constraint;
 mod integrate;
@@ -26,6 +29,6 @@ mod real;
 mod spring;
 
 pub use constraint::{distance_constraint, implicit_lambda, tet_volume, volume_constraint};
-pub use integrate::{resolve_floor, symplectic_euler};
+pub use integrate::{floor_force, floor_friction, integrate_node, symplectic_euler};
 pub use real::{Real, Vector};
 pub use spring::spring_force;

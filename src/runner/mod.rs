@@ -20,7 +20,7 @@ use crate::error::{Error, Result};
 use crate::mesh::TetMesh;
 use crate::metrics::{volume_pct, RunRecord};
 use crate::model::{Model, ModelBuilder};
-use crate::params::{ConstraintCombine, Method, Placement, SimParams};
+use crate::params::{Method, Placement, SimParams};
 
 /// How to run one experiment, besides the model and the physics.
 #[derive(Debug, Clone)]
@@ -170,11 +170,7 @@ fn empty_record(
         ks: params.ks,
         kd: params.kd,
         friction: params.friction,
-        combine: match params.combine {
-            ConstraintCombine::Average => "average",
-            ConstraintCombine::Sum => "sum",
-        }
-        .to_string(),
+        combine: params.combine.name().to_string(),
         volume_pct: Vec::with_capacity(options.frames as usize),
         inverted_tets: Vec::with_capacity(options.frames as usize),
         min_volume_pct: 0.0,

@@ -25,9 +25,9 @@ pub fn likely_cause(model: &Model, params: &SimParams) -> String {
     } else {
         let constraint = match (params.method, params.combine) {
             (Method::Distance | Method::Volume, ConstraintCombine::Sum) => {
-                "the summed constraint forces (--combine sum) overshoot: use --combine average or a smaller --omega"
+                "the summed constraint forces (--combine sum) overshoot: use --combine scaled or a smaller --omega"
             }
-            (Method::Distance | Method::Volume, ConstraintCombine::Average) => {
+            (Method::Distance | Method::Volume, ConstraintCombine::Scaled | ConstraintCombine::Average) => {
                 "the constraint forces overshoot (omega, iterations, or collapsed/inverted elements): \
                  try a smaller --omega, a smaller --dt or more --substeps"
             }

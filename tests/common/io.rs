@@ -2,6 +2,8 @@
 //! `mesh_io_props.rs`). Included with `#[path = "common/io.rs"] mod io_fixtures;`.
 #![allow(dead_code)]
 
+#[path = "skip.rs"]
+mod skip;
 use glam::DVec3;
 use std::path::{Path, PathBuf};
 use tetrasim::mesh::SurfaceMesh;
@@ -60,10 +62,10 @@ pub fn shared_meshes() -> Option<PathBuf> {
     if dir.is_dir() {
         Some(dir)
     } else {
-        eprintln!(
-            "SKIPPED: {} is missing; the real-scan reading tests did not run",
+        skip::skipped(&format!(
+            "{} is missing; the real-scan reading tests did not run",
             dir.display()
-        );
+        ));
         None
     }
 }

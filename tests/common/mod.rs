@@ -1,6 +1,8 @@
 //! Shared test fixtures: meshes made in code, models and parameter sets.
 #![allow(dead_code)]
 
+pub mod skip;
+
 use glam::DVec3;
 use tetrasim::backend::{Backend, State};
 use tetrasim::mesh::grid::{box_tets, grid_tets};

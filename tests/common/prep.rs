@@ -2,6 +2,8 @@
 //! `bad_input_meshing.rs`). Included with `#[path = "common/prep.rs"] mod prep_fixtures;`.
 #![allow(dead_code)]
 
+#[path = "skip.rs"]
+mod skip;
 use glam::DVec3;
 use std::path::PathBuf;
 use tetrasim::mesh::{shapes, tet_signed_volume, SurfaceMesh, TetMesh};
@@ -48,10 +50,10 @@ pub fn scan(name: &str) -> Option<PathBuf> {
     if path.is_file() {
         Some(path)
     } else {
-        eprintln!(
-            "SKIPPED: {} is missing (the scans live in ../shared/meshes/)",
+        skip::skipped(&format!(
+            "{} is missing (the scans live in ../shared/meshes/)",
             path.display()
-        );
+        ));
         None
     }
 }

@@ -2,6 +2,11 @@
 //! and backends with the validation layer on.
 #![allow(dead_code)]
 
+// Tests with both `common` and `gpu_support` load this file twice; it holds one function.
+#[allow(clippy::duplicate_mod)]
+#[path = "../common/skip.rs"]
+mod skip;
+
 use glam::DVec3;
 use tetrasim::engine::{EngineOptions, VulkanBackend};
 use tetrasim::mesh::grid::box_tets;
@@ -13,11 +18,11 @@ pub fn vulkan_available() -> bool {
     match tetrasim::gpu::list_devices() {
         Ok(devices) if !devices.is_empty() => true,
         Ok(_) => {
-            println!("SKIPPED: no Vulkan device (install mesa-vulkan-drivers for lavapipe)");
+            skip::skipped("no Vulkan device (install mesa-vulkan-drivers for lavapipe)");
             false
         }
         Err(e) => {
-            println!("SKIPPED: Vulkan is unavailable: {e}");
+            skip::skipped(&format!("Vulkan is unavailable: {e}"));
             false
         }
     }
@@ -61,4 +66,90 @@ pub fn assert_no_validation_messages(backend: &VulkanBackend) {
         messages.len(),
         messages.join("\n")
     );
+}
+
+/// Runs `f` on each backend for `model` and `params`: `cpu-ref`, `cpu`, and `vulkan` (with
+/// the validation layer on, which must stay silent) when a Vulkan device exists. Without one
+/// the `vulkan` case is skipped with a message, and fails under `CI=true`.
+pub fn for_each_backend(
+    model: &Model,
+    params: &SimParams,
+    mut f: impl FnMut(&str, &mut dyn tetrasim::Backend),
+) {
+    use tetrasim::cpu::{ParallelBackend, ReferenceBackend};
+    f(
+        "cpu-ref",
+        &mut ReferenceBackend::new(model, params).unwrap(),
+    );
+    f("cpu", &mut ParallelBackend::new(model, params).unwrap());
+    if vulkan_available() {
+        let mut gpu = validated(model, params);
+        f("vulkan", &mut gpu);
+        assert_no_validation_messages(&gpu);
+    }
+}
+
+/// `model` with every node moved by up to `amount` [m] per axis and given a velocity of up
+/// to `speed` [m/s] per axis (deterministic), its rest data unchanged: a deformed, moving start
+/// that every backend takes from the model.
+pub fn jittered(model: &Model, amount: f64, speed: f64, seed: u64) -> Model {
+    let mut out = model.clone();
+    for (i, (x, v)) in out
+        .positions
+        .iter_mut()
+        .zip(out.velocities.iter_mut())
+        .enumerate()
+    {
+        let k = seed.wrapping_mul(1 << 20) + 2 * i as u64;
+        *x += noise3(k) * amount;
+        if out.inv_mass[i] > 0.0 {
+            *v += noise3(k + 1) * speed;
+        }
+    }
+    out
+}
+
+/// A deterministic pseudo-random vector with components in [-1, 1) (splitmix64).
+pub fn noise3(i: u64) -> DVec3 {
+    let f = |i: u64| {
+        let mut z = i.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    };
+    DVec3::new(f(3 * i), f(3 * i + 1), f(3 * i + 2))
+}
+
+/// The bundled TetGen sphere (`meshes/sphere`: 823 nodes, 2857 tets).
+pub fn bundled_sphere() -> tetrasim::TetMesh {
+    let prefix = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/sphere");
+    tetrasim::mesh::io::read_tetgen(&prefix).unwrap()
+}
+
+/// Mass-weighted centre, linear momentum `sum m v` and angular momentum about the origin
+/// `sum m x x v` of a state.
+pub fn momenta(state: &tetrasim::State, mass: &[f64]) -> (DVec3, DVec3, DVec3) {
+    let total: f64 = mass.iter().sum();
+    let mut com = DVec3::ZERO;
+    let mut p = DVec3::ZERO;
+    let mut l = DVec3::ZERO;
+    for ((x, v), &m) in state.positions.iter().zip(&state.velocities).zip(mass) {
+        com += *x * m;
+        p += *v * m;
+        l += x.cross(*v) * m;
+    }
+    (com / total, p, l)
+}
+
+/// `../shared/meshes` beside the workspace root, or `None` after reporting it missing (a
+/// failure under `CI=true`).
+pub fn shared_meshes() -> Option<std::path::PathBuf> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes");
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        skip::skipped(&format!("{} is missing (the scans)", dir.display()));
+        None
+    }
 }
