@@ -13,7 +13,7 @@ use crate::error::Result;
 use crate::model::{Csr, Model};
 use crate::params::{Method, SimParams};
 use crate::physics::{
-    distance_constraint, floor_force, implicit_lambda, integrate_node, spring_force, tet_volume,
+    distance_constraint, floor_solve, implicit_lambda, integrate_node, spring_force, tet_volume,
     volume_constraint, Vector,
 };
 
@@ -229,13 +229,9 @@ impl ParallelBackend {
             &self.node_spring_ends,
             &self.constraint_scale,
         );
-        let contact = FloorContact {
-            on: self.floor,
-            x: &self.x,
-            v: &self.v,
-            w: &self.inv_mass,
-            dt: self.k.dt,
-        };
+        let contact = self
+            .floor
+            .then_some((&self.x, &self.v, &self.inv_mass, self.k.dt));
         self.f
             .par_iter_mut()
             .zip(self.floor_force.par_iter_mut())
@@ -243,7 +239,9 @@ impl ParallelBackend {
             .with_min_len(CHUNK)
             .for_each(|(i, (f, n))| {
                 *f += gather_ends(ends.row(i), out) * scale[i];
-                contact.solve(i, f, n);
+                if let Some((x, v, w, dt)) = contact {
+                    (*f, *n) = floor_solve(*f, *n, x[i].y, v[i].y, w[i], dt);
+                }
             });
     }
 
@@ -276,13 +274,9 @@ impl ParallelBackend {
             &self.node_tet_corners,
             &self.constraint_scale,
         );
-        let contact = FloorContact {
-            on: self.floor,
-            x: &self.x,
-            v: &self.v,
-            w: &self.inv_mass,
-            dt: self.k.dt,
-        };
+        let contact = self
+            .floor
+            .then_some((&self.x, &self.v, &self.inv_mass, self.k.dt));
         self.f
             .par_iter_mut()
             .zip(self.floor_force.par_iter_mut())
@@ -294,7 +288,9 @@ impl ParallelBackend {
                     sum += out[(e >> 2) as usize][(e & 3) as usize];
                 }
                 *f += sum * scale[i];
-                contact.solve(i, f, n);
+                if let Some((x, v, w, dt)) = contact {
+                    (*f, *n) = floor_solve(*f, *n, x[i].y, v[i].y, w[i], dt);
+                }
             });
     }
 
@@ -312,9 +308,7 @@ impl ParallelBackend {
             .with_min_len(CHUNK)
             .filter_map(|(i, ((x, v), (f, n)))| {
                 if on {
-                    let other = f.y - *n;
-                    *n = floor_force(x.y, v.y, other, w[i], dt);
-                    f.y = other + *n;
+                    (*f, *n) = floor_solve(*f, *n, x.y, v.y, w[i], dt);
                 }
                 let (x1, v1) = integrate_node(*x, *v, *f, w[i], k.dt, *n > 0.0, k.friction);
                 (*x, *v) = (x1, v1);
@@ -341,29 +335,6 @@ impl ParallelBackend {
             }
         }
         self.integrate_pass()
-    }
-}
-
-/// What the per-node floor solve reads: the state at the start of the step.
-#[derive(Clone, Copy)]
-struct FloorContact<'a> {
-    on: bool,
-    x: &'a [Vec3A],
-    v: &'a [Vec3A],
-    w: &'a [f32],
-    dt: f32,
-}
-
-impl FloorContact<'_> {
-    /// Re-solves node `i`'s floor force `n` against its total force `f` (which holds the
-    /// old `n`), updating both.
-    #[inline]
-    fn solve(&self, i: usize, f: &mut Vec3A, n: &mut f32) {
-        if self.on {
-            let other = f.y - *n;
-            *n = floor_force(self.x[i].y, self.v[i].y, other, self.w[i], self.dt);
-            f.y = other + *n;
-        }
     }
 }
 

@@ -9,7 +9,7 @@ use crate::error::Result;
 use crate::model::Model;
 use crate::params::{Method, SimParams};
 use crate::physics::{
-    distance_constraint, floor_force, implicit_lambda, integrate_node, spring_force, tet_volume,
+    distance_constraint, floor_solve, implicit_lambda, integrate_node, spring_force, tet_volume,
     volume_constraint,
 };
 
@@ -125,10 +125,8 @@ impl ReferenceBackend {
             return;
         }
         for (i, (f, n)) in total.iter_mut().zip(floor.iter_mut()).enumerate() {
-            let other = f.y - *n;
             let w = self.model.inv_mass[i];
-            *n = floor_force(self.x[i].y, self.v[i].y, other, w, self.params.dt);
-            f.y = other + *n;
+            (*f, *n) = floor_solve(*f, *n, self.x[i].y, self.v[i].y, w, self.params.dt);
         }
     }
 

@@ -31,6 +31,24 @@ pub fn floor_force<R: Real>(y: R, vy: R, fy_other: R, w: R, dt: R) -> R {
     needed.max(R::ZERO)
 }
 
+/// Re-solves a node's floor force against its total force `f` [N], which already holds the
+/// floor force `n` found so far (as part of `f.y`): returns the updated `(f, n)`. Every
+/// backend calls this after each constraint sweep and before integrating (`floor_solve` in
+/// glsl/physics/floor.glsl).
+#[inline]
+pub fn floor_solve<V: Vector>(
+    f: V,
+    n: V::Real,
+    y: V::Real,
+    vy: V::Real,
+    w: V::Real,
+    dt: V::Real,
+) -> (V, V::Real) {
+    let other = f.y() - n;
+    let n1 = floor_force(y, vy, other, w, dt);
+    (f + V::UNIT_Y * (n1 - n), n1)
+}
+
 /// Friction of a node in floor contact (its floor force is positive): the tangential part of
 /// `v` (X and Z) is scaled by `1 - friction`, the normal part is kept.
 #[inline]

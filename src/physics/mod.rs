@@ -29,6 +29,6 @@ mod real;
 mod spring;
 
 pub use constraint::{distance_constraint, implicit_lambda, tet_volume, volume_constraint};
-pub use integrate::{floor_force, floor_friction, integrate_node, symplectic_euler};
+pub use integrate::{floor_force, floor_friction, floor_solve, integrate_node, symplectic_euler};
 pub use real::{Real, Vector};
 pub use spring::spring_force;
