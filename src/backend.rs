@@ -22,6 +22,8 @@ pub struct VolumeSample {
     pub volume: f64,
     /// Tets with signed volume <= 0.
     pub inverted: u32,
+    /// Sum over tets of `|V_t - V0_t|` [m^3] (physics.md, "Local volume error").
+    pub local_error: f64,
 }
 
 /// Where and why a run diverged.

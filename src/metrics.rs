@@ -29,6 +29,12 @@ pub fn volume_pct(sample: VolumeSample, rest: f64) -> f64 {
     100.0 * sample.volume / rest
 }
 
+/// The local volume error of a sample in percent of the rest volume `rest` [m^3]:
+/// `100 sum_t |V_t - V0_t| / sum_t V0_t` (physics.md, "Local volume error").
+pub fn local_error_pct(sample: VolumeSample, rest: f64) -> f64 {
+    100.0 * sample.local_error / rest
+}
+
 /// Everything recorded about one method's run; serialised as one JSON object. Never holds a
 /// NaN: a run that goes non-finite stops, keeps the frames before, and sets `diverged`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -65,16 +71,36 @@ pub struct RunRecord {
     pub friction: f64,
     /// Constraint combination (`scaled`, `sum` or `average`).
     pub combine: String,
+    /// Constraint solver (`jacobi` or `gauss-seidel`; records older than the field were
+    /// `jacobi`).
+    #[serde(default = "jacobi")]
+    pub solver: String,
+    /// Colour groups solved in sequence per iteration (1 for `jacobi`).
+    #[serde(default = "one")]
+    pub groups: u32,
+    /// Whether a global volume constraint per object was solved too.
+    #[serde(default)]
+    pub global_volume: bool,
     /// Volume percentage after each completed frame.
     pub volume_pct: Vec<f64>,
     /// Inverted tets after each completed frame.
     pub inverted_tets: Vec<u32>,
+    /// Local volume error after each completed frame [%] (`100 sum_t |V_t - V0_t| /
+    /// sum_t V0_t`; empty in records older than the field).
+    #[serde(default)]
+    pub local_error_pct: Vec<f64>,
     /// Minimum of `volume_pct` (0 when no frame completed).
     pub min_volume_pct: f64,
     /// Average of `volume_pct` (0 when no frame completed).
     pub avg_volume_pct: f64,
     /// Inverted tets at the worst frame (the one with the most).
     pub max_inverted_tets: u32,
+    /// Average of `local_error_pct` (0 when no frame completed).
+    #[serde(default)]
+    pub avg_local_error_pct: f64,
+    /// Maximum of `local_error_pct` (0 when no frame completed).
+    #[serde(default)]
+    pub max_local_error_pct: f64,
     /// Mean wall time of one frame's simulation (`step_frame`, no volume sampling) [ms].
     pub ms_per_frame: f64,
     /// Wall time of the whole run, sampling and output included [s].
@@ -92,6 +118,14 @@ pub struct RunRecord {
     /// GPU time per frame of each pass [ms] (`vulkan` only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub passes: Option<BTreeMap<String, f64>>,
+}
+
+fn jacobi() -> String {
+    "jacobi".into()
+}
+
+fn one() -> u32 {
+    1
 }
 
 impl RunRecord {
@@ -112,17 +146,32 @@ impl RunRecord {
             self.avg_volume_pct = self.volume_pct.iter().sum::<f64>() / n as f64;
         }
         self.max_inverted_tets = self.inverted_tets.iter().copied().max().unwrap_or(0);
+        let local = &self.local_error_pct;
+        self.avg_local_error_pct = match local.len() {
+            0 => 0.0,
+            n => local.iter().sum::<f64>() / n as f64,
+        };
+        self.max_local_error_pct = local.iter().copied().fold(0.0, f64::max);
     }
 }
 
-/// The paper-style table: per run, min and average volume %, inverted tets at the worst frame,
-/// ms per frame, and the paper's average for the method.
+/// The paper-style table: per run, min and average volume %, the local volume error's
+/// average and maximum, inverted tets at the worst frame, ms per frame, and the paper's
+/// average for the method.
 pub fn table(records: &[RunRecord]) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "{:<9} {:<8} {:>10} {:>10} {:>9} {:>9} {:>10}  note",
-        "method", "backend", "min vol %", "avg vol %", "inverted", "ms/frame", "paper avg"
+        "{:<9} {:<8} {:>10} {:>10} {:>11} {:>11} {:>9} {:>9} {:>10}  note",
+        "method",
+        "backend",
+        "min vol %",
+        "avg vol %",
+        "avg local %",
+        "max local %",
+        "inverted",
+        "ms/frame",
+        "paper avg"
     );
     for r in records {
         let paper = paper_avg_volume_pct(&r.method).map_or("-".to_string(), |p| format!("{p:.2}"));
@@ -133,11 +182,13 @@ pub fn table(records: &[RunRecord]) -> String {
         };
         let _ = writeln!(
             out,
-            "{:<9} {:<8} {:>10.2} {:>10.2} {:>9} {:>9.3} {:>10}  {note}",
+            "{:<9} {:<8} {:>10.2} {:>10.2} {:>11.3} {:>11.3} {:>9} {:>9.3} {:>10}  {note}",
             r.method,
             r.backend,
             r.min_volume_pct,
             r.avg_volume_pct,
+            r.avg_local_error_pct,
+            r.max_local_error_pct,
             r.max_inverted_tets,
             r.ms_per_frame,
             paper
@@ -148,12 +199,13 @@ pub fn table(records: &[RunRecord]) -> String {
 
 /// Position of a pass in a time step, for printing passes in execution order.
 fn pass_rank(name: &str) -> usize {
-    const ORDER: [&str; 8] = [
+    const ORDER: [&str; 9] = [
         "spring_scatter",
         "spring_gather",
         "distance",
         "volume",
         "constraint_apply",
+        "global_volume",
         "integrate",
         "check",
         "volume_sum",
@@ -222,11 +274,17 @@ mod tests {
             kd: 15.0,
             friction: 0.0,
             combine: "scaled".into(),
+            solver: "gauss-seidel".into(),
+            groups: 8,
+            global_volume: false,
+            local_error_pct: pct.iter().map(|p| (100.0 - p) / 2.0).collect(),
             volume_pct: pct,
             inverted_tets: inverted,
             min_volume_pct: f64::NAN,
             avg_volume_pct: f64::NAN,
             max_inverted_tets: 0,
+            avg_local_error_pct: f64::NAN,
+            max_local_error_pct: f64::NAN,
             ms_per_frame: 0.5,
             wall_s: 0.01,
             diverged: false,
@@ -251,11 +309,13 @@ mod tests {
             ),
             (94.0, 97.0, 3, 4)
         );
+        assert_eq!((r.avg_local_error_pct, r.max_local_error_pct), (1.5, 3.0));
         let text = table(&[r]);
         assert!(
             text.contains("94.00") && text.contains("97.00") && text.contains("98.70"),
             "{text}"
         );
+        assert!(text.contains("1.500") && text.contains("3.000"), "{text}");
     }
 
     #[test]
@@ -267,5 +327,6 @@ mod tests {
             "{json}"
         );
         assert_eq!((r.min_volume_pct, r.avg_volume_pct), (0.0, 0.0));
+        assert_eq!((r.avg_local_error_pct, r.max_local_error_pct), (0.0, 0.0));
     }
 }

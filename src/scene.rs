@@ -10,6 +10,10 @@
 //! iterations = 10
 //! omega = 1.0
 //! combine = "scaled" # momentum-conserving (default), or "sum", or "average" (first edition)
+//! solver = "gauss-seidel" # colour groups (default), or "jacobi" (the paper's method)
+//! groups = 8          # colour groups of gauss-seidel
+//! global_volume = true  # one global volume constraint per object (default: on for
+//!                       # gauss-seidel, off for jacobi)
 //! atomics = "auto"    # or "ext", "cas"
 //! epsilon = 1e-20     # skip a constraint whose denominator A is at or below this
 //! gravity = 9.81      # m/s^2, along -Y
@@ -42,7 +46,8 @@ use serde::Deserialize;
 
 use crate::error::{Error, Result};
 use crate::params::{
-    AtomicsMode, ConstraintCombine, MassMode, Method, Placement, SimParams, SEED_FRAMES,
+    AtomicsMode, ConstraintCombine, MassMode, Method, Placement, SimParams, Solver as SolverKind,
+    SEED_FRAMES,
 };
 
 /// A whole scene as read from a file (paths already resolved against the file's folder).
@@ -77,6 +82,12 @@ pub struct Solver {
     pub omega: f64,
     /// Per-node combination of constraint forces.
     pub combine: ConstraintCombine,
+    /// How each iteration sweeps the constraints.
+    pub solver: SolverKind,
+    /// Colour groups of the Gauss-Seidel solver.
+    pub groups: u32,
+    /// One global volume constraint per object (`None`: the solver's default).
+    pub global_volume: Option<bool>,
     /// Float-atomic path on the GPU.
     pub atomics: AtomicsMode,
     /// Skip a constraint whose denominator `A` is at or below this
@@ -97,6 +108,9 @@ impl Default for Solver {
             iterations: p.iterations,
             omega: p.omega,
             combine: p.combine,
+            solver: p.solver,
+            groups: p.groups,
+            global_volume: p.global_volume,
             atomics: p.atomics,
             epsilon: p.constraint_epsilon,
             gravity: p.gravity,
@@ -355,6 +369,9 @@ impl Scene {
             friction: floor.unwrap_or(0.0),
             mass,
             combine: s.combine,
+            solver: s.solver,
+            groups: s.groups,
+            global_volume: s.global_volume,
             constraint_epsilon: s.epsilon,
             atomics: s.atomics,
         }

@@ -1,6 +1,9 @@
 //! Every backend follows `cpu-ref` away from the defaults too: over-relaxation, plain
-//! summation, substeps on a deformed body, friction, pinned nodes and density masses, each on
-//! a small ball dropped from 1 cm so that the floor is part of every run (60 frames).
+//! summation, substeps on a deformed body, friction, pinned nodes (with the Jacobi solver, so
+//! that the held ball sags onto the floor), density masses, Gauss-Seidel with 3 and with
+//! all colour groups, and the global volume constraint with either solver (on two objects,
+//! one constraint each), each on a small ball dropped from 1 cm so that the floor is part
+//! of every run (60 frames).
 //!
 //! Tolerances: every node within 1e-5 of the bounding-box diagonal and every frame's volume
 //! within 1e-3 percentage points (f32 against f64; the default settings measure about 1e-7
@@ -11,7 +14,7 @@ mod gpu_support;
 use glam::DVec3;
 use tetrasim::cpu::ReferenceBackend;
 use tetrasim::mesh::grid::grid_tets;
-use tetrasim::params::{ConstraintCombine, MassMode, Method, Placement};
+use tetrasim::params::{ConstraintCombine, MassMode, Method, Placement, Solver};
 use tetrasim::{Backend, Model, ModelBuilder, SimParams};
 
 const FRAMES: u32 = 60;
@@ -81,7 +84,49 @@ fn cases() -> Vec<(&'static str, Model, SimParams)> {
         (
             "pinned nodes",
             builder(&mesh).pinned(0..12).build().unwrap(),
-            base(Method::Distance),
+            SimParams {
+                solver: Solver::Jacobi,
+                ..base(Method::Distance)
+            },
+        ),
+        (
+            "gauss-seidel, 3 groups, deformed",
+            gpu_support::jittered(&plain, 0.01, 0.3, 5),
+            SimParams {
+                groups: 3,
+                global_volume: Some(false),
+                ..base(Method::Distance)
+            },
+        ),
+        (
+            "gauss-seidel, every colour its own group, deformed",
+            gpu_support::jittered(&plain, 0.01, 0.3, 7),
+            SimParams {
+                groups: 1000,
+                ..base(Method::Volume)
+            },
+        ),
+        (
+            "gauss-seidel + global volume, deformed",
+            gpu_support::jittered(&plain, 0.01, 0.3, 11),
+            SimParams {
+                global_volume: Some(true),
+                ..base(Method::Volume)
+            },
+        ),
+        (
+            "jacobi + global volume, two objects",
+            Model::concat(&[plain.clone(), {
+                let mut m = gpu_support::jittered(&plain, 0.01, 0.3, 13);
+                m.positions.iter_mut().for_each(|p| p.x += 2.0);
+                m
+            }])
+            .unwrap(),
+            SimParams {
+                solver: Solver::Jacobi,
+                global_volume: Some(true),
+                ..base(Method::Distance)
+            },
         ),
         (
             "density masses",

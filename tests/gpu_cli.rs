@@ -59,6 +59,8 @@ fn vulkan_run_reports_device_atomics_and_pass_times() {
             "0",
             "--atomics",
             "cas",
+            "--solver",
+            "jacobi",
             "--validation",
         ])
         .args([

@@ -12,7 +12,7 @@ use std::process::Command;
 
 use common::box_mesh;
 use glam::DVec3;
-use tetrasim::engine::plan::{EnginePlan, PlanCounts};
+use tetrasim::engine::plan::{BufferId, EnginePlan};
 use tetrasim::engine::{EngineOptions, VulkanBackend};
 use tetrasim::launch::stage;
 use tetrasim::mesh::io::write_tetgen;
@@ -111,22 +111,26 @@ fn plan_of(text: &str) -> EnginePlan {
     let dir = tempfile::tempdir().unwrap();
     let scene = Scene::load(&scene_file(dir.path(), "s.toml", text)).unwrap();
     let staged = stage(&scene).unwrap();
-    EnginePlan::new(
-        PlanCounts::of(&staged.model).unwrap(),
+    EnginePlan::for_model(
+        &staged.model,
         &staged.params,
         64,
         scene.output.metrics.is_some(),
     )
+    .unwrap()
 }
 
 const SPRINGS_ONLY: &str = "[[object]]\nmesh = \"box\"\nmethod = \"mss\"\n";
 const VOLUME_FLOOR: &str = "[[object]]\nmesh = \"box\"\nmethod = \"volume\"\n\
     [[collider]]\ntype = \"floor\"\n[output]\nmetrics = \"m.json\"\n";
+const VOLUME_FLOOR_JACOBI: &str = "[solver]\nsolver = \"jacobi\"\n\
+    [[object]]\nmesh = \"box\"\nmethod = \"volume\"\n\
+    [[collider]]\ntype = \"floor\"\n[output]\nmetrics = \"m.json\"\n";
 
 #[test]
 fn springs_only_and_volume_with_floor_plan_differently() {
     let springs = plan_of(SPRINGS_ONLY);
-    let volume = plan_of(VOLUME_FLOOR);
+    let volume = plan_of(VOLUME_FLOOR_JACOBI);
     assert_eq!(
         springs.pass_list(),
         ["spring_scatter", "integrate[no floor]", "check"]
@@ -135,22 +139,22 @@ fn springs_only_and_volume_with_floor_plan_differently() {
         volume.pass_list(),
         [
             "spring_scatter",
-            "10 x (volume, constraint_apply[floor])",
+            "10 x (volume, constraint_apply#sums[floor])",
             "integrate[floor]",
             "check",
             "volume_sum"
         ]
     );
-    // The volume scene adds rest volumes (4 B/tet), constraint sums (16 B/node) and weights
-    // (4 B/node), and copies the partials (8 B per group of 64 tets) every frame.
+    // The Jacobi volume scene adds constraint sums (16 B/node) and degrees (4 B/node), and
+    // copies the partials (16 B per workgroup) every frame; both have the rest volumes.
     let (n, t) = (27u64, 48u64);
     assert_eq!(
         volume.device_bytes() - springs.device_bytes(),
-        4 * t + 16 * n + 4 * n
+        16 * n + 4 * n
     );
     assert_eq!(
         (springs.readback_bytes(), volume.readback_bytes()),
-        (16, 16 + 8)
+        (16, 16 + 16)
     );
     assert_eq!(
         (
@@ -160,6 +164,48 @@ fn springs_only_and_volume_with_floor_plan_differently() {
         (3, 1 + 20 + 1 + 1 + 1)
     );
     assert!(volume.bytes_per_frame() > 5 * springs.bytes_per_frame());
+
+    // The default Gauss-Seidel solver: spring forces gathered, each iteration's two passes
+    // once per colour group and then the global volume constraint (one workgroup for the one
+    // object), the gather path's buffers instead of the atomic sums.
+    let gs = plan_of(VOLUME_FLOOR);
+    let k = gs.groups.len() as u64;
+    assert!(k > 1 && k <= 8, "{k} groups");
+    assert_eq!(gs.groups.iter().sum::<u32>() as u64, t);
+    assert_eq!(
+        gs.pass_list(),
+        [
+            "spring_gather".to_string(),
+            format!(
+                "10 x ({k} groups x (volume#gather, constraint_apply#gather[floor]), \
+                 global_volume[floor])"
+            ),
+            "integrate[floor]".into(),
+            "check".into(),
+            "volume_sum".into()
+        ]
+    );
+    assert_eq!(
+        gs.dispatches_per_frame() as u64,
+        1 + 10 * (2 * k + 1) + 1 + 1 + 1
+    );
+    let global = gs.global.unwrap();
+    assert_eq!((global.objects, global.nodes), (1, 26));
+    assert_eq!(
+        gs.buffer(BufferId::SurfaceFaces).map(|b| b.bytes),
+        Some(16 * u64::from(global.faces))
+    );
+    let gathered = [
+        (BufferId::Degrees, 4 * k * n),
+        (BufferId::GroupMembers, 4 * t),
+        (BufferId::Contributions, 16 * 4 * t),
+        (BufferId::NodeSlotOffsets, 4 * (k * n + 1)),
+        (BufferId::NodeSlotItems, 4 * 4 * t),
+    ];
+    for (id, bytes) in gathered {
+        assert_eq!(gs.buffer(id).map(|b| b.bytes), Some(bytes), "{id:?}");
+    }
+    assert!(!gs.has(BufferId::ConstraintSum));
 }
 
 #[test]
@@ -181,18 +227,28 @@ fn plan_cli_prints_the_pass_lists() {
         );
         String::from_utf8(out.stdout).unwrap()
     };
-    let (a, b) = (print(&a), print(&b));
+    let c = scene_file(dir.path(), "c.toml", VOLUME_FLOOR_JACOBI);
+    let (a, b, c) = (print(&a), print(&b), print(&c));
     assert!(
         a.contains("per time step: spring_scatter -> integrate[no floor]\n"),
         "{a}"
     );
     assert!(
-        b.contains(
-            "per time step: spring_scatter -> 10 x (volume, constraint_apply[floor]) -> integrate[floor]\n"
-        ),
+        b.contains("per time step: spring_gather -> 10 x (")
+            && b.contains(
+                " groups x (volume#gather, constraint_apply#gather[floor]), global_volume[floor]) \
+                 -> integrate[floor]\n"
+            ),
         "{b}"
     );
-    assert!(!a.contains("rest volumes") && b.contains("rest volumes"));
+    assert!(
+        c.contains(
+            "per time step: spring_scatter -> 10 x (volume, constraint_apply#sums[floor]) -> integrate[floor]\n"
+        ),
+        "{c}"
+    );
+    assert!(!a.contains("constraint degrees") && b.contains("group members"));
+    assert!(c.contains("constraint sums") && !c.contains("group members"));
 }
 
 #[test]

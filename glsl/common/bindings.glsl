@@ -30,6 +30,22 @@
 // Divergence status (check.comp): flags (1 non-finite, 2 too fast), first bad node
 // (u32::MAX when none), speed limit [m/s], unused.
 #define B_STATUS 11
+// Gather path (Gauss-Seidel by colour groups, no atomics): per constraint, its index, in
+// group order (groups are contiguous ranges); per constraint corner, in the same order,
+// vec4 -lambda grad_k C; per group and node, the CSR of the node's slots in that group
+// (offsets: groups * N + 1; items: indices into the contributions).
+#define B_GROUP_MEMBERS 12
+#define B_CONTRIBUTIONS 13
+#define B_NODE_SLOT_OFFSETS 14
+#define B_NODE_SLOT_ITEMS 15
+// Global volume constraints: per object a GlobalObject; the surface nodes (node indices,
+// object after object); the outward boundary faces (uvec4: three node indices, 0); per
+// surface node (its position in SurfaceNodes), the CSR of its face corners (3 face + corner).
+#define B_GLOBAL_OBJECTS 16
+#define B_SURFACE_NODES 17
+#define B_SURFACE_FACES 18
+#define B_NODE_FACE_OFFSETS 19
+#define B_NODE_FACE_ITEMS 20
 
 // Values of pc.combine (src/gpu/layout.rs, `combine`).
 #define COMBINE_SCALED 0u
@@ -48,6 +64,20 @@ struct Spring {
 struct VolumePartial {
     float volume;
     uint inverted;
+    float local_error; // sum of |V_t - V0_t| [m^3]
+    uint pad;
+};
+
+// One object's global volume constraint (src/gpu/layout.rs, `GpuGlobalObject`).
+struct GlobalObject {
+    uint node_first;   // first position in SurfaceNodes
+    uint node_count;
+    uint face_first;   // first position in SurfaceFaces
+    uint face_count;
+    float rest_volume; // sum of its tets' rest volumes [m^3]
+    uint pad0;
+    uint pad1;
+    uint pad2;
 };
 
 // Derived from SimParams (src/gpu/layout.rs, `PushConstants::from_params`).
@@ -64,7 +94,15 @@ layout(push_constant, std430) uniform PushConstants {
     uint tet_count;
     float epsilon;   // constraints with A <= epsilon are skipped (constraint_epsilon)
     uint combine;    // COMBINE_SCALED, COMBINE_SUM or COMBINE_AVERAGE
+    uint group;       // constraint group being solved (0 for Jacobi)
+    uint group_first; // its first position in the group-ordered constraints (gather path)
+    uint group_count; // its constraint count (gather path)
 } pc;
+
+// Index of node i's per-group data (degrees, slot rows) in the current group.
+uint group_node(uint i) {
+    return pc.group * pc.node_count + i;
+}
 
 // Workgroup size along X, chosen by the host from the device limits.
 layout(local_size_x_id = 0) in;

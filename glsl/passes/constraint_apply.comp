@@ -1,9 +1,14 @@
 #version 460
-// Pass `constraint_apply`: ends one Jacobi iteration. Per node,
+// Pass `constraint_apply`: ends the sweep of one constraint group. Per node,
 // F += omega * weight * sum, where weight is the combine mode's apply weight (1, or
-// 1 / d_k for the first edition's averaging; physics.md), clears the sum, then re-solves
-// the node's floor contact against the new F (the floor is a one-sided constraint solved in
+// 1 / d_k for the first edition's averaging; physics.md) and sum the node's constraint
+// forces of the group: variant `sums` (atomic Jacobi) reads and clears the per-node sums
+// the atomics built; variant `gather` sums the node's contribution slots of group
+// pc.group in a fixed order (no atomics, bit-identical reruns). Then the node's floor
+// contact is solved again against the new F (the floor is a one-sided constraint solved in
 // the same iterations; its force is kept in F.w).
+// @variant sums: SUMS
+// @variant gather: GATHER
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/implicit.glsl"
@@ -16,21 +21,37 @@ layout(constant_id = 1) const uint FLOOR = 1u;
 layout(std430, set = 0, binding = B_POSITIONS) readonly restrict buffer Positions { vec4 positions[]; };
 layout(std430, set = 0, binding = B_VELOCITIES) readonly restrict buffer Velocities { vec4 velocities[]; };
 layout(std430, set = 0, binding = B_FORCES) restrict buffer Forces { vec4 forces[]; };
-layout(std430, set = 0, binding = B_CONSTRAINT_SUM) restrict buffer Sum { vec4 sums[]; };
 layout(std430, set = 0, binding = B_CONSTRAINT_DEGREE) readonly restrict buffer Degrees { float degrees[]; };
+#ifdef GATHER
+layout(std430, set = 0, binding = B_CONTRIBUTIONS) readonly restrict buffer Contributions { vec4 contributions[]; };
+layout(std430, set = 0, binding = B_NODE_SLOT_OFFSETS) readonly restrict buffer NodeSlotOffsets { uint node_slot_offsets[]; };
+layout(std430, set = 0, binding = B_NODE_SLOT_ITEMS) readonly restrict buffer NodeSlotItems { uint node_slot_items[]; };
+#else
+layout(std430, set = 0, binding = B_CONSTRAINT_SUM) restrict buffer Sum { vec4 sums[]; };
+#endif
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= pc.node_count) {
         return;
     }
-    float weight = pc.omega * combine_apply_weight(pc.combine, degrees[i]);
+    uint row = group_node(i);
+#ifdef GATHER
+    vec3 sum = vec3(0.0);
+    uint end = node_slot_offsets[row + 1u];
+    for (uint e = node_slot_offsets[row]; e < end; ++e) {
+        sum += contributions[node_slot_items[e]].xyz;
+    }
+#else
+    vec3 sum = sums[i].xyz;
+    sums[i] = vec4(0.0);
+#endif
+    float weight = pc.omega * combine_apply_weight(pc.combine, degrees[row]);
     vec4 f = forces[i];
-    f.xyz += weight * sums[i].xyz;
+    f.xyz += weight * sum;
     if (FLOOR != 0u && pc.floor_on != 0u) {
         vec4 p = positions[i];
         f = floor_solve(f, p.y, velocities[i].y, p.w, pc.dt);
     }
     forces[i] = f;
-    sums[i] = vec4(0.0);
 }

@@ -1,14 +1,18 @@
 #version 460
-// Pass `volume`: one Jacobi iteration of the implicit volume constraint (physics.md), one
-// invocation per tet. Reads x(t), v(t) and the step's current F; adds -lambda grad_k C to
-// the four nodes' constraint sums with float atomics (`constraint_apply` folds them into F).
+// Pass `volume`: one Jacobi sweep of the implicit volume constraint over one constraint
+// group (physics.md), one invocation per tet. Reads x(t), v(t) and the step's current F.
+// Variants `ext`/`cas` (the paper's Jacobi, one group): add -lambda grad_k C to the four
+// nodes' constraint sums with float atomics. Variant `gather` (Gauss-Seidel by colour
+// groups, no atomics): solve group pc.group's tets and write -lambda grad_k C into the
+// tet's four contribution slots; `constraint_apply#gather` sums them per node.
 // @variant ext: ATOMICS_EXT
 // @variant cas: ATOMICS_CAS
+// @variant gather: GATHER
 #include "common/version.glsl"
-#include "common/atomics.glsl"
 #include "common/bindings.glsl"
 #include "physics/volume.glsl"
 #include "physics/implicit.glsl"
+#include "common/constraint_output.glsl"
 
 layout(std430, set = 0, binding = B_POSITIONS) readonly restrict buffer Positions { vec4 positions[]; };
 layout(std430, set = 0, binding = B_VELOCITIES) readonly restrict buffer Velocities { vec4 velocities[]; };
@@ -16,13 +20,11 @@ layout(std430, set = 0, binding = B_FORCES) readonly restrict buffer Forces { ve
 layout(std430, set = 0, binding = B_TETS) readonly restrict buffer Tets { uvec4 tets[]; };
 layout(std430, set = 0, binding = B_REST_VOLUMES) readonly restrict buffer RestVolumes { float rest_volumes[]; };
 layout(std430, set = 0, binding = B_CONSTRAINT_DEGREE) readonly restrict buffer Degrees { float degrees[]; };
-layout(std430, set = 0, binding = B_CONSTRAINT_SUM) buffer SumF { float sum_f[]; };
-layout(std430, set = 0, binding = B_CONSTRAINT_SUM) buffer SumU { uint sum_u[]; };
-DECLARE_ATOMIC_ADD_CAS(sum_u)
 
 void main() {
-    uint t = gl_GlobalInvocationID.x;
-    if (t >= pc.tet_count) {
+    uint position;
+    uint t;
+    if (!constraint_of_invocation(gl_GlobalInvocationID.x, pc.tet_count, position, t)) {
         return;
     }
     uvec4 tet = tets[t];
@@ -33,13 +35,11 @@ void main() {
     float b = 0.0;
     for (int k = 0; k < 4; ++k) {
         uint node = tet[k];
-        implicit_accumulate(a, b, g[k], p[k].w, combine_a_scale(pc.combine, degrees[node]), velocities[node].xyz, forces[node].xyz, pc.dt);
+        implicit_accumulate(a, b, g[k], p[k].w, combine_a_scale(pc.combine, degrees[group_node(node)]), velocities[node].xyz, forces[node].xyz, pc.dt);
     }
     float c = volume_value(p[0].xyz, p[1].xyz, p[2].xyz, p[3].xyz, rest_volumes[t]);
     float lambda = implicit_lambda(c, a, b, pc.dt, pc.epsilon);
-    if (lambda != 0.0) {
-        for (int k = 0; k < 4; ++k) {
-            ATOMIC_ADD_VEC3(sum_f, sum_u, tet[k], -lambda * g[k]);
-        }
+    for (uint k = 0u; k < 4u; ++k) {
+        constraint_output(position, 4u, k, tet[k], -lambda * g[k], lambda != 0.0);
     }
 }

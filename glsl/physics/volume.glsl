@@ -29,4 +29,16 @@ void volume_gradients(vec3 p1, vec3 p2, vec3 p3, vec3 p4, out vec3 g1, out vec3 
     g1 = -(g2 + g3 + g4);
 }
 
+// One boundary face's share of the enclosed volume measured from the reference point o
+// (face_volume in src/physics/constraint.rs): (a - o) . ((b - o) x (c - o)) / 6 [m^3].
+float face_volume(vec3 a, vec3 b, vec3 c, vec3 o) {
+    return dot(a - o, cross(b - o, c - o)) / 6.0;
+}
+
+// Its gradient with respect to the corner a of the face (a, b, c), in the face's winding:
+// (b - o) x (c - o) / 6 [m^2] (the other corners' by rotating the arguments).
+vec3 face_volume_gradient(vec3 b, vec3 c, vec3 o) {
+    return cross(b - o, c - o) / 6.0;
+}
+
 #endif

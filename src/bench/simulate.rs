@@ -12,7 +12,7 @@ use crate::backend::{Backend, Divergence, GpuReport};
 use crate::engine::{EngineOptions, VulkanBackend};
 use crate::error::{Error, Result};
 use crate::gpu::{Context, ContextOptions};
-use crate::metrics::volume_pct;
+use crate::metrics::{local_error_pct, volume_pct};
 use crate::model::Model;
 use crate::params::SimParams;
 use crate::runner::create_backend;
@@ -134,6 +134,8 @@ pub struct Simulation {
     pub volume_pct: Vec<f64>,
     /// Inverted tets after every completed frame.
     pub inverted: Vec<u32>,
+    /// Local volume error after every completed frame [%].
+    pub local_error_pct: Vec<f64>,
     /// Positions at [`SimulateOptions::sample_frames`] (fewer when the run diverged).
     pub samples: Vec<Sample>,
     /// Where and why the run diverged, if it did.
@@ -161,6 +163,7 @@ pub fn simulate(
         frame_ms: Vec::with_capacity(options.frames as usize),
         volume_pct: Vec::with_capacity(total as usize),
         inverted: Vec::with_capacity(total as usize),
+        local_error_pct: Vec::with_capacity(total as usize),
         samples: Vec::with_capacity(sample_frames.len()),
         divergence: None,
         gpu: None,
@@ -199,6 +202,7 @@ pub fn simulate(
         }
         sim.volume_pct.push(pct);
         sim.inverted.push(sample.inverted);
+        sim.local_error_pct.push(local_error_pct(sample, rest));
         if sample_frames.contains(&(frame + 1)) {
             sim.samples.push(Sample {
                 frame: frame + 1,

@@ -45,12 +45,7 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
             None => {
                 let wg = args.workgroup_size.unwrap_or(FALLBACK_WORKGROUP);
                 eprintln!("no Vulkan device: planning for workgroup size {wg}");
-                EnginePlan::new(
-                    crate::engine::plan::PlanCounts::of(&staged.model)?,
-                    &params,
-                    wg,
-                    !options.volume_on_demand,
-                )
+                EnginePlan::for_model(&staged.model, &params, wg, !options.volume_on_demand)?
             }
         };
         print!("{}", plan.render());

@@ -8,7 +8,7 @@ use anyhow::Context as _;
 use crate::engine::EngineOptions;
 use crate::launch::stage;
 use crate::metrics::{pass_table, table, write_json};
-use crate::params::{AtomicsMode, ConstraintCombine, MassMode, Method};
+use crate::params::{AtomicsMode, ConstraintCombine, MassMode, Method, Solver as SolverKind};
 use crate::preset::{Preset, PresetName};
 use crate::runner::{
     run_methods, OutputFormat, RunOptions, SurfaceOutput, DEFAULT_MESH, DEFAULT_TARGET_TETS,
@@ -109,6 +109,18 @@ pub struct RunArgs {
     /// (the paper's literal reading), `average` (first edition, drifts; for comparison).
     #[arg(long, value_enum)]
     pub combine: Option<ConstraintCombine>,
+    /// How each iteration sweeps the constraints: `gauss-seidel` (colour groups, default)
+    /// or `jacobi` (the paper's method).
+    #[arg(long, value_enum)]
+    pub solver: Option<SolverKind>,
+    /// Colour groups of the Gauss-Seidel solver (default 8).
+    #[arg(long)]
+    pub groups: Option<u32>,
+    /// One global volume constraint per object, solved after the local constraints in every
+    /// iteration: `true` (`--global-volume` alone) or `false`; default: on for
+    /// `gauss-seidel`, off for `jacobi` (the paper's method).
+    #[arg(long, num_args = 0..=1, default_missing_value = "true", value_name = "BOOL")]
+    pub global_volume: Option<bool>,
     /// Skip a constraint whose denominator A is at or below this.
     #[arg(long)]
     pub epsilon: Option<f64>,
@@ -145,7 +157,7 @@ pub struct RunArgs {
 }
 
 /// The flags a scene file replaces.
-const SCENE_CONFLICTS: [&str; 22] = [
+const SCENE_CONFLICTS: [&str; 25] = [
     "mesh",
     "method",
     "preset",
@@ -159,6 +171,9 @@ const SCENE_CONFLICTS: [&str; 22] = [
     "friction",
     "gravity",
     "combine",
+    "solver",
+    "groups",
+    "global_volume",
     "epsilon",
     "node_mass",
     "density",
@@ -180,7 +195,7 @@ impl RunArgs {
         }
         set!(frames => p.frames, dt => s.dt, substeps => s.substeps, iterations => s.iterations,
              omega => s.omega, ks => s.ks, kd => s.kd, friction => s.friction, gravity => s.gravity,
-             combine => s.combine, epsilon => s.constraint_epsilon, atomics => s.atomics);
+             combine => s.combine, solver => s.solver, groups => s.groups, epsilon => s.constraint_epsilon, atomics => s.atomics);
         if let Some(mass) = self.node_mass {
             s.mass = MassMode::PerNode { mass };
         }
@@ -189,6 +204,9 @@ impl RunArgs {
         }
         if self.no_floor {
             s.floor = false;
+        }
+        if self.global_volume.is_some() {
+            s.global_volume = self.global_volume;
         }
         if let Some(size) = self.fit_size {
             p.placement.fit_size = Some(size);
@@ -214,6 +232,9 @@ impl RunArgs {
                 iterations: s.iterations,
                 omega: s.omega,
                 combine: s.combine,
+                solver: s.solver,
+                groups: s.groups,
+                global_volume: s.global_volume,
                 atomics: s.atomics,
                 epsilon: s.constraint_epsilon,
                 gravity: s.gravity,

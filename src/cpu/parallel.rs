@@ -7,14 +7,14 @@
 use glam::Vec3A;
 use rayon::prelude::*;
 
-use super::{check_state, diverged, node_tet_corners, Bad};
+use super::{check_state, diverged, Bad};
 use crate::backend::{Backend, State, VolumeSample};
 use crate::error::Result;
-use crate::model::{Csr, Model};
+use crate::model::{Csr, GlobalVolume, Model};
 use crate::params::{Method, SimParams};
 use crate::physics::{
-    distance_constraint, floor_solve, implicit_lambda, integrate_node, spring_force, tet_volume,
-    volume_constraint, Vector,
+    distance_constraint, face_volume, floor_solve, implicit_accumulate, implicit_lambda,
+    implicit_multiplier, integrate_node, spring_force, tet_volume, volume_constraint, Vector,
 };
 
 /// Smallest number of elements one parallel task handles.
@@ -29,6 +29,127 @@ struct Coefficients {
     friction: f32,
     epsilon: f32,
     gravity: Vec3A,
+}
+
+/// Constraint groups with everything their sweeps read, in single precision.
+#[derive(Debug, Clone)]
+struct Groups {
+    /// Row `g`: the constraints of group `g` (their positions in `items` index the
+    /// per-constraint results).
+    members: Csr,
+    /// Row `g * n + i`: node `i`'s result slots in group `g` (`2 p + end` for springs,
+    /// `4 p + corner` for tets; [`crate::model::ConstraintGroups::node_slots`]).
+    slots: Csr,
+    /// Per group and node (`g * n + i`): the scale of the node's inverse mass in `A` (its
+    /// degree within the group for the momentum-conserving scaling, else 1).
+    a_scale: Vec<f32>,
+    /// Per group and node: `omega` times the combine mode's apply weight.
+    apply: Vec<f32>,
+}
+
+impl Groups {
+    fn new(model: &Model, params: &SimParams) -> Option<Self> {
+        let groups = model.constraint_groups(params.method, params.solver, params.groups)?;
+        let n = model.node_count();
+        let slots = match params.method {
+            Method::Distance => groups.node_slots(&model.springs, n),
+            _ => groups.node_slots(&model.tets, n),
+        };
+        let factors: Vec<(f64, f64)> = groups
+            .degree
+            .iter()
+            .map(|&d| params.combine.node_factors(d))
+            .collect();
+        Some(Groups {
+            members: groups.members,
+            slots,
+            a_scale: factors.iter().map(|f| f.0 as f32).collect(),
+            apply: factors
+                .iter()
+                .map(|f| (f.1 * params.omega) as f32)
+                .collect(),
+        })
+    }
+
+    fn len(&self) -> usize {
+        self.members.offsets.len() - 1
+    }
+
+    /// Positions (into `members.items`) of group `g`.
+    fn range(&self, g: usize) -> std::ops::Range<usize> {
+        self.members.offsets[g] as usize..self.members.offsets[g + 1] as usize
+    }
+}
+
+/// The global volume constraints and what a step's iterations share: positions stay at
+/// `x(t)` during the iterations, so each object's `C` and `A` and each surface node's
+/// gradient are computed once per step.
+#[derive(Debug, Clone)]
+struct Global {
+    data: GlobalVolume,
+    inv_mass: Vec<f32>,
+    /// Per surface node (position in `data.nodes`): `grad_k C_g` of its object [m^2].
+    grad: Vec<Vec3A>,
+    /// Per object: `C_g` [m^3] and `A = sum_k w_k |grad_k C_g|^2`.
+    c_and_a: Vec<(f32, f32)>,
+}
+
+impl Global {
+    fn new(model: &Model) -> Self {
+        let data = GlobalVolume::new(model);
+        Global {
+            grad: vec![Vec3A::ZERO; data.nodes.len()],
+            c_and_a: vec![(0.0, 0.0); data.objects.len()],
+            inv_mass: data
+                .nodes
+                .iter()
+                .map(|&i| model.inv_mass[i as usize] as f32)
+                .collect(),
+            data,
+        }
+    }
+
+    /// `C_g`, `A` and the gradients at positions `x`; the reference point of the face
+    /// volumes is each object's first surface node.
+    fn prepare(&mut self, x: &[Vec3A]) {
+        let d = &self.data;
+        let face_terms: Vec<(f32, [Vec3A; 3])> = d
+            .faces
+            .par_iter()
+            .enumerate()
+            .with_min_len(CHUNK)
+            .map(|(f, face)| {
+                let object = d.objects.partition_point(|o| o.face_first as usize <= f) - 1;
+                let o = x[d.nodes[d.objects[object].node_first as usize] as usize];
+                face_volume(face.map(|i| x[i as usize]), o)
+            })
+            .collect();
+        self.grad
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(CHUNK)
+            .for_each(|(k, g)| {
+                *g = d
+                    .node_faces
+                    .row(k)
+                    .iter()
+                    .map(|&e| face_terms[e as usize / 3].1[e as usize % 3])
+                    .sum();
+            });
+        for (o, object) in d.objects.iter().enumerate() {
+            let faces =
+                object.face_first as usize..(object.face_first + object.face_count) as usize;
+            let volume: f64 = face_terms[faces].iter().map(|t| f64::from(t.0)).sum();
+            let nodes =
+                object.node_first as usize..(object.node_first + object.node_count) as usize;
+            let a: f32 = self.grad[nodes.clone()]
+                .iter()
+                .zip(&self.inv_mass[nodes])
+                .map(|(g, &w)| w * g.length_squared())
+                .sum();
+            self.c_and_a[o] = ((volume - object.rest_volume) as f32, a);
+        }
+    }
 }
 
 /// The fast CPU solver (`cpu`).
@@ -47,14 +168,11 @@ pub struct ParallelBackend {
     rest_volume: Vec<f32>,
     /// node -> `2 * spring + end` (end 0 is `springs[s][0]`).
     node_spring_ends: Csr,
-    /// node -> `4 * tet + corner`.
-    node_tet_corners: Csr,
-    /// Scale of each node's inverse mass in a constraint's `A` (its constraint count for
-    /// the momentum-conserving scaling, else 1; `ConstraintCombine::node_factors`).
-    a_scale: Vec<f32>,
-    /// Factor applied to a node's summed constraint forces: `omega` times the combine
-    /// mode's apply weight.
-    constraint_scale: Vec<f32>,
+    /// The method's constraints in the groups solved one after another (`None` for the
+    /// springs-only methods).
+    groups: Option<Groups>,
+    /// The global volume constraints, when solved.
+    global: Option<Global>,
     /// The floor's normal force on each node in the current step [N] (`>= 0`).
     floor_force: Vec<f32>,
     x: Vec<Vec3A>,
@@ -63,7 +181,9 @@ pub struct ParallelBackend {
     f: Vec<Vec3A>,
     /// Per-spring result: force on the spring's end 0 (end 1 gets its negation).
     spring_out: Vec<Vec3A>,
-    /// Per-tet result: force on each corner.
+    /// Per distance constraint, in group order: force on the spring's end 0.
+    distance_out: Vec<Vec3A>,
+    /// Per volume constraint, in group order: force on each corner.
     tet_out: Vec<[Vec3A; 4]>,
     frame: u32,
     /// Divergence speed limit [m/s] ([`crate::stability::speed_limit`]).
@@ -88,17 +208,6 @@ impl ParallelBackend {
                 ends.items.push(2 * s + end);
             }
         }
-        let factors: Vec<(f64, f64)> = model
-            .constraint_degrees(params.method)
-            .unwrap_or_default()
-            .into_iter()
-            .map(|d| params.combine.node_factors(d))
-            .collect();
-        let a_scale = factors.iter().map(|f| f.0 as f32).collect();
-        let constraint_scale = factors
-            .iter()
-            .map(|f| (f.1 * params.omega) as f32)
-            .collect();
         let to32 = |v: &[f64]| v.iter().map(|&a| a as f32).collect::<Vec<f32>>();
         Ok(ParallelBackend {
             method: params.method,
@@ -120,9 +229,8 @@ impl ParallelBackend {
             tets: model.tets.clone(),
             rest_volume: to32(&model.rest_volume),
             node_spring_ends: ends,
-            node_tet_corners: node_tet_corners(model),
-            a_scale,
-            constraint_scale,
+            groups: Groups::new(model, params),
+            global: params.solves_global_volume().then(|| Global::new(model)),
             floor_force: vec![0.0; n],
             x: model
                 .positions
@@ -136,7 +244,14 @@ impl ParallelBackend {
                 .collect(),
             f: vec![Vec3A::ZERO; n],
             spring_out: vec![Vec3A::ZERO; model.springs.len()],
-            tet_out: vec![[Vec3A::ZERO; 4]; model.tets.len()],
+            distance_out: match params.method {
+                Method::Distance => vec![Vec3A::ZERO; model.springs.len()],
+                _ => Vec::new(),
+            },
+            tet_out: match params.method {
+                Method::Volume => vec![[Vec3A::ZERO; 4]; model.tets.len()],
+                _ => Vec::new(),
+            },
             frame: 0,
             speed_limit: crate::stability::speed_limit(model, params) as f32,
             likely: crate::stability::likely_cause(model, params),
@@ -200,16 +315,20 @@ impl ParallelBackend {
             });
     }
 
-    /// One Jacobi sweep of distance constraints, then the per-node gather into `F`.
-    fn distance_pass(&mut self) {
+    /// One Jacobi sweep of group `g`'s distance constraints, then the per-node gather of
+    /// the group's results into `F` and the floor's solve.
+    fn distance_pass(&mut self, groups: &Groups, g: usize) {
         let (x, v, f, w, k) = (&self.x, &self.v, &self.f, &self.inv_mass, self.k);
-        let a_scale = &self.a_scale;
+        let n = x.len();
+        let a_scale = &groups.a_scale[g * n..(g + 1) * n];
         let (springs, rest) = (&self.springs, &self.rest_length);
-        self.spring_out
+        let range = groups.range(g);
+        self.distance_out[range.clone()]
             .par_iter_mut()
-            .enumerate()
+            .zip(groups.members.items[range].par_iter())
             .with_min_len(CHUNK)
-            .for_each(|(s, out)| {
+            .for_each(|(out, &s)| {
+                let s = s as usize;
                 let ids = springs[s].map(|a| a as usize);
                 let (c, grad) = distance_constraint(x[ids[0]], x[ids[1]], rest[s]);
                 let lambda = implicit_lambda(
@@ -224,37 +343,34 @@ impl ParallelBackend {
                 );
                 *out = lambda.map_or(Vec3A::ZERO, |l| grad[0] * -l);
             });
-        let (out, ends, scale) = (
-            &self.spring_out,
-            &self.node_spring_ends,
-            &self.constraint_scale,
-        );
+        let out = &self.distance_out;
         let contact = self
             .floor
-            .then_some((&self.x, &self.v, &self.inv_mass, self.k.dt));
-        self.f
-            .par_iter_mut()
-            .zip(self.floor_force.par_iter_mut())
-            .enumerate()
-            .with_min_len(CHUNK)
-            .for_each(|(i, (f, n))| {
-                *f += gather_ends(ends.row(i), out) * scale[i];
-                if let Some((x, v, w, dt)) = contact {
-                    (*f, *n) = floor_solve(*f, *n, x[i].y, v[i].y, w[i], dt);
-                }
-            });
+            .then_some((&self.x[..], &self.v[..], &self.inv_mass[..], k.dt));
+        apply_group(
+            &mut self.f,
+            &mut self.floor_force,
+            contact,
+            groups,
+            g,
+            |slots| gather_ends(slots, out),
+        );
     }
 
-    /// One Jacobi sweep of volume constraints, then the per-node gather into `F`.
-    fn volume_pass(&mut self) {
+    /// One Jacobi sweep of group `g`'s volume constraints, then the per-node gather of the
+    /// group's results into `F` and the floor's solve.
+    fn volume_pass(&mut self, groups: &Groups, g: usize) {
         let (x, v, f, w, k) = (&self.x, &self.v, &self.f, &self.inv_mass, self.k);
-        let a_scale = &self.a_scale;
+        let n = x.len();
+        let a_scale = &groups.a_scale[g * n..(g + 1) * n];
         let (tets, rest) = (&self.tets, &self.rest_volume);
-        self.tet_out
+        let range = groups.range(g);
+        self.tet_out[range.clone()]
             .par_iter_mut()
-            .enumerate()
+            .zip(groups.members.items[range].par_iter())
             .with_min_len(CHUNK)
-            .for_each(|(t, out)| {
+            .for_each(|(out, &t)| {
+                let t = t as usize;
                 let ids = tets[t].map(|a| a as usize);
                 let (c, grad) = volume_constraint(ids.map(|i| x[i]), rest[t]);
                 let lambda = implicit_lambda(
@@ -269,29 +385,24 @@ impl ParallelBackend {
                 );
                 *out = lambda.map_or([Vec3A::ZERO; 4], |l| grad.map(|g| g * -l));
             });
-        let (out, corners, scale) = (
-            &self.tet_out,
-            &self.node_tet_corners,
-            &self.constraint_scale,
-        );
+        let out = &self.tet_out;
         let contact = self
             .floor
-            .then_some((&self.x, &self.v, &self.inv_mass, self.k.dt));
-        self.f
-            .par_iter_mut()
-            .zip(self.floor_force.par_iter_mut())
-            .enumerate()
-            .with_min_len(CHUNK)
-            .for_each(|(i, (f, n))| {
+            .then_some((&self.x[..], &self.v[..], &self.inv_mass[..], k.dt));
+        apply_group(
+            &mut self.f,
+            &mut self.floor_force,
+            contact,
+            groups,
+            g,
+            |slots| {
                 let mut sum = Vec3A::ZERO;
-                for &e in corners.row(i) {
+                for &e in slots {
                     sum += out[(e >> 2) as usize][(e & 3) as usize];
                 }
-                *f += sum * scale[i];
-                if let Some((x, v, w, dt)) = contact {
-                    (*f, *n) = floor_solve(*f, *n, x[i].y, v[i].y, w[i], dt);
-                }
-            });
+                sum
+            },
+        );
     }
 
     /// Pass `integrate`: the floor's final solve, symplectic Euler with floor friction.
@@ -327,15 +438,91 @@ impl ParallelBackend {
     /// One time step (physics.md steps 1-3).
     fn step(&mut self) -> Option<(usize, Bad)> {
         self.spring_pass();
-        for _ in 0..self.iterations {
-            match self.method {
-                Method::Distance => self.distance_pass(),
-                Method::Volume => self.volume_pass(),
-                Method::Mss | Method::MssNode => break,
-            }
+        let mut global = self.global.take();
+        if let Some(global) = &mut global {
+            global.prepare(&self.x);
         }
+        if let Some(groups) = self.groups.take() {
+            for _ in 0..self.iterations {
+                for g in 0..groups.len() {
+                    match self.method {
+                        Method::Distance => self.distance_pass(&groups, g),
+                        _ => self.volume_pass(&groups, g),
+                    }
+                }
+                if let Some(global) = &global {
+                    self.global_pass(global);
+                }
+            }
+            self.groups = Some(groups);
+        }
+        self.global = global;
         self.integrate_pass()
     }
+
+    /// One iteration's global volume constraints against the current `F`, then the floor's
+    /// solve of the surface nodes.
+    fn global_pass(&mut self, global: &Global) {
+        let (v, w, dt) = (&self.v, &self.inv_mass, self.k.dt);
+        for (o, object) in global.data.objects.iter().enumerate() {
+            let range =
+                object.node_first as usize..(object.node_first + object.node_count) as usize;
+            let nodes = &global.data.nodes[range.clone()];
+            let grad = &global.grad[range];
+            let f = &self.f;
+            // Fixed chunks summed in order: the same result on every run.
+            let partial: Vec<f32> = nodes
+                .par_chunks(CHUNK)
+                .zip(grad.par_chunks(CHUNK))
+                .map(|(nodes, grad)| {
+                    let (mut a, mut b) = (0.0f32, 0.0f32);
+                    for (&i, &g) in nodes.iter().zip(grad) {
+                        let i = i as usize;
+                        implicit_accumulate(&mut a, &mut b, g, w[i], 1.0, v[i], f[i], dt);
+                    }
+                    b
+                })
+                .collect();
+            let b: f32 = partial.iter().sum();
+            let (c, a) = global.c_and_a[o];
+            let lambda = implicit_multiplier(c, a, b, dt, self.k.epsilon).unwrap_or(0.0);
+            for (&i, &g) in nodes.iter().zip(grad) {
+                let i = i as usize;
+                self.f[i] -= g * lambda;
+                if self.floor {
+                    let n = &mut self.floor_force[i];
+                    (self.f[i], *n) = floor_solve(self.f[i], *n, self.x[i].y, v[i].y, w[i], dt);
+                }
+            }
+        }
+    }
+}
+
+/// What the floor's solve reads: positions, velocities, inverse masses and `dt`.
+type Contact<'a> = (&'a [Vec3A], &'a [Vec3A], &'a [f32], f32);
+
+/// Per node `i`: `F += apply * gather(i's slots in group g)`, then the floor's solve
+/// (`contact`: when there is a floor).
+fn apply_group(
+    f: &mut [Vec3A],
+    floor_force: &mut [f32],
+    contact: Option<Contact<'_>>,
+    groups: &Groups,
+    g: usize,
+    gather: impl Fn(&[u32]) -> Vec3A + Sync,
+) {
+    let n = f.len();
+    let apply = &groups.apply[g * n..(g + 1) * n];
+    f.par_iter_mut()
+        .zip(floor_force.par_iter_mut())
+        .enumerate()
+        .with_min_len(CHUNK)
+        .for_each(|(i, (f, fl))| {
+            *f += gather(groups.slots.row(g * n + i)) * apply[i];
+            if let Some((x, v, w, dt)) = contact {
+                (*f, *fl) = floor_solve(*f, *fl, x[i].y, v[i].y, w[i], dt);
+            }
+        });
 }
 
 /// Sum over a node's spring ends of the per-spring results (negated for end 1).
@@ -378,16 +565,25 @@ impl Backend for ParallelBackend {
 
     fn volume(&mut self) -> Result<VolumeSample> {
         let x = &self.x;
-        let (volume, inverted) = self
+        let (volume, inverted, local_error) = self
             .tets
             .par_iter()
+            .zip(self.rest_volume.par_iter())
             .with_min_len(CHUNK)
-            .map(|t| {
+            .map(|(t, &rest)| {
                 let v = tet_volume(t.map(|i| x[i as usize]));
-                (f64::from(v), u32::from(v <= 0.0))
+                (
+                    f64::from(v),
+                    u32::from(v <= 0.0),
+                    f64::from((v - rest).abs()),
+                )
             })
-            .reduce(|| (0.0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
-        Ok(VolumeSample { volume, inverted })
+            .reduce(|| (0.0, 0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2));
+        Ok(VolumeSample {
+            volume,
+            inverted,
+            local_error,
+        })
     }
 
     fn state(&mut self) -> Result<State> {

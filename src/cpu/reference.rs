@@ -6,11 +6,11 @@ use glam::DVec3;
 use super::{check_state, diverged, Bad};
 use crate::backend::{Backend, State, VolumeSample};
 use crate::error::Result;
-use crate::model::Model;
+use crate::model::{ConstraintGroups, GlobalObject, GlobalVolume, Model};
 use crate::params::{Method, SimParams};
 use crate::physics::{
-    distance_constraint, floor_solve, implicit_lambda, integrate_node, spring_force, tet_volume,
-    volume_constraint,
+    distance_constraint, face_volume, floor_solve, implicit_accumulate, implicit_lambda,
+    implicit_multiplier, integrate_node, spring_force, tet_volume, volume_constraint,
 };
 
 /// The forces of steps 1 and 2 of one time step, per node [N]; their sum is the `F` that is
@@ -50,12 +50,30 @@ pub struct ReferenceBackend {
     speed_limit: f64,
     /// The likely cause printed on divergence.
     likely: String,
+    /// The constraints in the groups solved one after another (`None`: springs only).
+    groups: Option<ConstraintGroups>,
+    /// Per group, each node's `(a_scale, apply_weight)` from its degree within the group.
+    group_factors: Vec<Vec<(f64, f64)>>,
+    /// The global volume constraints, when solved.
+    global: Option<GlobalVolume>,
 }
 
 impl ReferenceBackend {
     /// A solver at the model's initial positions and velocities. Fails on invalid parameters.
     pub fn new(model: &Model, params: &SimParams) -> Result<Self> {
         params.validate()?;
+        let groups = model.constraint_groups(params.method, params.solver, params.groups);
+        let n = model.node_count();
+        let group_factors = groups.iter().flat_map(|groups| {
+            (0..groups.len()).map(move |g| {
+                groups
+                    .group_degree(g, n)
+                    .iter()
+                    .map(|&d| params.combine.node_factors(d))
+                    .collect()
+            })
+        });
+        let group_factors = group_factors.collect();
         Ok(ReferenceBackend {
             model: model.clone(),
             params: params.clone(),
@@ -64,6 +82,11 @@ impl ReferenceBackend {
             frame: 0,
             speed_limit: crate::stability::speed_limit(model, params),
             likely: crate::stability::likely_cause(model, params),
+            groups,
+            group_factors,
+            global: params
+                .solves_global_volume()
+                .then(|| GlobalVolume::new(model)),
         })
     }
 
@@ -76,9 +99,10 @@ impl ReferenceBackend {
     }
 
     /// Steps 1 and 2 of a time step at the current state: gravity, springs (spring-centric
-    /// for every method but `mss-node`, which gathers per node), then `iterations` Jacobi
-    /// sweeps of the method's constraints, each followed by the floor's solve, and the
-    /// floor's final solve.
+    /// for every method but `mss-node`, which gathers per node), then `iterations` sweeps of
+    /// the method's constraints, group after group (one group for Jacobi, the colour groups
+    /// for Gauss-Seidel), each group followed by the floor's solve, and the floor's final
+    /// solve.
     pub fn forces(&self) -> Forces {
         let n = self.model.node_count();
         let down = DVec3::new(0.0, -self.params.gravity, 0.0);
@@ -90,23 +114,32 @@ impl ReferenceBackend {
         let mut total: Vec<DVec3> = (0..n).map(|i| gravity[i] + springs[i]).collect();
         let mut constraints = vec![DVec3::ZERO; n];
         let mut floor = vec![0.0; n];
-        if let Some(degree) = self.model.constraint_degrees(self.params.method) {
-            let factors: Vec<(f64, f64)> = degree
-                .iter()
-                .map(|&d| self.params.combine.node_factors(d))
-                .collect();
-            let a_scale: Vec<f64> = factors.iter().map(|f| f.0).collect();
+        if let Some(groups) = &self.groups {
             for _ in 0..self.params.iterations {
-                let sum = match self.params.method {
-                    Method::Distance => self.distance_sweep(&total, &a_scale),
-                    _ => self.volume_sweep(&total, &a_scale),
-                };
-                for i in 0..n {
-                    let delta = sum[i] * (factors[i].1 * self.params.omega);
-                    total[i] += delta;
-                    constraints[i] += delta;
+                for (g, factors) in self.group_factors.iter().enumerate() {
+                    let a_scale: Vec<f64> = factors.iter().map(|f| f.0).collect();
+                    let members = groups.group(g);
+                    let sum = match self.params.method {
+                        Method::Distance => self.distance_sweep(members, &total, &a_scale),
+                        _ => self.volume_sweep(members, &total, &a_scale),
+                    };
+                    for i in 0..n {
+                        let delta = sum[i] * (factors[i].1 * self.params.omega);
+                        total[i] += delta;
+                        constraints[i] += delta;
+                    }
+                    self.floor_solve(&mut total, &mut floor);
                 }
-                self.floor_solve(&mut total, &mut floor);
+                if let Some(global) = &self.global {
+                    for object in &global.objects {
+                        let f = self.global_volume_forces(global, object, &total);
+                        for (&i, f) in global.nodes[object.node_first as usize..].iter().zip(f) {
+                            total[i as usize] += f;
+                            constraints[i as usize] += f;
+                        }
+                    }
+                    self.floor_solve(&mut total, &mut floor);
+                }
             }
         }
         self.floor_solve(&mut total, &mut floor);
@@ -116,6 +149,46 @@ impl ReferenceBackend {
             constraints,
             floor,
         }
+    }
+
+    /// The forces `-lambda grad_k C_g` of `object`'s global volume constraint against the
+    /// total force `f`, one per surface node (in [`GlobalVolume::nodes`] order from the
+    /// object's first). The reference point of the face volumes is the object's first
+    /// surface node.
+    fn global_volume_forces(
+        &self,
+        global: &GlobalVolume,
+        object: &GlobalObject,
+        f: &[DVec3],
+    ) -> Vec<DVec3> {
+        let nodes = &global.nodes[object.node_first as usize..][..object.node_count as usize];
+        let faces = &global.faces[object.face_first as usize..][..object.face_count as usize];
+        let o = self.x[nodes[0] as usize];
+        let mut c = -object.rest_volume;
+        let mut face_grad = Vec::with_capacity(faces.len());
+        for face in faces {
+            let (v, g) = face_volume(face.map(|i| self.x[i as usize]), o);
+            c += v;
+            face_grad.push(g);
+        }
+        let first_face = 3 * object.face_first as usize;
+        let grad: Vec<DVec3> = (0..nodes.len())
+            .map(|k| {
+                let row = global.node_faces.row(object.node_first as usize + k);
+                row.iter()
+                    .map(|&e| face_grad[(e as usize - first_face) / 3][e as usize % 3])
+                    .sum()
+            })
+            .collect();
+        let (mut a, mut b) = (0.0, 0.0);
+        for (&i, &g) in nodes.iter().zip(&grad) {
+            let i = i as usize;
+            let w = self.model.inv_mass[i];
+            implicit_accumulate(&mut a, &mut b, g, w, 1.0, self.v[i], f[i], self.params.dt);
+        }
+        let p = &self.params;
+        let lambda = implicit_multiplier(c, a, b, p.dt, p.constraint_epsilon).unwrap_or(0.0);
+        grad.iter().map(|&g| g * -lambda).collect()
     }
 
     /// Solves every node's floor contact against the current total force `total` (which
@@ -171,12 +244,13 @@ impl ReferenceBackend {
         )
     }
 
-    /// One Jacobi sweep of distance constraints against the force `f`: per-node sums of
-    /// `-lambda grad C`.
-    fn distance_sweep(&self, f: &[DVec3], a_scale: &[f64]) -> Vec<DVec3> {
+    /// One Jacobi sweep of the distance constraints `members` against the force `f`:
+    /// per-node sums of `-lambda grad C`.
+    fn distance_sweep(&self, members: &[u32], f: &[DVec3], a_scale: &[f64]) -> Vec<DVec3> {
         let mut sum = vec![DVec3::ZERO; self.model.node_count()];
-        for (s, &[i, j]) in self.model.springs.iter().enumerate() {
-            let ids = [i as usize, j as usize];
+        for &s in members {
+            let s = s as usize;
+            let ids = self.model.springs[s].map(|i| i as usize);
             let (c, grad) =
                 distance_constraint(self.x[ids[0]], self.x[ids[1]], self.model.rest_length[s]);
             if let Some(lambda) = self.lambda(c, &grad, ids, f, a_scale) {
@@ -188,11 +262,12 @@ impl ReferenceBackend {
         sum
     }
 
-    /// One Jacobi sweep of volume constraints against the force `f`.
-    fn volume_sweep(&self, f: &[DVec3], a_scale: &[f64]) -> Vec<DVec3> {
+    /// One Jacobi sweep of the volume constraints `members` against the force `f`.
+    fn volume_sweep(&self, members: &[u32], f: &[DVec3], a_scale: &[f64]) -> Vec<DVec3> {
         let mut sum = vec![DVec3::ZERO; self.model.node_count()];
-        for (t, tet) in self.model.tets.iter().enumerate() {
-            let ids = tet.map(|i| i as usize);
+        for &t in members {
+            let t = t as usize;
+            let ids = self.model.tets[t].map(|i| i as usize);
             let (c, grad) = volume_constraint(ids.map(|i| self.x[i]), self.model.rest_volume[t]);
             if let Some(lambda) = self.lambda(c, &grad, ids, f, a_scale) {
                 for k in 0..4 {
@@ -281,12 +356,18 @@ impl Backend for ReferenceBackend {
     fn volume(&mut self) -> Result<VolumeSample> {
         let mut volume = 0.0;
         let mut inverted = 0;
-        for tet in &self.model.tets {
+        let mut local_error = 0.0;
+        for (tet, &rest) in self.model.tets.iter().zip(&self.model.rest_volume) {
             let v = tet_volume(tet.map(|i| self.x[i as usize]));
             volume += v;
             inverted += u32::from(v <= 0.0);
+            local_error += (v - rest).abs();
         }
-        Ok(VolumeSample { volume, inverted })
+        Ok(VolumeSample {
+            volume,
+            inverted,
+            local_error,
+        })
     }
 
     fn state(&mut self) -> Result<State> {

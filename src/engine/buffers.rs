@@ -8,10 +8,10 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use super::plan::{BufferId, EnginePlan};
-use crate::gpu::layout::{vec4, GpuSpring};
+use crate::gpu::layout::{vec4, GpuGlobalObject, GpuSpring};
 use crate::gpu::{Buffer, Context};
-use crate::model::Model;
-use crate::params::SimParams;
+use crate::model::{ConstraintGroups, GlobalVolume, Model};
+use crate::params::{Method, SimParams};
 use crate::{Error, Result};
 
 /// Device-local state and rest data, plus the host-visible copy of the volume partials.
@@ -30,8 +30,15 @@ pub(crate) struct SimBuffers {
     pub rest_volumes: Option<Buffer>,
     /// vec4 per node: one iteration's constraint sums (`distance`, `volume`).
     pub constraint_sum: Option<Buffer>,
-    /// float per node: its constraint count `d_k` (`distance`, `volume`).
+    /// float per group and node: its constraint count `d_k` within the group (`distance`,
+    /// `volume`).
     pub degrees: Option<Buffer>,
+    /// The gather path's buffers: group members, contributions, node-slot offsets and
+    /// items (Gauss-Seidel).
+    pub gather: Option<[Buffer; 4]>,
+    /// The global volume constraints' buffers: objects, surface nodes, surface faces,
+    /// node-face offsets and items.
+    pub global: Option<[Buffer; 5]>,
     /// Node -> springs CSR offsets and items (`mss-node`).
     pub node_springs: Option<(Buffer, Buffer)>,
     /// One [`crate::gpu::layout::VolumePartial`] per volume_sum workgroup.
@@ -59,12 +66,15 @@ fn floats(v: &[f64]) -> Vec<f32> {
 }
 
 impl SimBuffers {
-    /// Uploads `model` for `params` as `plan` says; `speed_limit` [m/s] goes into `status`.
+    /// Uploads `model` for `params` as `plan` says, with the method's constraints split into
+    /// `groups` (the groups the plan was made for); `speed_limit` [m/s] goes into `status`.
     pub fn new(
         ctx: &Arc<Context>,
         model: &Model,
         params: &SimParams,
         plan: &EnginePlan,
+        groups: Option<&ConstraintGroups>,
+        global: Option<&GlobalVolume>,
         speed_limit: f32,
     ) -> Result<Self> {
         let n = model.node_count();
@@ -96,14 +106,11 @@ impl SimBuffers {
                 pad: 0.0,
             })
             .collect();
-        let constrained = plan.has(BufferId::Degrees);
-        // Per node: its constraint count d_k as a float; the shaders turn it into the A
-        // scale and apply weight of `ConstraintCombine::node_factors` (push constant
-        // `combine`).
-        let degrees = constrained
-            .then(|| model.constraint_degrees(params.method))
-            .flatten()
-            .map(|d| d.iter().map(|&c| c as f32).collect::<Vec<f32>>());
+        // Per group and node: its constraint count d_k within the group as a float; the
+        // shaders turn it into the A scale and apply weight of
+        // `ConstraintCombine::node_factors` (push constant `combine`).
+        let groups = groups.filter(|_| plan.has(BufferId::Degrees));
+        let degrees = groups.map(|g| g.degree.iter().map(|&c| c as f32).collect::<Vec<f32>>());
         let upload = |id: BufferId, data: &[u8]| Buffer::with_data(ctx, id.name(), data);
         let optional = |id: BufferId, data: &dyn Fn() -> Vec<u8>| -> Result<Option<Buffer>> {
             match plan.has(id) {
@@ -125,6 +132,14 @@ impl SimBuffers {
             constraint_sum: optional(BufferId::ConstraintSum, &|| vec![0u8; n * 16])?,
             degrees: match degrees {
                 Some(w) => Some(upload(BufferId::Degrees, bytes(&w))?),
+                None => None,
+            },
+            gather: match groups.filter(|_| plan.gather) {
+                Some(g) => Some(gather_buffers(ctx, model, params, g)?),
+                None => None,
+            },
+            global: match global.filter(|_| plan.global.is_some()) {
+                Some(g) => Some(global_buffers(ctx, g)?),
                 None => None,
             },
             node_springs: match (
@@ -175,6 +190,15 @@ impl SimBuffers {
             BufferId::NodeSpringItems => self.node_springs.as_ref().map(|b| &b.1),
             BufferId::Partials => Some(&self.partials),
             BufferId::Status => Some(&self.status),
+            BufferId::GroupMembers => self.gather.as_ref().map(|b| &b[0]),
+            BufferId::Contributions => self.gather.as_ref().map(|b| &b[1]),
+            BufferId::NodeSlotOffsets => self.gather.as_ref().map(|b| &b[2]),
+            BufferId::NodeSlotItems => self.gather.as_ref().map(|b| &b[3]),
+            BufferId::GlobalObjects => self.global.as_ref().map(|b| &b[0]),
+            BufferId::SurfaceNodes => self.global.as_ref().map(|b| &b[1]),
+            BufferId::SurfaceFaces => self.global.as_ref().map(|b| &b[2]),
+            BufferId::NodeFaceOffsets => self.global.as_ref().map(|b| &b[3]),
+            BufferId::NodeFaceItems => self.global.as_ref().map(|b| &b[4]),
         }
     }
 
@@ -204,8 +228,59 @@ impl SimBuffers {
     }
 }
 
+/// The gather path's buffers for `groups` of the method's constraints: members in group
+/// order, zeroed contributions (a vec4 per constraint corner), and the per-group node-slot
+/// CSR ([`ConstraintGroups::node_slots`]).
+fn gather_buffers(
+    ctx: &Arc<Context>,
+    model: &Model,
+    params: &SimParams,
+    groups: &ConstraintGroups,
+) -> Result<[Buffer; 4]> {
+    let n = model.node_count();
+    let (slots, corners) = match params.method {
+        Method::Volume => (groups.node_slots(&model.tets, n), 4),
+        _ => (groups.node_slots(&model.springs, n), 2),
+    };
+    let upload = |id: BufferId, data: &[u8]| Buffer::with_data(ctx, id.name(), data);
+    Ok([
+        upload(BufferId::GroupMembers, bytes(&groups.members.items))?,
+        upload(
+            BufferId::Contributions,
+            &vec![0u8; 16 * corners * groups.members.items.len()],
+        )?,
+        upload(BufferId::NodeSlotOffsets, bytes(&slots.offsets))?,
+        upload(BufferId::NodeSlotItems, bytes(&slots.items))?,
+    ])
+}
+
+/// The global volume constraints' buffers ([`GlobalVolume`]).
+fn global_buffers(ctx: &Arc<Context>, global: &GlobalVolume) -> Result<[Buffer; 5]> {
+    let objects: Vec<GpuGlobalObject> = global
+        .objects
+        .iter()
+        .map(|o| GpuGlobalObject {
+            node_first: o.node_first,
+            node_count: o.node_count,
+            face_first: o.face_first,
+            face_count: o.face_count,
+            rest_volume: o.rest_volume as f32,
+            pad: [0; 3],
+        })
+        .collect();
+    let faces: Vec<[u32; 4]> = global.faces.iter().map(|f| [f[0], f[1], f[2], 0]).collect();
+    let upload = |id: BufferId, data: &[u8]| Buffer::with_data(ctx, id.name(), data);
+    Ok([
+        upload(BufferId::GlobalObjects, bytes(&objects))?,
+        upload(BufferId::SurfaceNodes, bytes(&global.nodes))?,
+        upload(BufferId::SurfaceFaces, bytes(&faces))?,
+        upload(BufferId::NodeFaceOffsets, bytes(&global.node_faces.offsets))?,
+        upload(BufferId::NodeFaceItems, bytes(&global.node_faces.items))?,
+    ])
+}
+
 /// Every buffer kind.
-const ALL_BUFFERS: [BufferId; 12] = [
+const ALL_BUFFERS: [BufferId; 21] = [
     BufferId::Positions,
     BufferId::Velocities,
     BufferId::Forces,
@@ -218,4 +293,13 @@ const ALL_BUFFERS: [BufferId; 12] = [
     BufferId::NodeSpringItems,
     BufferId::Partials,
     BufferId::Status,
+    BufferId::GroupMembers,
+    BufferId::Contributions,
+    BufferId::NodeSlotOffsets,
+    BufferId::NodeSlotItems,
+    BufferId::GlobalObjects,
+    BufferId::SurfaceNodes,
+    BufferId::SurfaceFaces,
+    BufferId::NodeFaceOffsets,
+    BufferId::NodeFaceItems,
 ];

@@ -21,11 +21,24 @@ use crate::gpu::layout::{PushConstants, VolumePartial};
 use crate::gpu::{
     AtomicsPath, Buffer, Context, ContextOptions, DeviceInfo, DeviceSelector, PassTime, Timer,
 };
-use crate::model::Model;
+use crate::model::{ConstraintGroups, GlobalVolume, Model};
 use crate::params::SimParams;
 use buffers::SimBuffers;
 use passes::{Passes, Recorder};
-use plan::{EnginePlan, PlanCounts};
+use plan::{EnginePlan, GlobalCounts, PlanCounts};
+
+/// The model's constraint groups and global volume constraints under `params` (what the
+/// plan and the buffers are built from).
+fn constraint_data(
+    model: &Model,
+    params: &SimParams,
+) -> (Option<ConstraintGroups>, Option<GlobalVolume>) {
+    let groups = model.constraint_groups(params.method, params.solver, params.groups);
+    let global = params
+        .solves_global_volume()
+        .then(|| GlobalVolume::new(model));
+    (groups, global)
+}
 
 /// GPU choices that are not physics: which device, validation, workgroup size.
 #[derive(Debug, Clone, Default)]
@@ -98,6 +111,27 @@ impl VulkanBackend {
         params: &SimParams,
         options: &EngineOptions,
     ) -> Result<EnginePlan> {
+        let (groups, global) = constraint_data(model, params);
+        Self::plan_with(
+            info,
+            model,
+            params,
+            options,
+            groups.as_ref(),
+            global.as_ref(),
+        )
+    }
+
+    /// [`Self::plan_for`] with the model's constraint groups and global volume constraints
+    /// already computed.
+    fn plan_with(
+        info: &DeviceInfo,
+        model: &Model,
+        params: &SimParams,
+        options: &EngineOptions,
+        groups: Option<&ConstraintGroups>,
+        global: Option<&GlobalVolume>,
+    ) -> Result<EnginePlan> {
         let wg = options
             .workgroup_size
             .unwrap_or_else(|| info.default_workgroup_size());
@@ -107,6 +141,8 @@ impl VulkanBackend {
             params,
             wg,
             !options.volume_on_demand,
+            &groups.map(ConstraintGroups::sizes).unwrap_or_default(),
+            global.map(GlobalCounts::of),
         ))
     }
 
@@ -120,11 +156,27 @@ impl VulkanBackend {
         params.validate()?;
         let info = ctx.info();
         let atomics = info.atomics_path(params.atomics)?;
-        let plan = Self::plan_for(info, model, params, options)?;
+        let (groups, global) = constraint_data(model, params);
+        let plan = Self::plan_with(
+            info,
+            model,
+            params,
+            options,
+            groups.as_ref(),
+            global.as_ref(),
+        )?;
         let wg = plan.workgroup_size;
         let counts = plan.counts;
         let speed_limit = crate::stability::speed_limit(model, params) as f32;
-        let buffers = SimBuffers::new(&ctx, model, params, &plan, speed_limit)?;
+        let buffers = SimBuffers::new(
+            &ctx,
+            model,
+            params,
+            &plan,
+            groups.as_ref(),
+            global.as_ref(),
+            speed_limit,
+        )?;
         let passes = Passes::new(&ctx, &plan, atomics, &buffers)?;
         let push = PushConstants::new(
             params,
@@ -346,6 +398,7 @@ impl Backend for VulkanBackend {
         Ok(VolumeSample {
             volume: partials.iter().map(|p| f64::from(p.volume)).sum(),
             inverted: partials.iter().map(|p| p.inverted).sum(),
+            local_error: partials.iter().map(|p| f64::from(p.local_error)).sum(),
         })
     }
 

@@ -3,8 +3,14 @@
 //! ```text
 //! for each substep:
 //!     spring_scatter | spring_gather        F = m g + spring forces
-//!     iterations x (distance | volume,      constraint sums from x(t), v(t), F
-//!                   constraint_apply)       F += omega * weight * sum; sum = 0
+//!     iterations x groups x                 (one group for Jacobi, the colour groups
+//!                                           for Gauss-Seidel)
+//!        (distance | volume,                the group's constraint forces from x(t),
+//!                                           v(t), F: atomic sums, or per-constraint slots
+//!         constraint_apply)                 F += omega * weight * (sum | gathered slots);
+//!                                           then the floor's solve
+//!     (global_volume)                       per iteration, after the groups (one
+//!                                           workgroup per object)
 //!     integrate                             v, x, floor (specialised away without one); F = m g
 //! check                                     divergence flags + first bad node -> status
 //! volume_sum (with per-frame metrics)       the frame's volume metric
@@ -47,10 +53,7 @@ impl Pass {
         wg: u32,
         b: &SimBuffers,
     ) -> Result<Self> {
-        let key = match plan.atomics_variant {
-            true => format!("passes/{}.comp#{}", plan.name, atomics.name()),
-            false => format!("passes/{}.comp", plan.name),
-        };
+        let key = plan.shader_key(atomics.name());
         let bindings = plan
             .bindings
             .iter()
@@ -112,7 +115,17 @@ pub(crate) struct Recorder<'a> {
 
 impl Recorder<'_> {
     fn pass(&mut self, pass: &Pass, b: &SimBuffers) -> Result<()> {
-        pass.kernel.record(self.cmd, self.push, pass.plan.elements);
+        self.dispatch(pass, b, self.push, pass.plan.elements)
+    }
+
+    fn dispatch(
+        &mut self,
+        pass: &Pass,
+        b: &SimBuffers,
+        push: &PushConstants,
+        elements: u32,
+    ) -> Result<()> {
+        pass.kernel.record(self.cmd, push, elements);
         if let Some(timer) = self.timer.as_deref_mut() {
             timer.record_mark(self.cmd, pass.plan.name)?;
         }
@@ -126,8 +139,11 @@ impl Recorder<'_> {
         Ok(())
     }
 
-    /// One time step: the plan's substep passes, the iteration group `iterations` times.
-    fn record_step(&mut self, p: &Passes, b: &SimBuffers, iterations: u32) -> Result<()> {
+    /// One time step: the plan's substep passes, the iteration passes `iterations` times,
+    /// each time once per constraint group (the group's index and range in the push
+    /// constants; a per-group pass dispatches only the group's constraints) and then the
+    /// passes that end an iteration (the global volume constraints).
+    fn record_step(&mut self, plan: &EnginePlan, p: &Passes, b: &SimBuffers) -> Result<()> {
         let steps: Vec<&Pass> = p
             .frame
             .iter()
@@ -140,12 +156,33 @@ impl Recorder<'_> {
                     .iter()
                     .position(|q| q.plan.repeat != Repeat::Iteration)
                     .map_or(steps.len(), |e| k + e);
-                for _ in 0..iterations {
-                    for q in &steps[k..end] {
+                let after_end = steps[end..]
+                    .iter()
+                    .position(|q| q.plan.repeat != Repeat::IterationEnd)
+                    .map_or(steps.len(), |e| end + e);
+                for _ in 0..plan.iterations {
+                    let mut first = 0;
+                    for (g, &count) in plan.groups.iter().enumerate() {
+                        let push = PushConstants {
+                            group: g as u32,
+                            group_first: first,
+                            group_count: count,
+                            ..*self.push
+                        };
+                        for q in &steps[k..end] {
+                            let elements = match q.plan.per_group {
+                                true => count,
+                                false => q.plan.elements,
+                            };
+                            self.dispatch(q, b, &push, elements)?;
+                        }
+                        first += count;
+                    }
+                    for q in &steps[end..after_end] {
                         self.pass(q, b)?;
                     }
                 }
-                k = end;
+                k = after_end;
             } else {
                 self.pass(steps[k], b)?;
                 k += 1;
@@ -197,7 +234,7 @@ impl Recorder<'_> {
             timer.record_start(self.cmd);
         }
         for _ in 0..plan.substeps {
-            self.record_step(p, b, plan.iterations)?;
+            self.record_step(plan, p, b)?;
         }
         for q in p.frame.iter().filter(|q| q.plan.repeat == Repeat::Frame) {
             self.pass(q, b)?;

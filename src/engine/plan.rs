@@ -5,16 +5,18 @@
 //! buffer's size against the plan, so `tetrasim plan` (which prints this without a GPU)
 //! cannot drift from the engine.
 //!
-//! What a scene does not use is not built: no rest volumes without `volume`, no constraint
-//! sums or degrees without `distance`/`volume`, no node-spring adjacency without `mss-node`,
-//! no floor test in `integrate` without a floor (specialisation constant 1), and no
-//! `volume_sum` pass or partials copy in the frame without per-frame metrics. The `check`
-//! pass (divergence) and its 16-byte status copy are always there.
+//! What a scene does not use is not built: no degrees without `distance`/`volume`, atomic
+//! constraint sums only for Jacobi and the gather path's buffers (group members,
+//! contributions, node-slot CSR) only for Gauss-Seidel, no node-spring adjacency without
+//! `mss-node` or the gather path, no floor test in `integrate` without a floor
+//! (specialisation constant 1), and no `volume_sum` pass or partials copy in the frame
+//! without per-frame metrics. The `check` pass (divergence) and its 16-byte status copy are
+//! always there, and so are the rest volumes (the local volume error needs them).
 
 use std::fmt::Write as _;
 
 use crate::gpu::layout::binding;
-use crate::params::{Method, SimParams};
+use crate::params::{Method, SimParams, Solver};
 
 /// A GPU buffer of the simulation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -29,20 +31,38 @@ pub enum BufferId {
     Springs,
     /// uvec4 per tet.
     Tets,
-    /// float per tet (`volume`).
+    /// float per tet: rest volume (volume constraints, local volume error).
     RestVolumes,
-    /// vec4 per node (`distance`, `volume`).
+    /// vec4 per node (`distance`, `volume` with Jacobi: the atomic sums).
     ConstraintSum,
-    /// float per node (`distance`, `volume`).
+    /// float per group and node (`distance`, `volume`).
     Degrees,
-    /// N + 1 u32 (`mss-node`).
+    /// N + 1 u32 (`mss-node`, gather path).
     NodeSpringOffsets,
-    /// 2 S u32 (`mss-node`).
+    /// 2 S u32 (`mss-node`, gather path).
     NodeSpringItems,
-    /// 8 bytes per volume_sum workgroup.
+    /// 16 bytes per volume_sum workgroup.
     Partials,
     /// 16 bytes: divergence flags, first bad node, speed limit.
     Status,
+    /// u32 per constraint, in group order (gather path).
+    GroupMembers,
+    /// vec4 per constraint corner, in group order (gather path).
+    Contributions,
+    /// `groups * N + 1` u32 (gather path).
+    NodeSlotOffsets,
+    /// u32 per constraint corner (gather path).
+    NodeSlotItems,
+    /// 32 bytes per object (global volume).
+    GlobalObjects,
+    /// u32 per surface node (global volume).
+    SurfaceNodes,
+    /// uvec4 per boundary face (global volume).
+    SurfaceFaces,
+    /// Surface nodes + 1 u32 (global volume).
+    NodeFaceOffsets,
+    /// 3 u32 per boundary face (global volume).
+    NodeFaceItems,
 }
 
 impl BufferId {
@@ -61,6 +81,15 @@ impl BufferId {
             BufferId::NodeSpringItems => "node-spring items",
             BufferId::Partials => "volume partials",
             BufferId::Status => "divergence status",
+            BufferId::GroupMembers => "group members",
+            BufferId::Contributions => "constraint contributions",
+            BufferId::NodeSlotOffsets => "node-slot offsets",
+            BufferId::NodeSlotItems => "node-slot items",
+            BufferId::GlobalObjects => "global objects",
+            BufferId::SurfaceNodes => "surface nodes",
+            BufferId::SurfaceFaces => "surface faces",
+            BufferId::NodeFaceOffsets => "node-face offsets",
+            BufferId::NodeFaceItems => "node-face items",
         }
     }
 
@@ -79,6 +108,15 @@ impl BufferId {
             BufferId::NodeSpringItems => binding::NODE_SPRING_ITEMS,
             BufferId::Partials => binding::VOLUME_PARTIALS,
             BufferId::Status => binding::STATUS,
+            BufferId::GroupMembers => binding::GROUP_MEMBERS,
+            BufferId::Contributions => binding::CONTRIBUTIONS,
+            BufferId::NodeSlotOffsets => binding::NODE_SLOT_OFFSETS,
+            BufferId::NodeSlotItems => binding::NODE_SLOT_ITEMS,
+            BufferId::GlobalObjects => binding::GLOBAL_OBJECTS,
+            BufferId::SurfaceNodes => binding::SURFACE_NODES,
+            BufferId::SurfaceFaces => binding::SURFACE_FACES,
+            BufferId::NodeFaceOffsets => binding::NODE_FACE_OFFSETS,
+            BufferId::NodeFaceItems => binding::NODE_FACE_ITEMS,
         }
     }
 }
@@ -99,8 +137,11 @@ pub enum Access {
 pub enum Repeat {
     /// Once per time step.
     Substep,
-    /// `iterations` times per time step (consecutive such passes repeat as a group).
+    /// `iterations` times per time step and, within an iteration, once per constraint group
+    /// (consecutive such passes repeat together).
     Iteration,
+    /// Once per iteration, after its constraint groups (the global volume constraints).
+    IterationEnd,
     /// Once per frame, after the last time step.
     Frame,
 }
@@ -116,17 +157,31 @@ pub struct BufferPlan {
     pub readback_bytes: u64,
 }
 
+/// Which compiled variant of a pass's shader runs (build.rs, `// @variant`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Variant {
+    /// The shader has no variants.
+    Plain,
+    /// `#ext` or `#cas`, whichever float-atomic path the device uses.
+    Atomics,
+    /// A named variant, e.g. `gather`.
+    Named(&'static str),
+}
+
 /// One planned compute pass.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PassPlan {
     /// Name in the timing report (the shader's file stem).
     pub name: &'static str,
-    /// Whether the shader has `ext`/`cas` float-atomic variants.
-    pub atomics_variant: bool,
+    /// Which of the shader's variants.
+    pub variant: Variant,
     /// Specialisation constants from id 1 on (id 0 is the workgroup size).
     pub constants: Vec<u32>,
-    /// Invocations (one per node, spring or tet).
+    /// Invocations (one per node, spring or tet; for a constraint pass of the gather path,
+    /// all constraints, of which each dispatch covers one group's).
     pub elements: u32,
+    /// Whether each dispatch covers only the current group's constraints.
+    pub per_group: bool,
     /// Bound buffers and how the pass uses them.
     pub bindings: Vec<(BufferId, Access)>,
     /// How often it runs.
@@ -134,12 +189,26 @@ pub struct PassPlan {
 }
 
 impl PassPlan {
-    /// Name with its specialisation, e.g. `integrate[floor]`.
+    /// Name with its variant and specialisation, e.g. `constraint_apply#gather[floor]`.
     pub fn label(&self) -> String {
-        match (self.name, self.constants.first()) {
-            ("integrate" | "constraint_apply", Some(1)) => format!("{}[floor]", self.name),
-            ("integrate" | "constraint_apply", Some(_)) => format!("{}[no floor]", self.name),
-            _ => self.name.to_string(),
+        let variant = match self.variant {
+            Variant::Named(v) => format!("#{v}"),
+            _ => String::new(),
+        };
+        let floor = match (self.name, self.constants.first()) {
+            ("integrate" | "constraint_apply" | "global_volume", Some(1)) => "[floor]",
+            ("integrate" | "constraint_apply" | "global_volume", Some(_)) => "[no floor]",
+            _ => "",
+        };
+        format!("{}{variant}{floor}", self.name)
+    }
+
+    /// The shader module's key in [`crate::shaders::SHADERS`] for a device on `atomics`.
+    pub fn shader_key(&self, atomics: &str) -> String {
+        match self.variant {
+            Variant::Plain => format!("passes/{}.comp", self.name),
+            Variant::Atomics => format!("passes/{}.comp#{atomics}", self.name),
+            Variant::Named(v) => format!("passes/{}.comp#{v}", self.name),
         }
     }
 }
@@ -171,6 +240,28 @@ impl PlanCounts {
     }
 }
 
+/// Sizes of the global volume constraints ([`crate::model::GlobalVolume`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct GlobalCounts {
+    /// Objects (one constraint and one workgroup each).
+    pub objects: u32,
+    /// Surface nodes of all objects.
+    pub nodes: u32,
+    /// Boundary faces of all objects.
+    pub faces: u32,
+}
+
+impl GlobalCounts {
+    /// The sizes of `global`.
+    pub fn of(global: &crate::model::GlobalVolume) -> Self {
+        GlobalCounts {
+            objects: global.objects.len() as u32,
+            nodes: global.nodes.len() as u32,
+            faces: global.faces.len() as u32,
+        }
+    }
+}
+
 /// Everything the engine builds and does per frame.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EnginePlan {
@@ -182,6 +273,13 @@ pub struct EnginePlan {
     pub substeps: u32,
     /// Constraint iterations per time step.
     pub iterations: u32,
+    /// Constraints per group, solved one group after another in each iteration (one group
+    /// for Jacobi; empty for the springs-only methods).
+    pub groups: Vec<u32>,
+    /// Whether constraint forces are gathered per node (no float atomics: Gauss-Seidel).
+    pub gather: bool,
+    /// The global volume constraints' sizes, when solved.
+    pub global: Option<GlobalCounts>,
     /// Invocations per workgroup.
     pub workgroup_size: u32,
     /// Whether the frame measures the volume (`volume_sum` + partials copy).
@@ -199,9 +297,42 @@ fn alloc(bytes: u64) -> u64 {
 }
 
 impl EnginePlan {
+    /// The plan for `model` under `params` (computing its constraint groups and global
+    /// volume constraints), with `workgroup_size` invocations per group and per-frame volume
+    /// `metrics` or not.
+    pub fn for_model(
+        model: &crate::model::Model,
+        params: &SimParams,
+        workgroup_size: u32,
+        metrics: bool,
+    ) -> crate::Result<Self> {
+        let groups = model.constraint_groups(params.method, params.solver, params.groups);
+        let global = params
+            .solves_global_volume()
+            .then(|| GlobalCounts::of(&crate::model::GlobalVolume::new(model)));
+        Ok(EnginePlan::new(
+            PlanCounts::of(model)?,
+            params,
+            workgroup_size,
+            metrics,
+            &groups.map(|g| g.sizes()).unwrap_or_default(),
+            global,
+        ))
+    }
+
     /// The plan for a model of `counts` under `params`, with `workgroup_size` invocations per
-    /// group and per-frame volume `metrics` or not.
-    pub fn new(counts: PlanCounts, params: &SimParams, workgroup_size: u32, metrics: bool) -> Self {
+    /// group, per-frame volume `metrics` or not, the constraints split into groups of
+    /// `groups` constraints each ([`crate::model::Model::constraint_groups`]; ignored by
+    /// the springs-only methods) and the `global` volume constraints' sizes when
+    /// `params.global_volume` asks for them.
+    pub fn new(
+        counts: PlanCounts,
+        params: &SimParams,
+        workgroup_size: u32,
+        metrics: bool,
+        groups: &[u32],
+        global: Option<GlobalCounts>,
+    ) -> Self {
         use Access::{Read, ReadWrite, Write};
         use BufferId::*;
         let (n, s, t) = (
@@ -211,7 +342,19 @@ impl EnginePlan {
         );
         let method = params.method;
         let constrained = matches!(method, Method::Distance | Method::Volume);
-        let groups = u64::from(counts.tets.div_ceil(workgroup_size.max(1)));
+        let gather = constrained && params.solver == Solver::GaussSeidel;
+        let groups = if constrained {
+            groups.to_vec()
+        } else {
+            Vec::new()
+        };
+        let k = groups.len().max(1) as u64;
+        // Constraints and the slots (corners) of each.
+        let (constraints, corners) = match method {
+            Method::Volume => (t, 4),
+            _ => (s, 2),
+        };
+        let workgroups = u64::from(counts.tets.div_ceil(workgroup_size.max(1)));
         let mut buffers = vec![
             (Positions, 16 * n, 0),
             (Velocities, 16 * n, 0),
@@ -219,20 +362,40 @@ impl EnginePlan {
             (Springs, 16 * s, 0),
             (Tets, 16 * t, 0),
         ];
-        if method == Method::Volume {
-            buffers.push((RestVolumes, 4 * t, 0));
-        }
+        // Rest volumes: the volume constraints' and the local volume error's.
+        buffers.push((RestVolumes, 4 * t, 0));
         if constrained {
-            buffers.push((ConstraintSum, 16 * n, 0));
-            buffers.push((Degrees, 4 * n, 0));
+            buffers.push((Degrees, 4 * k * n, 0));
+            match gather {
+                true => {
+                    buffers.push((GroupMembers, 4 * constraints, 0));
+                    buffers.push((Contributions, 16 * corners * constraints, 0));
+                    buffers.push((NodeSlotOffsets, 4 * (k * n + 1), 0));
+                    buffers.push((NodeSlotItems, 4 * corners * constraints, 0));
+                }
+                false => buffers.push((ConstraintSum, 16 * n, 0)),
+            }
         }
-        if method == Method::MssNode {
+        let global = global.filter(|_| params.solves_global_volume());
+        if let Some(g) = global {
+            let (objects, nodes, faces) =
+                (u64::from(g.objects), u64::from(g.nodes), u64::from(g.faces));
+            buffers.push((GlobalObjects, 32 * objects, 0));
+            buffers.push((SurfaceNodes, 4 * nodes, 0));
+            buffers.push((SurfaceFaces, 16 * faces, 0));
+            buffers.push((NodeFaceOffsets, 4 * (nodes + 1), 0));
+            buffers.push((NodeFaceItems, 4 * 3 * faces, 0));
+        }
+        // Spring forces are gathered per node for mss-node, and on the gather path so
+        // that nothing in its step uses float atomics.
+        let spring_gather = method == Method::MssNode || gather;
+        if spring_gather {
             buffers.push((NodeSpringOffsets, 4 * (n + 1), 0));
             buffers.push((NodeSpringItems, 4 * 2 * s, 0));
         }
         // The partials stay for on-demand measurements; they are copied per frame only
         // with metrics.
-        let partial_bytes = 8 * groups;
+        let partial_bytes = 16 * workgroups;
         buffers.push((
             Partials,
             partial_bytes,
@@ -248,18 +411,19 @@ impl EnginePlan {
             })
             .collect();
 
-        let pass = |name, atomics_variant, elements, bindings: Vec<_>, repeat| PassPlan {
+        let pass = |name, variant, elements, bindings: Vec<_>, repeat| PassPlan {
             name,
-            atomics_variant,
+            variant,
             constants: Vec::new(),
             elements,
+            per_group: false,
             bindings,
             repeat,
         };
-        let mut passes = vec![match method {
-            Method::MssNode => pass(
+        let mut passes = vec![match spring_gather {
+            true => pass(
                 "spring_gather",
-                false,
+                Variant::Plain,
                 counts.nodes,
                 vec![
                     (Positions, Read),
@@ -271,9 +435,9 @@ impl EnginePlan {
                 ],
                 Repeat::Substep,
             ),
-            _ => pass(
+            false => pass(
                 "spring_scatter",
-                true,
+                Variant::Atomics,
                 counts.springs,
                 vec![
                     (Positions, Read),
@@ -285,10 +449,17 @@ impl EnginePlan {
             ),
         }];
         if constrained {
-            passes.push(match method {
+            let (variant, output) = match gather {
+                true => (
+                    Variant::Named("gather"),
+                    vec![(GroupMembers, Read), (Contributions, Write)],
+                ),
+                false => (Variant::Atomics, vec![(ConstraintSum, ReadWrite)]),
+            };
+            let mut solve = match method {
                 Method::Volume => pass(
                     "volume",
-                    true,
+                    variant,
                     counts.tets,
                     vec![
                         (Positions, Read),
@@ -297,13 +468,12 @@ impl EnginePlan {
                         (Tets, Read),
                         (RestVolumes, Read),
                         (Degrees, Read),
-                        (ConstraintSum, ReadWrite),
                     ],
                     Repeat::Iteration,
                 ),
                 _ => pass(
                     "distance",
-                    true,
+                    variant,
                     counts.springs,
                     vec![
                         (Positions, Read),
@@ -311,30 +481,63 @@ impl EnginePlan {
                         (Forces, Read),
                         (Springs, Read),
                         (Degrees, Read),
-                        (ConstraintSum, ReadWrite),
                     ],
                     Repeat::Iteration,
                 ),
-            });
+            };
+            solve.bindings.extend(output);
+            solve.per_group = gather;
+            passes.push(solve);
+            let (variant, input) = match gather {
+                true => (
+                    Variant::Named("gather"),
+                    vec![
+                        (Contributions, Read),
+                        (NodeSlotOffsets, Read),
+                        (NodeSlotItems, Read),
+                    ],
+                ),
+                false => (Variant::Named("sums"), vec![(ConstraintSum, ReadWrite)]),
+            };
             let mut apply = pass(
                 "constraint_apply",
-                false,
+                variant,
                 counts.nodes,
                 vec![
                     (Positions, Read),
                     (Velocities, Read),
                     (Forces, ReadWrite),
-                    (ConstraintSum, ReadWrite),
                     (Degrees, Read),
                 ],
                 Repeat::Iteration,
             );
+            apply.bindings.extend(input);
             apply.constants = vec![u32::from(params.floor)];
             passes.push(apply);
+            if let Some(g) = global {
+                let mut global_pass = pass(
+                    "global_volume",
+                    Variant::Plain,
+                    g.objects * workgroup_size,
+                    vec![
+                        (Positions, Read),
+                        (Velocities, Read),
+                        (Forces, ReadWrite),
+                        (GlobalObjects, Read),
+                        (SurfaceNodes, Read),
+                        (SurfaceFaces, Read),
+                        (NodeFaceOffsets, Read),
+                        (NodeFaceItems, Read),
+                    ],
+                    Repeat::IterationEnd,
+                );
+                global_pass.constants = vec![u32::from(params.floor)];
+                passes.push(global_pass);
+            }
         }
         let mut integrate = pass(
             "integrate",
-            false,
+            Variant::Plain,
             counts.nodes,
             vec![
                 (Positions, ReadWrite),
@@ -347,7 +550,7 @@ impl EnginePlan {
         passes.push(integrate);
         passes.push(pass(
             "check",
-            false,
+            Variant::Plain,
             counts.nodes,
             vec![(Positions, Read), (Velocities, Read), (Status, ReadWrite)],
             Repeat::Frame,
@@ -360,6 +563,9 @@ impl EnginePlan {
             counts,
             substeps: params.substeps,
             iterations: params.iterations,
+            groups,
+            gather,
+            global,
             workgroup_size,
             metrics,
             buffers,
@@ -386,9 +592,15 @@ impl EnginePlan {
     pub fn runs_per_frame(&self, pass: &PassPlan) -> u32 {
         match pass.repeat {
             Repeat::Substep => self.substeps,
-            Repeat::Iteration => self.substeps * self.iterations,
+            Repeat::Iteration => self.substeps * self.iterations * self.group_count(),
+            Repeat::IterationEnd => self.substeps * self.iterations,
             Repeat::Frame => 1,
         }
+    }
+
+    /// Constraint groups solved one after another per iteration (at least 1).
+    pub fn group_count(&self) -> u32 {
+        self.groups.len().max(1) as u32
     }
 
     /// Dispatches of one frame (the timestamp count).
@@ -512,20 +724,38 @@ impl EnginePlan {
         out
     }
 
+    /// `10 x (a, b)`, `10 x 8 groups x (a, b)` with several constraint groups, and
+    /// `10 x (8 groups x (a, b), c)` with passes after the groups.
+    fn iteration_label(&self, passes: &[String], after: &[String]) -> String {
+        let grouped = match self.groups.len() {
+            0 | 1 => passes.join(", "),
+            k => format!("{k} groups x ({})", passes.join(", ")),
+        };
+        match (after.is_empty(), self.groups.len()) {
+            (true, 0 | 1) => format!("{} x ({grouped})", self.iterations),
+            (true, _) => format!("{} x {grouped}", self.iterations),
+            (false, _) => format!("{} x ({grouped}, {})", self.iterations, after.join(", ")),
+        }
+    }
+
     /// Labels of one time step's passes (the iteration group written `N x (a, b)`).
     fn step_list(&self) -> Vec<String> {
         let mut out = Vec::new();
         let mut group: Vec<String> = Vec::new();
+        let mut after: Vec<String> = Vec::new();
         for p in self.passes.iter().filter(|p| p.repeat != Repeat::Frame) {
-            if p.repeat == Repeat::Iteration {
-                group.push(p.label());
-                continue;
+            match p.repeat {
+                Repeat::Iteration => group.push(p.label()),
+                Repeat::IterationEnd => after.push(p.label()),
+                _ => {
+                    if !group.is_empty() {
+                        out.push(self.iteration_label(&group, &after));
+                        group.clear();
+                        after.clear();
+                    }
+                    out.push(p.label());
+                }
             }
-            if !group.is_empty() {
-                out.push(format!("{} x ({})", self.iterations, group.join(", ")));
-                group.clear();
-            }
-            out.push(p.label());
         }
         out
     }
@@ -535,12 +765,14 @@ impl EnginePlan {
 pub fn volume_sum_pass(counts: PlanCounts) -> PassPlan {
     PassPlan {
         name: "volume_sum",
-        atomics_variant: false,
+        variant: Variant::Plain,
         constants: Vec::new(),
         elements: counts.tets,
+        per_group: false,
         bindings: vec![
             (BufferId::Positions, Access::Read),
             (BufferId::Tets, Access::Read),
+            (BufferId::RestVolumes, Access::Read),
             (BufferId::Partials, Access::Write),
         ],
         repeat: Repeat::Frame,

@@ -33,9 +33,27 @@ pub mod binding {
     pub const VOLUME_PARTIALS: u32 = 10;
     /// Divergence status (16 bytes): flags, first bad node, speed limit [m/s].
     pub const STATUS: u32 = 11;
+    /// u32 per constraint: the constraints in group order (gather path).
+    pub const GROUP_MEMBERS: u32 = 12;
+    /// vec4 per constraint corner, in group order: `-lambda grad_k C` (gather path).
+    pub const CONTRIBUTIONS: u32 = 13;
+    /// Per group and node, slot CSR offsets (`groups * N + 1`, gather path).
+    pub const NODE_SLOT_OFFSETS: u32 = 14;
+    /// Slot CSR items: indices into the contributions (gather path).
+    pub const NODE_SLOT_ITEMS: u32 = 15;
+    /// [`super::GpuGlobalObject`] per object (global volume constraints).
+    pub const GLOBAL_OBJECTS: u32 = 16;
+    /// u32 per surface node: its node index, object after object.
+    pub const SURFACE_NODES: u32 = 17;
+    /// uvec4 per boundary face: three node indices, 0.
+    pub const SURFACE_FACES: u32 = 18;
+    /// Surface node -> face corners CSR offsets.
+    pub const NODE_FACE_OFFSETS: u32 = 19;
+    /// Surface node -> face corners CSR items (`3 face + corner`).
+    pub const NODE_FACE_ITEMS: u32 = 20;
 }
 
-/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 48 bytes.
+/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 60 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct PushConstants {
@@ -64,6 +82,12 @@ pub struct PushConstants {
     /// How constraint forces are combined: [`combine::SCALED`], [`combine::SUM`] or
     /// [`combine::AVERAGE`] (`ConstraintCombine`).
     pub combine: u32,
+    /// The constraint group being solved (0 for Jacobi); selects the degrees and slots.
+    pub group: u32,
+    /// First position of the group in the group-ordered constraints (gather path).
+    pub group_first: u32,
+    /// Constraints in the group (gather path).
+    pub group_count: u32,
 }
 
 /// Values of [`PushConstants::combine`] (the `COMBINE_*` macros in bindings.glsl).
@@ -96,6 +120,9 @@ impl PushConstants {
                 ConstraintCombine::Sum => combine::SUM,
                 ConstraintCombine::Average => combine::AVERAGE,
             },
+            group: 0,
+            group_first: 0,
+            group_count: 0,
         }
     }
 }
@@ -114,6 +141,24 @@ pub struct GpuSpring {
     pub pad: f32,
 }
 
+/// One object's global volume constraint (`GlobalObject` in bindings.glsl), 32 bytes.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuGlobalObject {
+    /// First position of its surface nodes.
+    pub node_first: u32,
+    /// Number of its surface nodes.
+    pub node_count: u32,
+    /// First position of its faces.
+    pub face_first: u32,
+    /// Number of its faces.
+    pub face_count: u32,
+    /// Its rest volume [m^3].
+    pub rest_volume: f32,
+    /// Padding to 32 bytes.
+    pub pad: [u32; 3],
+}
+
 /// One volume_sum workgroup's result (`VolumePartial` in bindings.glsl).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
@@ -122,6 +167,10 @@ pub struct VolumePartial {
     pub volume: f32,
     /// Tets of the group with signed volume <= 0.
     pub inverted: u32,
+    /// Sum of the group's `|V_t - V0_t|` [m^3] (the local volume error).
+    pub local_error: f32,
+    /// Padding to 16 bytes.
+    pub pad: u32,
 }
 
 /// A vec4 of f32 from an f64 vector and a w component.
@@ -148,9 +197,10 @@ mod tests {
 
     #[test]
     fn sizes_are_std430_multiples_of_16() {
-        assert_eq!(size_of::<PushConstants>(), 48);
+        assert_eq!(size_of::<PushConstants>(), 60);
         assert_eq!(size_of::<GpuSpring>(), 16);
-        assert_eq!(size_of::<VolumePartial>(), 8);
+        assert_eq!(size_of::<VolumePartial>(), 16);
+        assert_eq!(size_of::<GpuGlobalObject>(), 32);
     }
 
     #[test]
@@ -168,6 +218,9 @@ mod tests {
             ("tet_count", offset_of!(PushConstants, tet_count)),
             ("epsilon", offset_of!(PushConstants, epsilon)),
             ("combine", offset_of!(PushConstants, combine)),
+            ("group", offset_of!(PushConstants, group)),
+            ("group_first", offset_of!(PushConstants, group_first)),
+            ("group_count", offset_of!(PushConstants, group_count)),
         ];
         // integrate uses floor_on/friction/gravity, volume_sum the tet count: together they
         // name most members; every member the shader keeps must sit where Rust puts it.
@@ -176,11 +229,12 @@ mod tests {
                 "passes/integrate.comp",
                 "passes/volume.comp#ext",
                 "passes/spring_scatter.comp#cas",
+                "passes/volume.comp#gather",
             ],
             "PushConstants",
             &rust,
         );
-        assert!(checked >= 12);
+        assert!(checked >= 15);
     }
 
     #[test]
@@ -206,6 +260,27 @@ mod tests {
         assert_eq!(
             partials.get("inverted"),
             Some(&(offset_of!(VolumePartial, inverted) as u32))
+        );
+        assert_eq!(
+            partials.get("local_error"),
+            Some(&(offset_of!(VolumePartial, local_error) as u32))
+        );
+        let objects: HashMap<_, _> = module("passes/global_volume.comp")
+            .struct_offsets("GlobalObject")
+            .into_iter()
+            .collect();
+        for (name, offset) in [
+            ("node_first", offset_of!(GpuGlobalObject, node_first)),
+            ("node_count", offset_of!(GpuGlobalObject, node_count)),
+            ("face_first", offset_of!(GpuGlobalObject, face_first)),
+            ("face_count", offset_of!(GpuGlobalObject, face_count)),
+            ("rest_volume", offset_of!(GpuGlobalObject, rest_volume)),
+        ] {
+            assert_eq!(objects.get(name), Some(&(offset as u32)), "{name}");
+        }
+        assert_eq!(
+            module("passes/global_volume.comp").array_stride("GlobalObjects"),
+            Some(size_of::<GpuGlobalObject>() as u32)
         );
         assert_eq!(
             module("passes/volume_sum.comp").array_stride("Partials"),
@@ -240,6 +315,15 @@ mod tests {
             ("NodeSpringItems", binding::NODE_SPRING_ITEMS),
             ("Partials", binding::VOLUME_PARTIALS),
             ("Status", binding::STATUS),
+            ("Members", binding::GROUP_MEMBERS),
+            ("Contributions", binding::CONTRIBUTIONS),
+            ("NodeSlotOffsets", binding::NODE_SLOT_OFFSETS),
+            ("NodeSlotItems", binding::NODE_SLOT_ITEMS),
+            ("GlobalObjects", binding::GLOBAL_OBJECTS),
+            ("SurfaceNodes", binding::SURFACE_NODES),
+            ("SurfaceFaces", binding::SURFACE_FACES),
+            ("NodeFaceOffsets", binding::NODE_FACE_OFFSETS),
+            ("NodeFaceItems", binding::NODE_FACE_ITEMS),
         ]
         .into_iter()
         .collect();

@@ -206,8 +206,9 @@ mod tests {
             );
             variants += usize::from(key.contains('#'));
         }
-        // spring_scatter, distance, volume: ext + cas each.
-        assert_eq!(variants, 6);
+        // spring_scatter, distance, volume: ext + cas each; distance, volume: gather;
+        // constraint_apply: sums + gather.
+        assert_eq!(variants, 10);
     }
 
     #[test]

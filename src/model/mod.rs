@@ -1,6 +1,12 @@
 //! The static model: everything about the object that does not change during a run,
 //! built and validated once on the CPU from a [`TetMesh`]. Every backend reads the same model.
 
+mod global;
+mod groups;
+
+pub use global::{GlobalObject, GlobalVolume};
+pub use groups::{greedy_colours, ConstraintGroups};
+
 use glam::DVec3;
 
 use crate::error::{Error, Result};
@@ -48,6 +54,9 @@ pub struct Model {
     pub tet_degree: Vec<u32>,
     /// Boundary triangles, outward, for rendering and surface output.
     pub surface: Vec<[u32; 3]>,
+    /// Node offsets of the objects (`objects + 1` entries): object `k` owns nodes
+    /// `objects[k]..objects[k + 1]` and the tets and springs among them.
+    pub objects: Vec<u32>,
 }
 
 impl Model {
@@ -74,6 +83,30 @@ impl Model {
                     .collect(),
             ),
             Method::Volume => Some(self.tet_degree.clone()),
+        }
+    }
+
+    /// The method's constraints split into the groups `solver` solves in sequence (one group
+    /// for Jacobi, `groups` colour groups for Gauss-Seidel); `None` for the springs-only
+    /// methods.
+    pub fn constraint_groups(
+        &self,
+        method: crate::params::Method,
+        solver: crate::params::Solver,
+        groups: u32,
+    ) -> Option<ConstraintGroups> {
+        use crate::params::{Method, Solver};
+        let n = self.node_count();
+        match (method, solver) {
+            (Method::Mss | Method::MssNode, _) => None,
+            (Method::Distance, Solver::Jacobi) => Some(ConstraintGroups::single(&self.springs, n)),
+            (Method::Volume, Solver::Jacobi) => Some(ConstraintGroups::single(&self.tets, n)),
+            (Method::Distance, Solver::GaussSeidel) => {
+                Some(ConstraintGroups::coloured(&self.springs, n, groups))
+            }
+            (Method::Volume, Solver::GaussSeidel) => {
+                Some(ConstraintGroups::coloured(&self.tets, n, groups))
+            }
         }
     }
 
@@ -263,6 +296,7 @@ impl<'a> ModelBuilder<'a> {
             node_springs,
             tet_degree,
             surface,
+            objects: vec![0, n as u32],
         })
     }
 }
@@ -305,6 +339,8 @@ impl Model {
             out.tet_degree.extend_from_slice(&m.tet_degree);
             out.surface
                 .extend(m.surface.iter().map(|f| f.map(|i| i + nodes)));
+            out.objects
+                .extend(m.objects.iter().skip(1).map(|o| o + nodes));
         }
         Ok(out)
     }

@@ -60,18 +60,55 @@ pub fn implicit_lambda<V: Vector, const K: usize>(
     dt: V::Real,
     epsilon: V::Real,
 ) -> Option<V::Real> {
-    let inv_dt = V::Real::ONE / dt;
-    let mut a = V::Real::ZERO;
-    let mut b = c * inv_dt * inv_dt;
+    let (mut a, mut b) = (V::Real::ZERO, V::Real::ZERO);
     for k in 0..K {
-        a += s[k] * w[k] * grad[k].dot(grad[k]);
-        b += grad[k].dot(v[k] * inv_dt + f[k] * w[k]);
+        implicit_accumulate(&mut a, &mut b, grad[k], w[k], s[k], v[k], f[k], dt);
     }
+    implicit_multiplier(c, a, b, dt, epsilon)
+}
+
+/// Adds one node's terms to a constraint's `A` and to the sum part of its `B` (the terms of
+/// [`implicit_lambda`], for constraints with many nodes; `implicit_accumulate` in
+/// glsl/physics/implicit.glsl).
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub fn implicit_accumulate<V: Vector>(
+    a: &mut V::Real,
+    b: &mut V::Real,
+    grad: V,
+    w: V::Real,
+    s: V::Real,
+    v: V,
+    f: V,
+    dt: V::Real,
+) {
+    *a += s * w * grad.dot(grad);
+    *b += grad.dot(v * (V::Real::ONE / dt) + f * w);
+}
+
+/// The multiplier from a constraint's value `c` and its accumulated `A` and sum part of `B`
+/// ([`implicit_accumulate`]): `(c / dt^2 + b) / a`, `None` when `a <= epsilon` or not
+/// finite.
+#[inline]
+pub fn implicit_multiplier<R: Real>(c: R, a: R, b: R, dt: R, epsilon: R) -> Option<R> {
     if a > epsilon && a.is_finite() {
-        Some(b / a)
+        Some((c / (dt * dt) + b) / a)
     } else {
         None
     }
+}
+
+/// One boundary face's share of the volume a closed surface encloses, measured from the
+/// reference point `o`: `(x_a - o) . ((x_b - o) x (x_c - o)) / 6` [m^3] (the signed volume of
+/// the tet `o, a, b, c`), and its gradients with respect to `x_a`, `x_b`, `x_c` [m^2]. Summed
+/// over the outward faces of a tet mesh's boundary this is the sum of its tets' signed
+/// volumes, for any `o` (physics.md, "One global volume constraint").
+#[inline]
+pub fn face_volume<V: Vector>(p: [V; 3], o: V) -> (V::Real, [V; 3]) {
+    let sixth = V::Real::from_f64(1.0 / 6.0);
+    let [a, b, c] = p.map(|x| x - o);
+    let ga = b.cross(c) * sixth;
+    (a.dot(ga), [ga, c.cross(a) * sixth, a.cross(b) * sixth])
 }
 
 #[cfg(test)]
@@ -118,6 +155,27 @@ mod tests {
             assert!(((c1 - c0) / h - grad[0].dot(axis)).abs() < 1e-5);
             let (c2, _) = distance_constraint(xi, xj + axis * h, 0.7);
             assert!(((c2 - c0) / h - grad[1].dot(axis)).abs() < 1e-5);
+        }
+    }
+
+    #[test]
+    fn face_volumes_of_a_tets_boundary_sum_to_its_volume() {
+        let p = tet();
+        let faces = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
+        let o = DVec3::new(5.0, -3.0, 2.0);
+        let mut volume = 0.0;
+        let mut grad = [DVec3::ZERO; 4];
+        for f in faces {
+            let (v, g) = face_volume(f.map(|i| p[i]), o);
+            volume += v;
+            for k in 0..3 {
+                grad[f[k]] += g[k];
+            }
+        }
+        let (c, want) = volume_constraint(p, 0.0);
+        assert!((volume - c).abs() < 1e-12, "{volume} vs {c}");
+        for k in 0..4 {
+            assert!(grad[k].distance(want[k]) < 1e-12, "node {k}");
         }
     }
 

@@ -28,7 +28,10 @@ mod integrate;
 mod real;
 mod spring;
 
-pub use constraint::{distance_constraint, implicit_lambda, tet_volume, volume_constraint};
+pub use constraint::{
+    distance_constraint, face_volume, implicit_accumulate, implicit_lambda, implicit_multiplier,
+    tet_volume, volume_constraint,
+};
 pub use integrate::{floor_force, floor_friction, floor_solve, integrate_node, symplectic_euler};
 pub use real::{Real, Vector};
 pub use spring::spring_force;

@@ -96,6 +96,9 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
         }
         record.volume_pct.push(pct);
         record.inverted_tets.push(sample.inverted);
+        record
+            .local_error_pct
+            .push(crate::metrics::local_error_pct(sample, rest));
         if let Some(out) = &options.output {
             if (frame + 1) % out.every == 0 {
                 out.write(model, params.method, frame + 1, &backend.state()?.positions)?;
@@ -171,11 +174,19 @@ fn empty_record(
         kd: params.kd,
         friction: params.friction,
         combine: params.combine.name().to_string(),
+        solver: params.solver.name().to_string(),
+        groups: model
+            .constraint_groups(params.method, params.solver, params.groups)
+            .map_or(1, |g| g.len() as u32),
+        global_volume: params.solves_global_volume(),
         volume_pct: Vec::with_capacity(options.frames as usize),
         inverted_tets: Vec::with_capacity(options.frames as usize),
+        local_error_pct: Vec::with_capacity(options.frames as usize),
         min_volume_pct: 0.0,
         avg_volume_pct: 0.0,
         max_inverted_tets: 0,
+        avg_local_error_pct: 0.0,
+        max_local_error_pct: 0.0,
         ms_per_frame: 0.0,
         wall_s: 0.0,
         diverged: false,
