@@ -199,9 +199,10 @@ pub fn table(records: &[RunRecord]) -> String {
 
 /// Position of a pass in a time step, for printing passes in execution order.
 fn pass_rank(name: &str) -> usize {
-    const ORDER: [&str; 9] = [
+    const ORDER: [&str; 10] = [
         "spring_scatter",
         "spring_gather",
+        "global_volume_prepare",
         "distance",
         "volume",
         "constraint_apply",

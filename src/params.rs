@@ -221,10 +221,14 @@ impl SimParams {
     /// Whether the global volume constraints are solved: asked for (by default with
     /// Gauss-Seidel), and a method with constraint iterations.
     pub fn solves_global_volume(&self) -> bool {
-        let on = self
-            .global_volume
-            .unwrap_or(self.solver == Solver::GaussSeidel);
-        on && matches!(self.method, Method::Distance | Method::Volume)
+        self.global_volume_on() && matches!(self.method, Method::Distance | Method::Volume)
+    }
+
+    /// Whether the global volume constraints are asked for: `global_volume`, else the
+    /// solver's default (on for Gauss-Seidel, off for Jacobi).
+    pub fn global_volume_on(&self) -> bool {
+        self.global_volume
+            .unwrap_or(self.solver == Solver::GaussSeidel)
     }
 
     /// Checks every value's range; the error names the offending key.

@@ -29,6 +29,7 @@ fn pass_times_are_present_positive_and_within_the_frame_wall_time() {
             Method::Distance,
             &[
                 "spring_gather",
+                "global_volume_prepare",
                 "distance",
                 "constraint_apply",
                 "global_volume",
@@ -41,6 +42,7 @@ fn pass_times_are_present_positive_and_within_the_frame_wall_time() {
             Method::Volume,
             &[
                 "spring_gather",
+                "global_volume_prepare",
                 "volume",
                 "constraint_apply",
                 "global_volume",

@@ -176,6 +176,7 @@ fn springs_only_and_volume_with_floor_plan_differently() {
         gs.pass_list(),
         [
             "spring_gather".to_string(),
+            "global_volume_prepare".into(),
             format!(
                 "10 x ({k} groups x (volume#gather, constraint_apply#gather[floor]), \
                  global_volume[floor])"
@@ -187,7 +188,7 @@ fn springs_only_and_volume_with_floor_plan_differently() {
     );
     assert_eq!(
         gs.dispatches_per_frame() as u64,
-        1 + 10 * (2 * k + 1) + 1 + 1 + 1
+        1 + 1 + 10 * (2 * k + 1) + 1 + 1 + 1
     );
     let global = gs.global.unwrap();
     assert_eq!((global.objects, global.nodes), (1, 26));
@@ -234,7 +235,7 @@ fn plan_cli_prints_the_pass_lists() {
         "{a}"
     );
     assert!(
-        b.contains("per time step: spring_gather -> 10 x (")
+        b.contains("per time step: spring_gather -> global_volume_prepare -> 10 x (")
             && b.contains(
                 " groups x (volume#gather, constraint_apply#gather[floor]), global_volume[floor]) \
                  -> integrate[floor]\n"

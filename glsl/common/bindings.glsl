@@ -46,6 +46,11 @@
 #define B_SURFACE_FACES 18
 #define B_NODE_FACE_OFFSETS 19
 #define B_NODE_FACE_ITEMS 20
+// Per surface node, vec4: grad_k C_g of its object at x(t) [m^2], w = its inverse mass
+// (written by global_volume_prepare once per step).
+#define B_SURFACE_GRADIENTS 21
+// Per object, vec4: C_g [m^3], A = sum_k w_k |grad_k C_g|^2, 0, 0 (global_volume_prepare).
+#define B_GLOBAL_STATE 22
 
 // Values of pc.combine (src/gpu/layout.rs, `combine`).
 #define COMBINE_SCALED 0u

@@ -155,13 +155,19 @@ impl Default for ReferenceSettings {
 }
 
 impl ReferenceSettings {
-    /// The reference's parameters for a trial with `trial`'s method, physics and frame time.
+    /// The reference's parameters for a trial with `trial`'s method, physics and frame time,
+    /// solved by the default solver whatever the trial's (so that every solver of one method
+    /// is measured against the same converged run).
     pub fn params(&self, trial: &SimParams) -> SimParams {
+        let default = SimParams::default();
         SimParams {
             dt: frame_time(trial) / f64::from(self.substeps.max(1)),
             substeps: self.substeps,
             iterations: self.iterations,
             omega: 1.0,
+            solver: default.solver,
+            groups: default.groups,
+            global_volume: default.global_volume,
             ..trial.clone()
         }
     }

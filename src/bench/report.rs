@@ -58,7 +58,10 @@ pub fn mark_pareto(records: &mut [TradeoffRecord]) {
 fn setting(r: &TradeoffRecord) -> String {
     format!(
         "{} it {} ss {} omega {}",
-        r.method, r.iterations, r.substeps, r.omega
+        r.series(),
+        r.iterations,
+        r.substeps,
+        r.omega
     )
 }
 
@@ -73,20 +76,32 @@ pub fn front_table(records: &[TradeoffRecord]) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "{:<9} {:>4} {:>3} {:>5} {:>10} {:>10} {:>9} {:>9} {:>9}",
-        "method", "it", "ss", "omega", "ms/frame", "vol err %", "min vol%", "pos rms", "pos max"
+        "{:<9} {:<22} {:>4} {:>3} {:>5} {:>10} {:>10} {:>9} {:>9} {:>9} {:>9}",
+        "method",
+        "solver",
+        "it",
+        "ss",
+        "omega",
+        "ms/frame",
+        "vol err %",
+        "min vol%",
+        "local %",
+        "pos rms",
+        "pos max"
     );
     for r in front {
         let _ = writeln!(
             out,
-            "{:<9} {:>4} {:>3} {:>5} {:>10.3} {:>10.3} {:>9.2} {:>9} {:>9}",
+            "{:<9} {:<22} {:>4} {:>3} {:>5} {:>10.3} {:>10.3} {:>9.2} {:>9.3} {:>9} {:>9}",
             r.method,
+            r.solver,
             r.iterations,
             r.substeps,
             r.omega,
             r.ms_per_frame,
             r.volume_error_pct,
             r.min_volume_pct,
+            r.avg_local_error_pct,
             pos(r.pos_rms_rel),
             pos(r.pos_max_rel)
         );
@@ -132,7 +147,12 @@ pub fn equal_cost_pairs(records: &[TradeoffRecord]) -> Vec<EqualCostPair<'_>> {
         let closest = records
             .iter()
             .filter(usable)
-            .filter(|r| r.substeps == 1 && r.method == s.method && r.iterations > s.iterations)
+            .filter(|r| {
+                r.substeps == 1
+                    && r.method == s.method
+                    && r.solver == s.solver
+                    && r.iterations > s.iterations
+            })
             .min_by(|a, b| {
                 let d = |r: &TradeoffRecord| (r.ms_per_frame / s.ms_per_frame).ln().abs();
                 d(a).total_cmp(&d(b))
@@ -166,6 +186,7 @@ pub fn equal_work_pairs(records: &[TradeoffRecord]) -> Vec<EqualCostPair<'_>> {
                 .find(|r| {
                     r.substeps == 1
                         && r.method == s.method
+                        && r.solver == s.solver
                         && r.iterations == s.iterations * s.substeps
                 })
                 .map(|i| EqualCostPair {

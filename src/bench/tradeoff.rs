@@ -1,6 +1,6 @@
 //! `tetrasim tradeoff`: the speed-versus-accuracy sweep. Each point is one setting of method,
-//! iterations, substeps (with `dt = frame time / substeps`, so every point simulates the same
-//! time per frame) and omega; it records the cost (median ms per frame on the chosen backend)
+//! solver (with its colour groups and global volume constraint), iterations, substeps (with
+//! `dt = frame time / substeps`, so every point simulates the same time per frame) and omega; it records the cost (median ms per frame on the chosen backend)
 //! and the accuracy (volume error, position error against the method's converged reference).
 
 use serde::{Deserialize, Serialize};
@@ -12,13 +12,112 @@ use super::simulate::{simulate, Backends, SimulateOptions};
 use super::stats::FrameTimes;
 use crate::error::{Error, Result};
 use crate::model::Model;
-use crate::params::{Method, SimParams};
+use crate::params::{Method, SimParams, Solver};
+
+/// A solver with its settings: `jacobi`, `gauss-seidel:8`, `gauss-seidel:8+global`, ...
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SolverSetting {
+    /// The solver.
+    pub solver: Solver,
+    /// Colour groups (Gauss-Seidel; 1 for Jacobi).
+    pub groups: u32,
+    /// Whether the global volume constraint is solved too.
+    pub global_volume: bool,
+}
+
+impl SolverSetting {
+    /// The settings compared by default: Jacobi (the paper's), Jacobi with the global volume
+    /// constraint, Gauss-Seidel with 8 groups, and with the global constraint (the default).
+    pub const DEFAULTS: [SolverSetting; 4] = [
+        SolverSetting::new(Solver::Jacobi, 1, false),
+        SolverSetting::new(Solver::Jacobi, 1, true),
+        SolverSetting::new(Solver::GaussSeidel, 8, false),
+        SolverSetting::new(Solver::GaussSeidel, 8, true),
+    ];
+
+    /// A setting.
+    pub const fn new(solver: Solver, groups: u32, global_volume: bool) -> Self {
+        SolverSetting {
+            solver,
+            groups,
+            global_volume,
+        }
+    }
+
+    /// The name in tables, records and on the command line (`gauss-seidel:8+global`).
+    pub fn label(&self) -> String {
+        let mut out = self.solver.name().to_string();
+        if self.solver == Solver::GaussSeidel {
+            out += &format!(":{}", self.groups);
+        }
+        if self.global_volume {
+            out += "+global";
+        }
+        out
+    }
+
+    /// `base` with this solver.
+    pub fn apply(&self, base: &SimParams) -> SimParams {
+        SimParams {
+            solver: self.solver,
+            groups: self.groups,
+            global_volume: Some(self.global_volume),
+            ..base.clone()
+        }
+    }
+}
+
+impl std::str::FromStr for SolverSetting {
+    type Err = Error;
+
+    /// `NAME[:GROUPS][+global]`, NAME `jacobi` or `gauss-seidel` (groups default 8).
+    fn from_str(text: &str) -> Result<Self> {
+        let (rest, global_volume) = match text.strip_suffix("+global") {
+            Some(rest) => (rest, true),
+            None => (text, false),
+        };
+        let (name, groups) = match rest.split_once(':') {
+            Some((name, g)) => {
+                let groups = g.parse::<u32>().ok().filter(|&g| g > 0).ok_or_else(|| {
+                    Error::param("solvers", format!("`{text}`: groups must be a number >= 1"))
+                })?;
+                (name, Some(groups))
+            }
+            None => (rest, None),
+        };
+        let solver = Solver::ALL
+            .into_iter()
+            .find(|s| s.name() == name)
+            .ok_or_else(|| {
+                Error::param(
+                    "solvers",
+                    format!(
+                        "`{text}`: expected jacobi or gauss-seidel, optionally with :GROUPS \
+                         (gauss-seidel) and +global"
+                    ),
+                )
+            })?;
+        let groups = match (solver, groups) {
+            (Solver::Jacobi, Some(_)) => {
+                return Err(Error::param(
+                    "solvers",
+                    format!("`{text}`: jacobi has no colour groups"),
+                ))
+            }
+            (Solver::Jacobi, None) => 1,
+            (Solver::GaussSeidel, g) => g.unwrap_or(crate::params::default_groups()),
+        };
+        Ok(SolverSetting::new(solver, groups, global_volume))
+    }
+}
 
 /// One setting of the sweep.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SweepPoint {
     /// Method.
     pub method: Method,
+    /// Solver (ignored by the springs-only methods).
+    pub solver: SolverSetting,
     /// Constraint iterations per time step (1 for spring-only methods).
     pub iterations: u32,
     /// Time steps per frame.
@@ -32,22 +131,26 @@ pub struct SweepPoint {
 pub struct SweepSpec {
     /// Methods, in order.
     pub methods: Vec<Method>,
+    /// Solvers of the constraint methods, in order.
+    pub solvers: Vec<SolverSetting>,
     /// Iteration counts (constraint methods), each at every substep count with omega 1.
     pub iterations: Vec<u32>,
     /// Substep counts.
     pub substeps: Vec<u32>,
-    /// Extra omegas, each at `omega_iterations` iterations and the first substep count.
+    /// Extra omegas, each at `omega_iterations` iterations, the first substep count and the
+    /// first solver.
     pub omegas: Vec<f64>,
     /// Iterations of the omega points.
     pub omega_iterations: u32,
 }
 
 impl Default for SweepSpec {
-    /// mss, distance and volume; iterations 1, 2, 5, 10, 20, 50; substeps 1, 2, 4; omega
-    /// 0.5 and 1.5 at 10 iterations.
+    /// mss, distance and volume; the four [`SolverSetting::DEFAULTS`]; iterations 1, 2, 5,
+    /// 10, 20, 50; substeps 1, 2, 4; omega 0.5 and 1.5 at 10 iterations.
     fn default() -> Self {
         SweepSpec {
             methods: vec![Method::Mss, Method::Distance, Method::Volume],
+            solvers: SolverSetting::DEFAULTS.to_vec(),
             iterations: vec![1, 2, 5, 10, 20, 50],
             substeps: vec![1, 2, 4],
             omegas: vec![0.5, 1.5],
@@ -75,8 +178,13 @@ impl SweepSpec {
                 "need at least one value each",
             ));
         }
-        if self.methods.iter().any(|&m| has_iterations(m)) && self.iterations.is_empty() {
-            return Err(Error::param("iterations", "need at least one value"));
+        if self.methods.iter().any(|&m| has_iterations(m))
+            && (self.iterations.is_empty() || self.solvers.is_empty())
+        {
+            return Err(Error::param(
+                "iterations/solvers",
+                "need at least one value each",
+            ));
         }
         if let Some(bad) = self
             .iterations
@@ -106,6 +214,7 @@ impl SweepSpec {
                 for &substeps in &self.substeps {
                     points.push(SweepPoint {
                         method,
+                        solver: SolverSetting::DEFAULTS[0],
                         iterations: 1,
                         substeps,
                         omega: 1.0,
@@ -113,19 +222,23 @@ impl SweepSpec {
                 }
                 continue;
             }
-            for &substeps in &self.substeps {
-                for &iterations in &self.iterations {
-                    points.push(SweepPoint {
-                        method,
-                        iterations,
-                        substeps,
-                        omega: 1.0,
-                    });
+            for &solver in &self.solvers {
+                for &substeps in &self.substeps {
+                    for &iterations in &self.iterations {
+                        points.push(SweepPoint {
+                            method,
+                            solver,
+                            iterations,
+                            substeps,
+                            omega: 1.0,
+                        });
+                    }
                 }
             }
             for &omega in self.omegas.iter().filter(|&&w| w != 1.0) {
                 points.push(SweepPoint {
                     method,
+                    solver: self.solvers[0],
                     iterations: self.omega_iterations.max(1),
                     substeps: self.substeps[0],
                     omega,
@@ -159,6 +272,9 @@ pub struct TradeoffRecord {
     pub springs: usize,
     /// Method.
     pub method: String,
+    /// Solver label ([`SolverSetting::label`]; `jacobi` in records older than the field).
+    #[serde(default = "jacobi_label")]
+    pub solver: String,
     /// Backend whose cost was measured.
     pub backend: String,
     /// Constraint iterations per time step.
@@ -187,6 +303,10 @@ pub struct TradeoffRecord {
     pub avg_volume_pct: f64,
     /// Largest `|V/V0 - 1|` [%].
     pub volume_error_pct: f64,
+    /// Mean local volume error `100 sum_t |V_t - V0_t| / sum_t V0_t` over the frames [%]
+    /// (0 in records older than the field).
+    #[serde(default)]
+    pub avg_local_error_pct: f64,
     /// RMS node distance to the reference over the bounding-box diagonal.
     pub pos_rms_rel: Option<f64>,
     /// Largest node distance to the reference over the bounding-box diagonal.
@@ -197,6 +317,20 @@ pub struct TradeoffRecord {
     pub pareto_volume: bool,
     /// On the Pareto front of (ms per frame, RMS position error).
     pub pareto_position: bool,
+}
+
+fn jacobi_label() -> String {
+    "jacobi".into()
+}
+
+impl TradeoffRecord {
+    /// Method and solver, e.g. `volume gauss-seidel:8+global` (`mss` alone).
+    pub fn series(&self) -> String {
+        match self.method.as_str() {
+            "mss" | "mss-node" => self.method.clone(),
+            _ => format!("{} {}", self.method, self.solver),
+        }
+    }
 }
 
 /// Runs every point of `spec` on `model` (physics from `base`; its `dt * substeps` is the
@@ -221,7 +355,7 @@ pub fn run_tradeoff(
             substeps: point.substeps,
             dt: frame_time / f64::from(point.substeps),
             omega: point.omega,
-            ..base.clone()
+            ..point.solver.apply(base)
         };
         params.validate()?;
         let reference = match references.iter().position(|r| r.matches(&params)) {
@@ -249,6 +383,10 @@ pub fn run_tradeoff(
             tets: model.tets.len(),
             springs: model.springs.len(),
             method: point.method.name().to_string(),
+            solver: match has_iterations(point.method) {
+                true => point.solver.label(),
+                false => "-".into(),
+            },
             backend: sim.backend.clone(),
             iterations: point.iterations,
             substeps: point.substeps,
@@ -263,6 +401,10 @@ pub fn run_tradeoff(
             min_volume_pct: acc.volume.min_volume_pct,
             avg_volume_pct: acc.volume.avg_volume_pct,
             volume_error_pct: acc.volume.volume_error_pct,
+            avg_local_error_pct: match sim.local_error_pct.len() {
+                0 => 0.0,
+                n => sim.local_error_pct.iter().sum::<f64>() / n as f64,
+            },
             pos_rms_rel: acc.position.map(|p| p.rms_rel),
             pos_max_rel: acc.position.map(|p| p.max_rel),
             diverged: sim.divergence.is_some(),
@@ -283,8 +425,8 @@ mod tests {
     #[test]
     fn default_sweep_has_the_grid_and_the_omega_points() {
         let points = SweepSpec::default().points();
-        // mss: 3 substep counts; distance and volume: 6 x 3 grid + 2 omegas each.
-        assert_eq!(points.len(), 3 + 2 * (18 + 2));
+        // mss: 3 substep counts; distance and volume: 4 solvers x 6 x 3 grid + 2 omegas each.
+        assert_eq!(points.len(), 3 + 2 * (4 * 18 + 2));
         let volume: Vec<_> = points
             .iter()
             .filter(|p| p.method == Method::Volume)
@@ -293,6 +435,27 @@ mod tests {
             .iter()
             .any(|p| p.iterations == 50 && p.substeps == 4 && p.omega == 1.0));
         assert_eq!(volume.iter().filter(|p| p.omega != 1.0).count(), 2);
+        let labels: Vec<String> = SolverSetting::DEFAULTS.iter().map(|s| s.label()).collect();
+        assert_eq!(
+            labels,
+            [
+                "jacobi",
+                "jacobi+global",
+                "gauss-seidel:8",
+                "gauss-seidel:8+global"
+            ]
+        );
+        for label in &labels {
+            assert_eq!(&label.parse::<SolverSetting>().unwrap().label(), label);
+        }
+        assert_eq!(
+            "gauss-seidel".parse::<SolverSetting>().unwrap(),
+            SolverSetting::new(Solver::GaussSeidel, 8, false)
+        );
+        for bad in ["gs", "jacobi:4", "gauss-seidel:0", "gauss-seidel:x+global"] {
+            let err = bad.parse::<SolverSetting>().unwrap_err().to_string();
+            assert!(err.contains(bad), "{err}");
+        }
         assert!(points
             .iter()
             .filter(|p| p.method == Method::Mss)

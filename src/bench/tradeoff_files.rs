@@ -12,13 +12,19 @@ fn chart(records: &[TradeoffRecord], volume: bool) -> LogChart {
     let point = if volume { volume_point } else { position_point };
     let mut methods: Vec<&str> = records.iter().map(|r| r.method.as_str()).collect();
     methods.dedup();
-    let mut series: Vec<Series> = methods
+    let mut labels: Vec<String> = Vec::new();
+    for r in records {
+        if !labels.contains(&r.series()) {
+            labels.push(r.series());
+        }
+    }
+    let mut series: Vec<Series> = labels
         .iter()
-        .map(|m| Series {
-            label: m.to_string(),
+        .map(|label| Series {
+            label: label.clone(),
             points: records
                 .iter()
-                .filter(|r| r.method == *m)
+                .filter(|r| r.series() == *label)
                 .map(point)
                 .collect(),
             kind: SeriesKind::Points,

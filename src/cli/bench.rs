@@ -113,6 +113,10 @@ pub struct BenchArgs {
     /// Time steps per frame (default 1); dt is scaled to keep 1 ms of simulated time per frame.
     #[arg(long)]
     pub substeps: Option<u32>,
+    /// Solver of the constraint methods, `jacobi` or `gauss-seidel[:GROUPS]`, optionally
+    /// with `+global` (default: the engine's, gauss-seidel:8+global).
+    #[arg(long)]
+    pub solver: Option<crate::bench::tradeoff::SolverSetting>,
     /// Also measure the position error against a converged cpu-ref run (slow).
     #[arg(long)]
     pub accuracy: bool,
@@ -135,6 +139,9 @@ pub fn execute(args: BenchArgs) -> anyhow::Result<()> {
     let mut params = preset.params.clone();
     if let Some(it) = args.iterations {
         params.iterations = it;
+    }
+    if let Some(solver) = args.solver {
+        params = solver.apply(&params);
     }
     if let Some(ss) = args.substeps {
         params.dt = crate::bench::accuracy::frame_time(&params) / f64::from(ss.max(1));
@@ -179,7 +186,7 @@ pub fn execute(args: BenchArgs) -> anyhow::Result<()> {
         }),
     };
     eprintln!(
-        "bench: {} meshes x {} methods x backends {}; {} warm-up + {} timed frames; dt {} s x {} substeps, {} iterations",
+        "bench: {} meshes x {} methods x backends {}; {} warm-up + {} timed frames; dt {} s x {} substeps, {} iterations, solver {}{}",
         meshes.len(),
         options.methods.len(),
         options.backends.join(", "),
@@ -187,7 +194,13 @@ pub fn execute(args: BenchArgs) -> anyhow::Result<()> {
         options.frames.frames,
         params.dt,
         params.substeps,
-        params.iterations
+        params.iterations,
+        params.solver,
+        if params.solves_global_volume() {
+            " + global volume"
+        } else {
+            ""
+        }
     );
     let mut backends = Backends::new(args.gpu.options());
     let records = run_suite(&meshes, &params, &options, &mut backends, &mut |r| {

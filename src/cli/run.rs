@@ -8,7 +8,9 @@ use anyhow::Context as _;
 use crate::engine::EngineOptions;
 use crate::launch::stage;
 use crate::metrics::{pass_table, table, write_json};
-use crate::params::{AtomicsMode, ConstraintCombine, MassMode, Method, Solver as SolverKind};
+use crate::params::{
+    AtomicsMode, ConstraintCombine, MassMode, Method, SimParams, Solver as SolverKind,
+};
 use crate::preset::{Preset, PresetName};
 use crate::runner::{
     run_methods, OutputFormat, RunOptions, SurfaceOutput, DEFAULT_MESH, DEFAULT_TARGET_TETS,
@@ -300,6 +302,18 @@ impl RunArgs {
 #[error("{0}")]
 pub struct DivergedRun(pub String);
 
+/// `jacobi`, or `gauss-seidel (8 groups)`, with ` + global volume` when it is solved.
+fn solver_label(params: &SimParams) -> String {
+    let mut out = match params.solver {
+        SolverKind::Jacobi => "jacobi".to_string(),
+        SolverKind::GaussSeidel => format!("gauss-seidel ({} groups)", params.groups),
+    };
+    if params.global_volume_on() {
+        out += " + global volume";
+    }
+    out
+}
+
 /// Runs `tetrasim run`.
 pub fn execute(args: RunArgs) -> anyhow::Result<()> {
     let (scene, methods) = args.scene_and_methods()?;
@@ -312,7 +326,7 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
     }
     let (model, params) = (&staged.model, &staged.params);
     eprintln!(
-        "{}: {} nodes ({} pinned), {} tets, {} springs; backend {}, {} frames of dt {} s x {} substeps, {} iterations",
+        "{}: {} nodes ({} pinned), {} tets, {} springs; backend {}, {} frames of dt {} s x {} substeps, {} iterations, solver {}",
         staged.label,
         model.node_count(),
         model.node_count() - model.free_node_count(),
@@ -322,7 +336,8 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
         staged.frames,
         params.dt,
         params.substeps,
-        params.iterations
+        params.iterations,
+        solver_label(params)
     );
     let estimate = crate::stability::estimate(model, params);
     if estimate.exceeded_by(params.dt) {

@@ -38,6 +38,11 @@ pub struct TradeoffArgs {
     /// Iteration counts (default: 1,2,5,10,20,50).
     #[arg(long, value_delimiter = ',')]
     pub iterations: Vec<u32>,
+    /// Solvers of the constraint methods, comma-separated, each `jacobi` or
+    /// `gauss-seidel[:GROUPS]`, optionally with `+global` (default: jacobi, jacobi+global,
+    /// gauss-seidel:8, gauss-seidel:8+global).
+    #[arg(long, value_delimiter = ',')]
+    pub solvers: Vec<crate::bench::tradeoff::SolverSetting>,
     /// Substep counts, at equal simulated time per frame (default: 1,2,4).
     #[arg(long, value_delimiter = ',')]
     pub substeps: Vec<u32>,
@@ -99,6 +104,9 @@ pub fn execute_tradeoff(args: TradeoffArgs) -> anyhow::Result<()> {
     if !args.iterations.is_empty() {
         spec.iterations = args.iterations.clone();
     }
+    if !args.solvers.is_empty() {
+        spec.solvers = args.solvers.clone();
+    }
     if !args.substeps.is_empty() {
         spec.substeps = args.substeps.clone();
     }
@@ -147,13 +155,14 @@ pub fn execute_tradeoff(args: TradeoffArgs) -> anyhow::Result<()> {
         &mut |r| {
             done += 1;
             eprintln!(
-                "  [{done}/{points}] {} it {} ss {} omega {}: {:.3} ms/frame, volume error {:.3} %, pos rms {}",
-                r.method,
+                "  [{done}/{points}] {} it {} ss {} omega {}: {:.3} ms/frame, volume error {:.3} %, local {:.3} %, pos rms {}",
+                r.series(),
                 r.iterations,
                 r.substeps,
                 r.omega,
                 r.ms_per_frame,
                 r.volume_error_pct,
+                r.avg_local_error_pct,
                 r.pos_rms_rel.map_or("-".into(), |e| format!("{e:.2e}"))
             )
         },

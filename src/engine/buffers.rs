@@ -37,8 +37,8 @@ pub(crate) struct SimBuffers {
     /// items (Gauss-Seidel).
     pub gather: Option<[Buffer; 4]>,
     /// The global volume constraints' buffers: objects, surface nodes, surface faces,
-    /// node-face offsets and items.
-    pub global: Option<[Buffer; 5]>,
+    /// node-face offsets and items, the step's surface gradients and per-object state.
+    pub global: Option<[Buffer; 7]>,
     /// Node -> springs CSR offsets and items (`mss-node`).
     pub node_springs: Option<(Buffer, Buffer)>,
     /// One [`crate::gpu::layout::VolumePartial`] per volume_sum workgroup.
@@ -199,6 +199,8 @@ impl SimBuffers {
             BufferId::SurfaceFaces => self.global.as_ref().map(|b| &b[2]),
             BufferId::NodeFaceOffsets => self.global.as_ref().map(|b| &b[3]),
             BufferId::NodeFaceItems => self.global.as_ref().map(|b| &b[4]),
+            BufferId::SurfaceGradients => self.global.as_ref().map(|b| &b[5]),
+            BufferId::GlobalState => self.global.as_ref().map(|b| &b[6]),
         }
     }
 
@@ -255,7 +257,7 @@ fn gather_buffers(
 }
 
 /// The global volume constraints' buffers ([`GlobalVolume`]).
-fn global_buffers(ctx: &Arc<Context>, global: &GlobalVolume) -> Result<[Buffer; 5]> {
+fn global_buffers(ctx: &Arc<Context>, global: &GlobalVolume) -> Result<[Buffer; 7]> {
     let objects: Vec<GpuGlobalObject> = global
         .objects
         .iter()
@@ -276,11 +278,16 @@ fn global_buffers(ctx: &Arc<Context>, global: &GlobalVolume) -> Result<[Buffer; 
         upload(BufferId::SurfaceFaces, bytes(&faces))?,
         upload(BufferId::NodeFaceOffsets, bytes(&global.node_faces.offsets))?,
         upload(BufferId::NodeFaceItems, bytes(&global.node_faces.items))?,
+        upload(
+            BufferId::SurfaceGradients,
+            &vec![0u8; 16 * global.nodes.len()],
+        )?,
+        upload(BufferId::GlobalState, &vec![0u8; 16 * global.objects.len()])?,
     ])
 }
 
 /// Every buffer kind.
-const ALL_BUFFERS: [BufferId; 21] = [
+const ALL_BUFFERS: [BufferId; 23] = [
     BufferId::Positions,
     BufferId::Velocities,
     BufferId::Forces,
@@ -302,4 +309,6 @@ const ALL_BUFFERS: [BufferId; 21] = [
     BufferId::SurfaceFaces,
     BufferId::NodeFaceOffsets,
     BufferId::NodeFaceItems,
+    BufferId::SurfaceGradients,
+    BufferId::GlobalState,
 ];

@@ -3,6 +3,7 @@
 //! ```text
 //! for each substep:
 //!     spring_scatter | spring_gather        F = m g + spring forces
+//!     (global_volume_prepare)               C_g, A and the surface gradients at x(t)
 //!     iterations x groups x                 (one group for Jacobi, the colour groups
 //!                                           for Gauss-Seidel)
 //!        (distance | volume,                the group's constraint forces from x(t),

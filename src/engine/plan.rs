@@ -63,6 +63,10 @@ pub enum BufferId {
     NodeFaceOffsets,
     /// 3 u32 per boundary face (global volume).
     NodeFaceItems,
+    /// vec4 per surface node (global volume).
+    SurfaceGradients,
+    /// vec4 per object (global volume).
+    GlobalState,
 }
 
 impl BufferId {
@@ -90,6 +94,8 @@ impl BufferId {
             BufferId::SurfaceFaces => "surface faces",
             BufferId::NodeFaceOffsets => "node-face offsets",
             BufferId::NodeFaceItems => "node-face items",
+            BufferId::SurfaceGradients => "surface gradients",
+            BufferId::GlobalState => "global state",
         }
     }
 
@@ -117,6 +123,8 @@ impl BufferId {
             BufferId::SurfaceFaces => binding::SURFACE_FACES,
             BufferId::NodeFaceOffsets => binding::NODE_FACE_OFFSETS,
             BufferId::NodeFaceItems => binding::NODE_FACE_ITEMS,
+            BufferId::SurfaceGradients => binding::SURFACE_GRADIENTS,
+            BufferId::GlobalState => binding::GLOBAL_STATE,
         }
     }
 }
@@ -385,6 +393,8 @@ impl EnginePlan {
             buffers.push((SurfaceFaces, 16 * faces, 0));
             buffers.push((NodeFaceOffsets, 4 * (nodes + 1), 0));
             buffers.push((NodeFaceItems, 4 * 3 * faces, 0));
+            buffers.push((SurfaceGradients, 16 * nodes, 0));
+            buffers.push((GlobalState, 16 * objects, 0));
         }
         // Spring forces are gathered per node for mss-node, and on the gather path so
         // that nothing in its step uses float atomics.
@@ -448,6 +458,24 @@ impl EnginePlan {
                 Repeat::Substep,
             ),
         }];
+        if let Some(g) = global {
+            passes.push(pass(
+                "global_volume_prepare",
+                Variant::Plain,
+                g.objects * workgroup_size,
+                vec![
+                    (Positions, Read),
+                    (GlobalObjects, Read),
+                    (SurfaceNodes, Read),
+                    (SurfaceFaces, Read),
+                    (NodeFaceOffsets, Read),
+                    (NodeFaceItems, Read),
+                    (SurfaceGradients, Write),
+                    (GlobalState, Write),
+                ],
+                Repeat::Substep,
+            ));
+        }
         if constrained {
             let (variant, output) = match gather {
                 true => (
@@ -525,9 +553,8 @@ impl EnginePlan {
                         (Forces, ReadWrite),
                         (GlobalObjects, Read),
                         (SurfaceNodes, Read),
-                        (SurfaceFaces, Read),
-                        (NodeFaceOffsets, Read),
-                        (NodeFaceItems, Read),
+                        (SurfaceGradients, Read),
+                        (GlobalState, Read),
                     ],
                     Repeat::IterationEnd,
                 );

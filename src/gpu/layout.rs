@@ -51,6 +51,10 @@ pub mod binding {
     pub const NODE_FACE_OFFSETS: u32 = 19;
     /// Surface node -> face corners CSR items (`3 face + corner`).
     pub const NODE_FACE_ITEMS: u32 = 20;
+    /// vec4 per surface node: the step's `grad_k C_g`, w = inverse mass.
+    pub const SURFACE_GRADIENTS: u32 = 21;
+    /// vec4 per object: the step's `C_g` and `A`.
+    pub const GLOBAL_STATE: u32 = 22;
 }
 
 /// The push-constant block of every pass (`PushConstants` in bindings.glsl), 60 bytes.
@@ -265,7 +269,7 @@ mod tests {
             partials.get("local_error"),
             Some(&(offset_of!(VolumePartial, local_error) as u32))
         );
-        let objects: HashMap<_, _> = module("passes/global_volume.comp")
+        let objects: HashMap<_, _> = module("passes/global_volume_prepare.comp")
             .struct_offsets("GlobalObject")
             .into_iter()
             .collect();
@@ -324,6 +328,8 @@ mod tests {
             ("SurfaceFaces", binding::SURFACE_FACES),
             ("NodeFaceOffsets", binding::NODE_FACE_OFFSETS),
             ("NodeFaceItems", binding::NODE_FACE_ITEMS),
+            ("SurfaceGradients", binding::SURFACE_GRADIENTS),
+            ("GlobalState", binding::GLOBAL_STATE),
         ]
         .into_iter()
         .collect();
