@@ -109,17 +109,22 @@ pub enum Solver {
     /// share a node), colours merged into `groups` groups solved one after another, each
     /// against the forces the previous groups left.
     GaussSeidel,
+    /// Jacobi sweeps with Chebyshev semi-iteration (Wang 2015): iteration `k`'s forces are
+    /// `F_k = w_k (Fhat_k - F_(k-2)) + F_(k-2)`, `Fhat_k` the plain Jacobi update, with
+    /// weights from the spectral radius estimate `rho` ([`chebyshev_weights`]).
+    Chebyshev,
 }
 
 impl Solver {
     /// Every solver.
-    pub const ALL: [Solver; 2] = [Solver::Jacobi, Solver::GaussSeidel];
+    pub const ALL: [Solver; 3] = [Solver::Jacobi, Solver::GaussSeidel, Solver::Chebyshev];
 
     /// The name used on the command line, in scene files and in records.
     pub fn name(self) -> &'static str {
         match self {
             Solver::Jacobi => "jacobi",
             Solver::GaussSeidel => "gauss-seidel",
+            Solver::Chebyshev => "chebyshev",
         }
     }
 }
@@ -183,6 +188,9 @@ pub struct SimParams {
     /// method).
     #[serde(default)]
     pub global_volume: Option<bool>,
+    /// Spectral radius estimate of the Chebyshev solver, in `(0, 1)` (ignored by the others).
+    #[serde(default = "default_rho")]
+    pub rho: f64,
     /// A constraint is skipped when its `A = sum_k w_k |grad_k C|^2` is at or below this
     /// (units of `A`: 1/kg m^2 for distance, 1/kg m^4 for volume constraints); guards
     /// collapsed elements, whose multiplier would be unbounded. Not in physics.md.
@@ -211,6 +219,7 @@ impl Default for SimParams {
             solver: default_solver(),
             groups: default_groups(),
             global_volume: None,
+            rho: default_rho(),
             constraint_epsilon: default_constraint_epsilon(),
             atomics: AtomicsMode::Auto,
         }
@@ -278,6 +287,12 @@ impl SimParams {
         if self.groups == 0 {
             return Err(Error::param("groups", "must be at least 1"));
         }
+        if !(self.rho > 0.0 && self.rho < 1.0) {
+            return Err(Error::param(
+                "rho",
+                format!("must be in (0, 1), got {}", self.rho),
+            ));
+        }
 
         non_negative_finite("constraint_epsilon", self.constraint_epsilon)?;
         match self.mass {
@@ -291,6 +306,47 @@ impl SimParams {
 /// Default of [`SimParams::solver`].
 pub fn default_solver() -> Solver {
     Solver::GaussSeidel
+}
+
+/// Default of [`SimParams::rho`] (physics.md's prototype: 0.95 on the bunny).
+pub fn default_rho() -> f64 {
+    0.95
+}
+
+/// The Chebyshev weights of iterations `1..=iterations` for spectral radius `rho`
+/// (physics.md, Wang 2015): `w_1 = 1`, `w_2 = 2 / (2 - rho^2)`,
+/// `w_(k+1) = 4 / (4 - rho^2 w_k)`. Every backend uses this function.
+pub fn chebyshev_weights(rho: f64, iterations: u32) -> Vec<f64> {
+    let r2 = rho * rho;
+    let mut out: Vec<f64> = Vec::with_capacity(iterations as usize);
+    for k in 0..iterations as usize {
+        let w = match k {
+            0 => 1.0,
+            1 => 2.0 / (2.0 - r2),
+            _ => 4.0 / (4.0 - r2 * out[k - 1]),
+        };
+        out.push(w);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chebyshev_weights_follow_the_recurrence_down_to_the_optimal_limit() {
+        let rho: f64 = 0.95;
+        let w = chebyshev_weights(rho, 60);
+        assert_eq!(w[0], 1.0);
+        assert!((w[1] - 2.0 / (2.0 - rho * rho)).abs() < 1e-15);
+        assert!((w[2] - 4.0 / (4.0 - rho * rho * w[1])).abs() < 1e-15);
+        // From w_2 on the weights fall to the optimal SOR-like limit
+        // 2 / (1 + sqrt(1 - rho^2)), staying above it.
+        let limit = 2.0 / (1.0 + (1.0 - rho * rho).sqrt());
+        assert!(w[1..].windows(2).all(|p| p[1] <= p[0] && p[1] >= limit));
+        assert!((w[59] - limit).abs() < 1e-9, "{} vs {limit}", w[59]);
+    }
 }
 
 /// Default of [`SimParams::groups`].

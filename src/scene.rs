@@ -10,8 +10,10 @@
 //! iterations = 10
 //! omega = 1.0
 //! combine = "scaled" # momentum-conserving (default), or "sum", or "average" (first edition)
-//! solver = "gauss-seidel" # colour groups (default), or "jacobi" (the paper's method)
+//! solver = "gauss-seidel" # colour groups (default), "jacobi" (the paper's method), or
+//!                     # "chebyshev" (jacobi with chebyshev semi-iteration)
 //! groups = 8          # colour groups of gauss-seidel
+//! rho = 0.95          # spectral radius estimate of chebyshev
 //! global_volume = true  # one global volume constraint per object (default: on for
 //!                       # gauss-seidel, off for jacobi)
 //! atomics = "auto"    # or "ext", "cas"
@@ -88,6 +90,8 @@ pub struct Solver {
     pub groups: u32,
     /// One global volume constraint per object (`None`: the solver's default).
     pub global_volume: Option<bool>,
+    /// Spectral radius estimate of the Chebyshev solver.
+    pub rho: f64,
     /// Float-atomic path on the GPU.
     pub atomics: AtomicsMode,
     /// Skip a constraint whose denominator `A` is at or below this
@@ -111,6 +115,7 @@ impl Default for Solver {
             solver: p.solver,
             groups: p.groups,
             global_volume: p.global_volume,
+            rho: p.rho,
             atomics: p.atomics,
             epsilon: p.constraint_epsilon,
             gravity: p.gravity,
@@ -372,6 +377,7 @@ impl Scene {
             solver: s.solver,
             groups: s.groups,
             global_volume: s.global_volume,
+            rho: s.rho,
             constraint_epsilon: s.epsilon,
             atomics: s.atomics,
         }

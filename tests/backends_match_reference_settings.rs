@@ -1,8 +1,8 @@
 //! Every backend follows `cpu-ref` away from the defaults too: over-relaxation, plain
 //! summation, substeps on a deformed body, friction, pinned nodes (with the Jacobi solver, so
 //! that the held ball sags onto the floor), density masses, Gauss-Seidel with 3 and with
-//! all colour groups, and the global volume constraint with either solver (on two objects,
-//! one constraint each), each on a small ball dropped from 1 cm so that the floor is part
+//! all colour groups, the global volume constraint with either solver (on two objects,
+//! one constraint each), Chebyshev with and without it, each on a small ball dropped from 1 cm so that the floor is part
 //! of every run (60 frames).
 //!
 //! Tolerances: every node within 1e-5 of the bounding-box diagonal and every frame's volume
@@ -126,6 +126,24 @@ fn cases() -> Vec<(&'static str, Model, SimParams)> {
                 solver: Solver::Jacobi,
                 global_volume: Some(true),
                 ..base(Method::Distance)
+            },
+        ),
+        (
+            "chebyshev rho 0.9, deformed",
+            gpu_support::jittered(&plain, 0.01, 0.3, 19),
+            SimParams {
+                solver: Solver::Chebyshev,
+                rho: 0.9,
+                ..base(Method::Volume)
+            },
+        ),
+        (
+            "chebyshev + global volume",
+            gpu_support::jittered(&plain, 0.01, 0.3, 23),
+            SimParams {
+                solver: Solver::Chebyshev,
+                global_volume: Some(true),
+                ..base(Method::Volume)
             },
         ),
         (

@@ -104,6 +104,7 @@ fn free_flight_keeps_linear_and_angular_momentum() {
         (ConstraintCombine::Scaled, 1.0, Solver::Jacobi, false),
         (ConstraintCombine::Scaled, 1.0, Solver::GaussSeidel, true),
         (ConstraintCombine::Scaled, 1.0, Solver::Jacobi, true),
+        (ConstraintCombine::Scaled, 1.0, Solver::Chebyshev, false),
     ];
     for method in Method::ALL {
         for (combine, omega, solver, global) in cases {

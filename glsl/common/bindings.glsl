@@ -51,6 +51,8 @@
 #define B_SURFACE_GRADIENTS 21
 // Per object, vec4: C_g [m^3], A = sum_k w_k |grad_k C_g|^2, 0, 0 (global_volume_prepare).
 #define B_GLOBAL_STATE 22
+// Per node, vec4: the force two Chebyshev iterations back (w: its floor force).
+#define B_CHEBYSHEV_BEFORE 23
 
 // Values of pc.combine (src/gpu/layout.rs, `combine`).
 #define COMBINE_SCALED 0u
@@ -102,6 +104,7 @@ layout(push_constant, std430) uniform PushConstants {
     uint group;       // constraint group being solved (0 for Jacobi)
     uint group_first; // its first position in the group-ordered constraints (gather path)
     uint group_count; // its constraint count (gather path)
+    float chebyshev_weight; // the iteration's Chebyshev weight (solver chebyshev; else 1)
 } pc;
 
 // Index of node i's per-group data (degrees, slot rows) in the current group.

@@ -4,11 +4,16 @@
 // 1 / d_k for the first edition's averaging; physics.md) and sum the node's constraint
 // forces of the group: variant `sums` (atomic Jacobi) reads and clears the per-node sums
 // the atomics built; variant `gather` sums the node's contribution slots of group
-// pc.group in a fixed order (no atomics, bit-identical reruns). Then the node's floor
+// pc.group in a fixed order (no atomics, bit-identical reruns); variant `chebyshev` is
+// `sums` with the Chebyshev semi-iteration (physics.md; chebyshev_weights in
+// src/params.rs): F = w (Fhat - F_before) + F_before with the iteration's weight
+// w = pc.chebyshev_weight and F_before, the force two iterations back (floor force in w),
+// kept per node. Then the node's floor
 // contact is solved again against the new F (the floor is a one-sided constraint solved in
 // the same iterations; its force is kept in F.w).
 // @variant sums: SUMS
 // @variant gather: GATHER
+// @variant chebyshev: SUMS CHEBYSHEV
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/implicit.glsl"
@@ -29,6 +34,9 @@ layout(std430, set = 0, binding = B_NODE_SLOT_ITEMS) readonly restrict buffer No
 #else
 layout(std430, set = 0, binding = B_CONSTRAINT_SUM) restrict buffer Sum { vec4 sums[]; };
 #endif
+#ifdef CHEBYSHEV
+layout(std430, set = 0, binding = B_CHEBYSHEV_BEFORE) restrict buffer ChebyshevBefore { vec4 before[]; };
+#endif
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
@@ -48,7 +56,17 @@ void main() {
 #endif
     float weight = pc.omega * combine_apply_weight(pc.combine, degrees[row]);
     vec4 f = forces[i];
+#ifdef CHEBYSHEV
+    vec4 f0 = f;
+#endif
     f.xyz += weight * sum;
+#ifdef CHEBYSHEV
+    if (pc.chebyshev_weight != 1.0) {
+        vec4 b = before[i];
+        f = (f - b) * pc.chebyshev_weight + b;
+    }
+    before[i] = f0;
+#endif
     if (FLOOR != 0u && pc.floor_on != 0u) {
         vec4 p = positions[i];
         f = floor_solve(f, p.y, velocities[i].y, p.w, pc.dt);

@@ -12,6 +12,10 @@ pub use super::tradeoff_files::{write_csv, write_outputs, OUTPUT_FILES};
 /// Volume-error budgets [%] the report answers "cheapest setting" for.
 pub const VOLUME_BUDGETS: [f64; 6] = [10.0, 5.0, 2.0, 1.0, 0.5, 0.2];
 
+/// Local volume error budgets [%] of the "which solver for which budget" table (the global
+/// volume constraint holds the total, so the local error tells the solvers apart).
+pub const LOCAL_BUDGETS: [f64; 6] = [2.0, 1.0, 0.5, 0.25, 0.15, 0.1];
+
 /// Cost ratio within which two settings count as "equal cost".
 pub const EQUAL_COST_RATIO: f64 = 1.5;
 
@@ -115,6 +119,45 @@ pub fn cheapest_for(records: &[TradeoffRecord], budget: f64) -> Option<&Tradeoff
         .iter()
         .filter(|r| !r.diverged && r.volume_error_pct <= budget)
         .min_by(|a, b| a.ms_per_frame.total_cmp(&b.ms_per_frame))
+}
+
+/// The cheapest constraint-method run whose mean local volume error is at most `budget` %
+/// and whose volume error is at most `budget` too.
+pub fn cheapest_for_local(records: &[TradeoffRecord], budget: f64) -> Option<&TradeoffRecord> {
+    records
+        .iter()
+        .filter(|r| !r.diverged && r.method != "mss" && r.method != "mss-node")
+        .filter(|r| r.avg_local_error_pct <= budget && r.volume_error_pct <= budget)
+        .min_by(|a, b| a.ms_per_frame.total_cmp(&b.ms_per_frame))
+}
+
+/// "Which solver for which budget": per [`LOCAL_BUDGETS`] entry, the cheapest setting.
+pub fn local_budget_table(records: &[TradeoffRecord]) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "| local error <= | setting | ms/frame | avg local % | volume error % | pos rms |"
+    );
+    let _ = writeln!(out, "| ---: | --- | ---: | ---: | ---: | ---: |");
+    for budget in LOCAL_BUDGETS {
+        match cheapest_for_local(records, budget) {
+            Some(r) => {
+                let _ = writeln!(
+                    out,
+                    "| {budget} % | {} | {:.3} | {:.3} | {:.3} | {} |",
+                    setting(r),
+                    r.ms_per_frame,
+                    r.avg_local_error_pct,
+                    r.volume_error_pct,
+                    pos(r.pos_rms_rel)
+                );
+            }
+            None => {
+                let _ = writeln!(out, "| {budget} % | none of the settings | - | - | - | - |");
+            }
+        }
+    }
+    out
 }
 
 /// A setting with several substeps against the single-substep setting of the same method
@@ -274,6 +317,13 @@ pub fn report(records: &[TradeoffRecord]) -> String {
             }
         }
     }
+    let _ = writeln!(
+        out,
+        "\n## Which solver for which budget (local volume error)\n\nThe cheapest setting whose \
+         mean local volume error (`sum_t |V_t - V0_t| / sum_t V0_t`) and total volume error \
+         are both within the budget.\n\n{}",
+        local_budget_table(records)
+    );
     let pairs = equal_cost_pairs(records);
     let _ = writeln!(
         out,

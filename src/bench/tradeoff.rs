@@ -14,7 +14,8 @@ use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::params::{Method, SimParams, Solver};
 
-/// A solver with its settings: `jacobi`, `gauss-seidel:8`, `gauss-seidel:8+global`, ...
+/// A solver with its settings: `jacobi`, `chebyshev`, `gauss-seidel:8`,
+/// `gauss-seidel:8+global`, ... (Chebyshev with the default `rho`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SolverSetting {
     /// The solver.
@@ -70,7 +71,8 @@ impl SolverSetting {
 impl std::str::FromStr for SolverSetting {
     type Err = Error;
 
-    /// `NAME[:GROUPS][+global]`, NAME `jacobi` or `gauss-seidel` (groups default 8).
+    /// `NAME[:GROUPS][+global]`, NAME `jacobi`, `chebyshev` or `gauss-seidel` (groups, for
+    /// Gauss-Seidel only, default 8).
     fn from_str(text: &str) -> Result<Self> {
         let (rest, global_volume) = match text.strip_suffix("+global") {
             Some(rest) => (rest, true),
@@ -92,19 +94,19 @@ impl std::str::FromStr for SolverSetting {
                 Error::param(
                     "solvers",
                     format!(
-                        "`{text}`: expected jacobi or gauss-seidel, optionally with :GROUPS \
-                         (gauss-seidel) and +global"
+                        "`{text}`: expected jacobi, chebyshev or gauss-seidel, optionally \
+                         with :GROUPS (gauss-seidel) and +global"
                     ),
                 )
             })?;
         let groups = match (solver, groups) {
-            (Solver::Jacobi, Some(_)) => {
+            (Solver::Jacobi | Solver::Chebyshev, Some(_)) => {
                 return Err(Error::param(
                     "solvers",
-                    format!("`{text}`: jacobi has no colour groups"),
+                    format!("`{text}`: {name} has no colour groups"),
                 ))
             }
-            (Solver::Jacobi, None) => 1,
+            (Solver::Jacobi | Solver::Chebyshev, None) => 1,
             (Solver::GaussSeidel, g) => g.unwrap_or(crate::params::default_groups()),
         };
         Ok(SolverSetting::new(solver, groups, global_volume))

@@ -111,13 +111,16 @@ pub struct RunArgs {
     /// (the paper's literal reading), `average` (first edition, drifts; for comparison).
     #[arg(long, value_enum)]
     pub combine: Option<ConstraintCombine>,
-    /// How each iteration sweeps the constraints: `gauss-seidel` (colour groups, default)
-    /// or `jacobi` (the paper's method).
+    /// How each iteration sweeps the constraints: `gauss-seidel` (colour groups, default),
+    /// `jacobi` (the paper's method) or `chebyshev` (Jacobi with Chebyshev semi-iteration).
     #[arg(long, value_enum)]
     pub solver: Option<SolverKind>,
     /// Colour groups of the Gauss-Seidel solver (default 8).
     #[arg(long)]
     pub groups: Option<u32>,
+    /// Spectral radius estimate of the Chebyshev solver, in (0, 1) (default 0.95).
+    #[arg(long)]
+    pub rho: Option<f64>,
     /// One global volume constraint per object, solved after the local constraints in every
     /// iteration: `true` (`--global-volume` alone) or `false`; default: on for
     /// `gauss-seidel`, off for `jacobi` (the paper's method).
@@ -159,7 +162,7 @@ pub struct RunArgs {
 }
 
 /// The flags a scene file replaces.
-const SCENE_CONFLICTS: [&str; 25] = [
+const SCENE_CONFLICTS: [&str; 26] = [
     "mesh",
     "method",
     "preset",
@@ -175,6 +178,7 @@ const SCENE_CONFLICTS: [&str; 25] = [
     "combine",
     "solver",
     "groups",
+    "rho",
     "global_volume",
     "epsilon",
     "node_mass",
@@ -197,7 +201,7 @@ impl RunArgs {
         }
         set!(frames => p.frames, dt => s.dt, substeps => s.substeps, iterations => s.iterations,
              omega => s.omega, ks => s.ks, kd => s.kd, friction => s.friction, gravity => s.gravity,
-             combine => s.combine, solver => s.solver, groups => s.groups, epsilon => s.constraint_epsilon, atomics => s.atomics);
+             combine => s.combine, solver => s.solver, groups => s.groups, rho => s.rho, epsilon => s.constraint_epsilon, atomics => s.atomics);
         if let Some(mass) = self.node_mass {
             s.mass = MassMode::PerNode { mass };
         }
@@ -237,6 +241,7 @@ impl RunArgs {
                 solver: s.solver,
                 groups: s.groups,
                 global_volume: s.global_volume,
+                rho: s.rho,
                 atomics: s.atomics,
                 epsilon: s.constraint_epsilon,
                 gravity: s.gravity,
@@ -307,6 +312,7 @@ fn solver_label(params: &SimParams) -> String {
     let mut out = match params.solver {
         SolverKind::Jacobi => "jacobi".to_string(),
         SolverKind::GaussSeidel => format!("gauss-seidel ({} groups)", params.groups),
+        SolverKind::Chebyshev => format!("chebyshev (rho {})", params.rho),
     };
     if params.global_volume_on() {
         out += " + global volume";

@@ -38,7 +38,7 @@ pub struct TradeoffArgs {
     /// Iteration counts (default: 1,2,5,10,20,50).
     #[arg(long, value_delimiter = ',')]
     pub iterations: Vec<u32>,
-    /// Solvers of the constraint methods, comma-separated, each `jacobi` or
+    /// Solvers of the constraint methods, comma-separated, each `jacobi`, `chebyshev` or
     /// `gauss-seidel[:GROUPS]`, optionally with `+global` (default: jacobi, jacobi+global,
     /// gauss-seidel:8, gauss-seidel:8+global).
     #[arg(long, value_delimiter = ',')]
@@ -175,6 +175,8 @@ fn finish(args: &TradeoffArgs, records: &[crate::bench::TradeoffRecord]) -> anyh
     let backend = records.first().map_or("?", |r| r.backend.as_str());
     println!("Pareto front (ms per frame on {backend}, volume error):");
     print!("{}", front_table(records));
+    println!("Cheapest setting per local volume error budget:");
+    print!("{}", crate::bench::report::local_budget_table(records));
     println!("Substeps or iterations at equal measured cost:");
     print!("{}", verdict(&equal_cost_pairs(records)));
     println!("At equal iterations per frame (iterations x substeps):");

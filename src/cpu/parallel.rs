@@ -11,7 +11,7 @@ use super::{check_state, diverged, Bad};
 use crate::backend::{Backend, State, VolumeSample};
 use crate::error::Result;
 use crate::model::{Csr, GlobalVolume, Model};
-use crate::params::{Method, SimParams};
+use crate::params::{chebyshev_weights, Method, SimParams, Solver};
 use crate::physics::{
     distance_constraint, face_volume, floor_solve, implicit_accumulate, implicit_lambda,
     implicit_multiplier, integrate_node, spring_force, tet_volume, volume_constraint, Vector,
@@ -173,6 +173,10 @@ pub struct ParallelBackend {
     groups: Option<Groups>,
     /// The global volume constraints, when solved.
     global: Option<Global>,
+    /// The Chebyshev semi-iteration (solver `chebyshev`).
+    chebyshev: Option<Chebyshev>,
+    /// The current constraint iteration of the step (0-based).
+    iteration: usize,
     /// The floor's normal force on each node in the current step [N] (`>= 0`).
     floor_force: Vec<f32>,
     x: Vec<Vec3A>,
@@ -231,6 +235,15 @@ impl ParallelBackend {
             node_spring_ends: ends,
             groups: Groups::new(model, params),
             global: params.solves_global_volume().then(|| Global::new(model)),
+            chebyshev: (params.solver == Solver::Chebyshev).then(|| Chebyshev {
+                weights: chebyshev_weights(params.rho, params.iterations)
+                    .into_iter()
+                    .map(|w| w as f32)
+                    .collect(),
+                before_f: vec![Vec3A::ZERO; n],
+                before_n: vec![0.0; n],
+            }),
+            iteration: 0,
             floor_force: vec![0.0; n],
             x: model
                 .positions
@@ -347,10 +360,13 @@ impl ParallelBackend {
         let contact = self
             .floor
             .then_some((&self.x[..], &self.v[..], &self.inv_mass[..], k.dt));
+        let iteration = self.iteration;
+        let chebyshev = self.chebyshev.as_mut().map(|c| c.state(iteration));
         apply_group(
             &mut self.f,
             &mut self.floor_force,
             contact,
+            chebyshev,
             groups,
             g,
             |slots| gather_ends(slots, out),
@@ -389,10 +405,13 @@ impl ParallelBackend {
         let contact = self
             .floor
             .then_some((&self.x[..], &self.v[..], &self.inv_mass[..], k.dt));
+        let iteration = self.iteration;
+        let chebyshev = self.chebyshev.as_mut().map(|c| c.state(iteration));
         apply_group(
             &mut self.f,
             &mut self.floor_force,
             contact,
+            chebyshev,
             groups,
             g,
             |slots| {
@@ -442,8 +461,13 @@ impl ParallelBackend {
         if let Some(global) = &mut global {
             global.prepare(&self.x);
         }
+        if let Some(c) = &mut self.chebyshev {
+            c.before_f.clone_from(&self.f);
+            c.before_n.clone_from(&self.floor_force);
+        }
         if let Some(groups) = self.groups.take() {
-            for _ in 0..self.iterations {
+            for iteration in 0..self.iterations as usize {
+                self.iteration = iteration;
                 for g in 0..groups.len() {
                     match self.method {
                         Method::Distance => self.distance_pass(&groups, g),
@@ -507,22 +531,70 @@ fn apply_group(
     f: &mut [Vec3A],
     floor_force: &mut [f32],
     contact: Option<Contact<'_>>,
+    chebyshev: Option<ChebyshevState<'_>>,
     groups: &Groups,
     g: usize,
     gather: impl Fn(&[u32]) -> Vec3A + Sync,
 ) {
     let n = f.len();
     let apply = &groups.apply[g * n..(g + 1) * n];
-    f.par_iter_mut()
-        .zip(floor_force.par_iter_mut())
-        .enumerate()
-        .with_min_len(CHUNK)
-        .for_each(|(i, (f, fl))| {
-            *f += gather(groups.slots.row(g * n + i)) * apply[i];
-            if let Some((x, v, w, dt)) = contact {
-                (*f, *fl) = floor_solve(*f, *fl, x[i].y, v[i].y, w[i], dt);
-            }
-        });
+    let update = |i: usize, f: &mut Vec3A| {
+        *f += gather(groups.slots.row(g * n + i)) * apply[i];
+    };
+    let floor = |i: usize, f: &mut Vec3A, fl: &mut f32| {
+        if let Some((x, v, w, dt)) = contact {
+            (*f, *fl) = floor_solve(*f, *fl, x[i].y, v[i].y, w[i], dt);
+        }
+    };
+    match chebyshev {
+        None => f
+            .par_iter_mut()
+            .zip(floor_force.par_iter_mut())
+            .enumerate()
+            .with_min_len(CHUNK)
+            .for_each(|(i, (f, fl))| {
+                update(i, f);
+                floor(i, f, fl);
+            }),
+        Some((before_f, before_n, w)) => f
+            .par_iter_mut()
+            .zip(floor_force.par_iter_mut())
+            .zip(before_f.par_iter_mut().zip(before_n.par_iter_mut()))
+            .enumerate()
+            .with_min_len(CHUNK)
+            .for_each(|(i, ((f, fl), (bf, bn)))| {
+                let (f0, n0) = (*f, *fl);
+                update(i, f);
+                if w != 1.0 {
+                    *f = (*f - *bf) * w + *bf;
+                    *fl = (*fl - *bn) * w + *bn;
+                }
+                (*bf, *bn) = (f0, n0);
+                floor(i, f, fl);
+            }),
+    }
+}
+
+/// The Chebyshev state of one iteration: the total and floor forces two iterations back
+/// (updated in place) and the iteration's weight.
+type ChebyshevState<'a> = (&'a mut [Vec3A], &'a mut [f32], f32);
+
+/// The Chebyshev semi-iteration's weights and the forces two iterations back.
+#[derive(Debug, Clone)]
+struct Chebyshev {
+    weights: Vec<f32>,
+    before_f: Vec<Vec3A>,
+    before_n: Vec<f32>,
+}
+
+impl Chebyshev {
+    fn state(&mut self, iteration: usize) -> ChebyshevState<'_> {
+        (
+            &mut self.before_f,
+            &mut self.before_n,
+            self.weights[iteration],
+        )
+    }
 }
 
 /// Sum over a node's spring ends of the per-spring results (negated for end 1).

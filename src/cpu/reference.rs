@@ -7,7 +7,7 @@ use super::{check_state, diverged, Bad};
 use crate::backend::{Backend, State, VolumeSample};
 use crate::error::Result;
 use crate::model::{ConstraintGroups, GlobalObject, GlobalVolume, Model};
-use crate::params::{Method, SimParams};
+use crate::params::{chebyshev_weights, Method, SimParams, Solver};
 use crate::physics::{
     distance_constraint, face_volume, floor_solve, implicit_accumulate, implicit_lambda,
     implicit_multiplier, integrate_node, spring_force, tet_volume, volume_constraint,
@@ -112,10 +112,14 @@ impl ReferenceBackend {
             _ => self.spring_forces_scatter(),
         };
         let mut total: Vec<DVec3> = (0..n).map(|i| gravity[i] + springs[i]).collect();
-        let mut constraints = vec![DVec3::ZERO; n];
         let mut floor = vec![0.0; n];
+        // Chebyshev: the weights, and the total and floor forces two iterations back.
+        let p = &self.params;
+        let weights =
+            (p.solver == Solver::Chebyshev).then(|| chebyshev_weights(p.rho, p.iterations));
+        let (mut before_total, mut before_floor) = (total.clone(), floor.clone());
         if let Some(groups) = &self.groups {
-            for _ in 0..self.params.iterations {
+            for iteration in 0..self.params.iterations as usize {
                 for (g, factors) in self.group_factors.iter().enumerate() {
                     let a_scale: Vec<f64> = factors.iter().map(|f| f.0).collect();
                     let members = groups.group(g);
@@ -123,10 +127,19 @@ impl ReferenceBackend {
                         Method::Distance => self.distance_sweep(members, &total, &a_scale),
                         _ => self.volume_sweep(members, &total, &a_scale),
                     };
+                    let current = weights.as_ref().map(|_| (total.clone(), floor.clone()));
                     for i in 0..n {
-                        let delta = sum[i] * (factors[i].1 * self.params.omega);
-                        total[i] += delta;
-                        constraints[i] += delta;
+                        total[i] += sum[i] * (factors[i].1 * self.params.omega);
+                    }
+                    if let (Some(w), Some((t, f))) = (&weights, current) {
+                        let w = w[iteration];
+                        if w != 1.0 {
+                            for i in 0..n {
+                                total[i] = (total[i] - before_total[i]) * w + before_total[i];
+                                floor[i] = (floor[i] - before_floor[i]) * w + before_floor[i];
+                            }
+                        }
+                        (before_total, before_floor) = (t, f);
                     }
                     self.floor_solve(&mut total, &mut floor);
                 }
@@ -135,7 +148,6 @@ impl ReferenceBackend {
                         let f = self.global_volume_forces(global, object, &total);
                         for (&i, f) in global.nodes[object.node_first as usize..].iter().zip(f) {
                             total[i as usize] += f;
-                            constraints[i as usize] += f;
                         }
                     }
                     self.floor_solve(&mut total, &mut floor);
@@ -143,6 +155,9 @@ impl ReferenceBackend {
             }
         }
         self.floor_solve(&mut total, &mut floor);
+        let constraints = (0..n)
+            .map(|i| total[i] - gravity[i] - springs[i] - DVec3::Y * floor[i])
+            .collect();
         Forces {
             gravity,
             springs,

@@ -36,6 +36,8 @@ pub(crate) struct SimBuffers {
     /// The gather path's buffers: group members, contributions, node-slot offsets and
     /// items (Gauss-Seidel).
     pub gather: Option<[Buffer; 4]>,
+    /// vec4 per node: the force two Chebyshev iterations back (solver `chebyshev`).
+    pub chebyshev_before: Option<Buffer>,
     /// The global volume constraints' buffers: objects, surface nodes, surface faces,
     /// node-face offsets and items, the step's surface gradients and per-object state.
     pub global: Option<[Buffer; 7]>,
@@ -130,6 +132,7 @@ impl SimBuffers {
                 bytes(&floats(&model.rest_volume)).to_vec()
             })?,
             constraint_sum: optional(BufferId::ConstraintSum, &|| vec![0u8; n * 16])?,
+            chebyshev_before: optional(BufferId::ChebyshevBefore, &|| vec![0u8; n * 16])?,
             degrees: match degrees {
                 Some(w) => Some(upload(BufferId::Degrees, bytes(&w))?),
                 None => None,
@@ -201,6 +204,7 @@ impl SimBuffers {
             BufferId::NodeFaceItems => self.global.as_ref().map(|b| &b[4]),
             BufferId::SurfaceGradients => self.global.as_ref().map(|b| &b[5]),
             BufferId::GlobalState => self.global.as_ref().map(|b| &b[6]),
+            BufferId::ChebyshevBefore => self.chebyshev_before.as_ref(),
         }
     }
 
@@ -287,7 +291,7 @@ fn global_buffers(ctx: &Arc<Context>, global: &GlobalVolume) -> Result<[Buffer; 
 }
 
 /// Every buffer kind.
-const ALL_BUFFERS: [BufferId; 23] = [
+const ALL_BUFFERS: [BufferId; 24] = [
     BufferId::Positions,
     BufferId::Velocities,
     BufferId::Forces,
@@ -311,4 +315,5 @@ const ALL_BUFFERS: [BufferId; 23] = [
     BufferId::NodeFaceItems,
     BufferId::SurfaceGradients,
     BufferId::GlobalState,
+    BufferId::ChebyshevBefore,
 ];

@@ -161,13 +161,15 @@ impl Recorder<'_> {
                     .iter()
                     .position(|q| q.plan.repeat != Repeat::IterationEnd)
                     .map_or(steps.len(), |e| end + e);
-                for _ in 0..plan.iterations {
+                for iteration in 0..plan.iterations as usize {
                     let mut first = 0;
+                    let chebyshev_weight = plan.chebyshev.get(iteration).copied().unwrap_or(1.0);
                     for (g, &count) in plan.groups.iter().enumerate() {
                         let push = PushConstants {
                             group: g as u32,
                             group_first: first,
                             group_count: count,
+                            chebyshev_weight,
                             ..*self.push
                         };
                         for q in &steps[k..end] {

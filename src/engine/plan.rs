@@ -16,7 +16,7 @@
 use std::fmt::Write as _;
 
 use crate::gpu::layout::binding;
-use crate::params::{Method, SimParams, Solver};
+use crate::params::{chebyshev_weights, Method, SimParams, Solver};
 
 /// A GPU buffer of the simulation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -67,6 +67,8 @@ pub enum BufferId {
     SurfaceGradients,
     /// vec4 per object (global volume).
     GlobalState,
+    /// vec4 per node (Chebyshev).
+    ChebyshevBefore,
 }
 
 impl BufferId {
@@ -96,6 +98,7 @@ impl BufferId {
             BufferId::NodeFaceItems => "node-face items",
             BufferId::SurfaceGradients => "surface gradients",
             BufferId::GlobalState => "global state",
+            BufferId::ChebyshevBefore => "chebyshev before",
         }
     }
 
@@ -125,6 +128,7 @@ impl BufferId {
             BufferId::NodeFaceItems => binding::NODE_FACE_ITEMS,
             BufferId::SurfaceGradients => binding::SURFACE_GRADIENTS,
             BufferId::GlobalState => binding::GLOBAL_STATE,
+            BufferId::ChebyshevBefore => binding::CHEBYSHEV_BEFORE,
         }
     }
 }
@@ -248,6 +252,15 @@ impl PlanCounts {
     }
 }
 
+/// Peak memory bandwidth of some GPUs [bytes/s], from the vendors' data sheets, for the
+/// memory-bound estimate `tetrasim plan` prints.
+pub const PEAK_BANDWIDTH: [(&str, f64); 4] = [
+    ("NVIDIA H100 SXM5 80GB", 3.35e12),
+    ("NVIDIA A100 SXM4 80GB", 2.039e12),
+    ("NVIDIA GeForce RTX 4090", 1.008e12),
+    ("NVIDIA GeForce RTX 3060", 360e9),
+];
+
 /// Sizes of the global volume constraints ([`crate::model::GlobalVolume`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct GlobalCounts {
@@ -288,6 +301,8 @@ pub struct EnginePlan {
     pub gather: bool,
     /// The global volume constraints' sizes, when solved.
     pub global: Option<GlobalCounts>,
+    /// The Chebyshev weight of each iteration (solver `chebyshev`; empty otherwise).
+    pub chebyshev: Vec<f32>,
     /// Invocations per workgroup.
     pub workgroup_size: u32,
     /// Whether the frame measures the volume (`volume_sum` + partials copy).
@@ -351,6 +366,13 @@ impl EnginePlan {
         let method = params.method;
         let constrained = matches!(method, Method::Distance | Method::Volume);
         let gather = constrained && params.solver == Solver::GaussSeidel;
+        let chebyshev: Vec<f32> = match constrained && params.solver == Solver::Chebyshev {
+            true => chebyshev_weights(params.rho, params.iterations)
+                .into_iter()
+                .map(|w| w as f32)
+                .collect(),
+            false => Vec::new(),
+        };
         let groups = if constrained {
             groups.to_vec()
         } else {
@@ -382,6 +404,9 @@ impl EnginePlan {
                     buffers.push((NodeSlotItems, 4 * corners * constraints, 0));
                 }
                 false => buffers.push((ConstraintSum, 16 * n, 0)),
+            }
+            if !chebyshev.is_empty() {
+                buffers.push((ChebyshevBefore, 16 * n, 0));
             }
         }
         let global = global.filter(|_| params.solves_global_volume());
@@ -525,6 +550,10 @@ impl EnginePlan {
                         (NodeSlotItems, Read),
                     ],
                 ),
+                false if !chebyshev.is_empty() => (
+                    Variant::Named("chebyshev"),
+                    vec![(ConstraintSum, ReadWrite), (ChebyshevBefore, ReadWrite)],
+                ),
                 false => (Variant::Named("sums"), vec![(ConstraintSum, ReadWrite)]),
             };
             let mut apply = pass(
@@ -593,6 +622,7 @@ impl EnginePlan {
             groups,
             gather,
             global,
+            chebyshev,
             workgroup_size,
             metrics,
             buffers,
@@ -659,12 +689,29 @@ impl EnginePlan {
     }
 
     /// Bytes `pass` moves per run, estimated as every bound buffer streamed once per read
-    /// and once per write (gathers through indices make the real traffic larger).
+    /// and once per write (gathers through indices make the real traffic larger). A pass run
+    /// once per constraint group streams only its group's share of the per-constraint
+    /// buffers (and of the per-group degrees and slot offsets).
     pub fn pass_bytes(&self, pass: &PassPlan) -> u64 {
+        let groups = u64::from(self.group_count());
         pass.bindings
             .iter()
             .map(|(id, access)| {
                 let size = self.buffer(*id).map_or(0, |b| b.bytes);
+                let size = match (pass.repeat, id) {
+                    (
+                        Repeat::Iteration,
+                        BufferId::Tets
+                        | BufferId::RestVolumes
+                        | BufferId::Springs
+                        | BufferId::Degrees
+                        | BufferId::GroupMembers
+                        | BufferId::Contributions
+                        | BufferId::NodeSlotOffsets
+                        | BufferId::NodeSlotItems,
+                    ) => size / groups,
+                    _ => size,
+                };
                 match access {
                     Access::Read | Access::Write => size,
                     Access::ReadWrite => 2 * size,
@@ -748,6 +795,19 @@ impl EnginePlan {
             self.bytes_per_frame(),
             self.bytes_per_frame() as f64 / (1024.0 * 1024.0)
         );
+        let _ = writeln!(
+            out,
+            "memory-bound time per frame at peak bandwidth (bytes / bandwidth; dispatch and \
+             latency costs come on top):"
+        );
+        for (gpu, bandwidth) in PEAK_BANDWIDTH {
+            let _ = writeln!(
+                out,
+                "  {gpu:<28} {:>7.0} GB/s {:>10.1} us",
+                bandwidth / 1e9,
+                1e6 * self.bytes_per_frame() as f64 / bandwidth
+            );
+        }
         out
     }
 

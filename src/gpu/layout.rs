@@ -55,9 +55,11 @@ pub mod binding {
     pub const SURFACE_GRADIENTS: u32 = 21;
     /// vec4 per object: the step's `C_g` and `A`.
     pub const GLOBAL_STATE: u32 = 22;
+    /// vec4 per node: the force two Chebyshev iterations back.
+    pub const CHEBYSHEV_BEFORE: u32 = 23;
 }
 
-/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 60 bytes.
+/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 64 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct PushConstants {
@@ -92,6 +94,8 @@ pub struct PushConstants {
     pub group_first: u32,
     /// Constraints in the group (gather path).
     pub group_count: u32,
+    /// The iteration's Chebyshev weight (solver `chebyshev`; 1 otherwise).
+    pub chebyshev_weight: f32,
 }
 
 /// Values of [`PushConstants::combine`] (the `COMBINE_*` macros in bindings.glsl).
@@ -127,6 +131,7 @@ impl PushConstants {
             group: 0,
             group_first: 0,
             group_count: 0,
+            chebyshev_weight: 1.0,
         }
     }
 }
@@ -201,7 +206,7 @@ mod tests {
 
     #[test]
     fn sizes_are_std430_multiples_of_16() {
-        assert_eq!(size_of::<PushConstants>(), 60);
+        assert_eq!(size_of::<PushConstants>(), 64);
         assert_eq!(size_of::<GpuSpring>(), 16);
         assert_eq!(size_of::<VolumePartial>(), 16);
         assert_eq!(size_of::<GpuGlobalObject>(), 32);
@@ -225,6 +230,10 @@ mod tests {
             ("group", offset_of!(PushConstants, group)),
             ("group_first", offset_of!(PushConstants, group_first)),
             ("group_count", offset_of!(PushConstants, group_count)),
+            (
+                "chebyshev_weight",
+                offset_of!(PushConstants, chebyshev_weight),
+            ),
         ];
         // integrate uses floor_on/friction/gravity, volume_sum the tet count: together they
         // name most members; every member the shader keeps must sit where Rust puts it.
@@ -234,11 +243,12 @@ mod tests {
                 "passes/volume.comp#ext",
                 "passes/spring_scatter.comp#cas",
                 "passes/volume.comp#gather",
+                "passes/constraint_apply.comp#chebyshev",
             ],
             "PushConstants",
             &rust,
         );
-        assert!(checked >= 15);
+        assert!(checked >= 16);
     }
 
     #[test]
@@ -330,6 +340,7 @@ mod tests {
             ("NodeFaceItems", binding::NODE_FACE_ITEMS),
             ("SurfaceGradients", binding::SURFACE_GRADIENTS),
             ("GlobalState", binding::GLOBAL_STATE),
+            ("ChebyshevBefore", binding::CHEBYSHEV_BEFORE),
         ]
         .into_iter()
         .collect();

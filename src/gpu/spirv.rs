@@ -207,8 +207,8 @@ mod tests {
             variants += usize::from(key.contains('#'));
         }
         // spring_scatter, distance, volume: ext + cas each; distance, volume: gather;
-        // constraint_apply: sums + gather.
-        assert_eq!(variants, 10);
+        // constraint_apply: sums, gather, chebyshev.
+        assert_eq!(variants, 11);
     }
 
     #[test]

@@ -99,8 +99,12 @@ impl Model {
         let n = self.node_count();
         match (method, solver) {
             (Method::Mss | Method::MssNode, _) => None,
-            (Method::Distance, Solver::Jacobi) => Some(ConstraintGroups::single(&self.springs, n)),
-            (Method::Volume, Solver::Jacobi) => Some(ConstraintGroups::single(&self.tets, n)),
+            (Method::Distance, Solver::Jacobi | Solver::Chebyshev) => {
+                Some(ConstraintGroups::single(&self.springs, n))
+            }
+            (Method::Volume, Solver::Jacobi | Solver::Chebyshev) => {
+                Some(ConstraintGroups::single(&self.tets, n))
+            }
             (Method::Distance, Solver::GaussSeidel) => {
                 Some(ConstraintGroups::coloured(&self.springs, n, groups))
             }
