@@ -18,11 +18,17 @@ use crate::params::SimParams;
 use crate::runner::create_backend;
 
 /// Creates backends by name; every `vulkan` backend shares one Vulkan context (one instance,
-/// one device), created on first use.
+/// one device), created on first use. The `vulkan` backends it creates for timing run without
+/// GPU timestamps and measure the volume on demand, outside the timed `step_frame` (as the
+/// CPU backends do); [`Backends::pass_report`] measures the pass breakdown in a separate,
+/// timestamped run.
 pub struct Backends {
     gpu: EngineOptions,
     ctx: Option<Arc<Context>>,
 }
+
+/// Frames of the timestamped run that measures the pass breakdown (after 5 warm-up frames).
+pub const PASS_REPORT_FRAMES: u32 = 20;
 
 /// A backend, with the Vulkan one kept concrete so its pass timers can be reset after the
 /// warm-up frames.
@@ -57,11 +63,51 @@ impl Backends {
         Backends { gpu, ctx: None }
     }
 
-    /// The backend `name` (`vulkan`, `cpu`, `cpu-ref`) for `model` with `params`.
+    /// The backend `name` (`vulkan`, `cpu`, `cpu-ref`) for `model` with `params`; a
+    /// `vulkan` one untimed, with the volume measured on demand.
     pub fn create(&mut self, name: &str, model: &Model, params: &SimParams) -> Result<Solver> {
         if name != "vulkan" {
             return Ok(Solver::Other(create_backend(name, model, params)?));
         }
+        let options = EngineOptions {
+            untimed: true,
+            volume_on_demand: true,
+            ..self.gpu.clone()
+        };
+        Ok(Solver::Vulkan(Box::new(
+            self.vulkan(model, params, &options)?,
+        )))
+    }
+
+    /// Device, atomics and GPU time per pass of `model` under `params`, from a separate
+    /// timestamped run of 5 warm-up and [`PASS_REPORT_FRAMES`] frames with the volume
+    /// measured every frame (so `volume_sum` is in the breakdown).
+    pub fn pass_report(&mut self, model: &Model, params: &SimParams) -> Result<Option<GpuReport>> {
+        let options = EngineOptions {
+            untimed: false,
+            volume_on_demand: false,
+            ..self.gpu.clone()
+        };
+        let mut gpu = self.vulkan(model, params, &options)?;
+        for frame in 0..5 + PASS_REPORT_FRAMES {
+            if frame == 5 {
+                gpu.reset_pass_times()?;
+            }
+            match gpu.step_frame() {
+                Ok(()) => {}
+                Err(Error::Diverged(_)) => break,
+                Err(e) => return Err(e),
+            }
+        }
+        gpu.gpu_report()
+    }
+
+    fn vulkan(
+        &mut self,
+        model: &Model,
+        params: &SimParams,
+        options: &EngineOptions,
+    ) -> Result<VulkanBackend> {
         let ctx = match &self.ctx {
             Some(ctx) => ctx.clone(),
             None => {
@@ -73,12 +119,7 @@ impl Backends {
                 ctx
             }
         };
-        Ok(Solver::Vulkan(Box::new(VulkanBackend::with_context(
-            ctx,
-            model,
-            params,
-            self.gpu.workgroup_size,
-        )?)))
+        VulkanBackend::with_context_and_options(ctx, model, params, options)
     }
 }
 

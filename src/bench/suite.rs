@@ -179,7 +179,11 @@ pub fn run_suite(
             };
             for backend in &options.backends {
                 let mut solver = backends.create(backend, &mesh.model, &params)?;
-                let sim = simulate(&mut solver, &mesh.model, &params, &sim_options)?;
+                let mut sim = simulate(&mut solver, &mesh.model, &params, &sim_options)?;
+                drop(solver);
+                if backend == "vulkan" {
+                    sim.gpu = backends.pass_report(&mesh.model, &params)?;
+                }
                 let r = record(mesh, &params, &sim_options, &sim, reference.as_ref())?;
                 progress(&r);
                 records.push(r);

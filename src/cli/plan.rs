@@ -28,6 +28,7 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
         validation: false,
         workgroup_size: args.workgroup_size,
         volume_on_demand: args.scene.is_some() && scene.output.metrics.is_none(),
+        untimed: false,
     };
     let selector: DeviceSelector = options.device.clone();
     let info = list_devices().ok().and_then(|devices| {

@@ -376,6 +376,7 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
             // A scene without a metrics file measures the volume only after the last frame
             // (no per-frame readback); the flags' run always prints its per-frame table.
             volume_on_demand: args.scene.is_some() && out.metrics.is_none(),
+            untimed: false,
         },
     };
     let records = run_methods(model, params, &methods, &options)?;

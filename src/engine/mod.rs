@@ -53,6 +53,11 @@ pub struct EngineOptions {
     /// its partials); `true`: only when [`Backend::volume`] asks, so a frame reads back
     /// nothing but the 16-byte divergence status.
     pub volume_on_demand: bool,
+    /// `false` (default): a GPU timestamp after every pass ([`VulkanBackend::pass_times`]);
+    /// `true`: none. A timestamp costs about 0.06 ms per pass on lavapipe (10 ms of a
+    /// 30 ms bunny frame with the default solver's 175 passes), so wall-clock benchmarks run
+    /// untimed and measure the pass breakdown in a separate run.
+    pub untimed: bool,
 }
 
 /// The Vulkan compute backend. Field order is drop order: GPU work is waited for in
@@ -185,7 +190,10 @@ impl VulkanBackend {
             model.tets.len(),
         );
 
-        let mut timer = Timer::new(&ctx, plan.dispatches_per_frame())?;
+        let mut timer = match options.untimed {
+            true => None,
+            false => Timer::new(&ctx, plan.dispatches_per_frame())?,
+        };
         let frame = Recorded::begin(&ctx, "frame", false)?;
         Recorder {
             ctx: &ctx,
