@@ -111,7 +111,7 @@ pub enum Solver {
     GaussSeidel,
     /// Jacobi sweeps with Chebyshev semi-iteration (Wang 2015): iteration `k`'s forces are
     /// `F_k = w_k (Fhat_k - F_(k-2)) + F_(k-2)`, `Fhat_k` the plain Jacobi update, with
-    /// weights from the spectral radius estimate `rho` ([`chebyshev_weights`]).
+    /// weights from the spectral radius estimate `rho` (see `chebyshev_weights`).
     Chebyshev,
 }
 

@@ -15,7 +15,7 @@
 //! groups = 8          # colour groups of gauss-seidel
 //! rho = 0.95          # spectral radius estimate of chebyshev
 //! global_volume = true  # one global volume constraint per object (default: on for
-//!                       # gauss-seidel, off for jacobi)
+//!                       # gauss-seidel, off for jacobi and chebyshev)
 //! atomics = "auto"    # or "ext", "cas"
 //! epsilon = 1e-20     # skip a constraint whose denominator A is at or below this
 //! gravity = 9.81      # m/s^2, along -Y

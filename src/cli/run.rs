@@ -123,7 +123,7 @@ pub struct RunArgs {
     pub rho: Option<f64>,
     /// One global volume constraint per object, solved after the local constraints in every
     /// iteration: `true` (`--global-volume` alone) or `false`; default: on for
-    /// `gauss-seidel`, off for `jacobi` (the paper's method).
+    /// `gauss-seidel`, off for `jacobi` (the paper's method) and `chebyshev`.
     #[arg(long, num_args = 0..=1, default_missing_value = "true", value_name = "BOOL")]
     pub global_volume: Option<bool>,
     /// Skip a constraint whose denominator A is at or below this.

@@ -100,9 +100,10 @@ impl ReferenceBackend {
 
     /// Steps 1 and 2 of a time step at the current state: gravity, springs (spring-centric
     /// for every method but `mss-node`, which gathers per node), then `iterations` sweeps of
-    /// the method's constraints, group after group (one group for Jacobi, the colour groups
-    /// for Gauss-Seidel), each group followed by the floor's solve, and the floor's final
-    /// solve.
+    /// the method's constraints, group after group (one group for Jacobi and Chebyshev, the
+    /// colour groups for Gauss-Seidel; Chebyshev extrapolating each iteration's forces),
+    /// each group followed by the floor's solve, then the global volume constraints (when
+    /// solved) and the floor again; finally the floor's last solve.
     pub fn forces(&self) -> Forces {
         let n = self.model.node_count();
         let down = DVec3::new(0.0, -self.params.gravity, 0.0);
