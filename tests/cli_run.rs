@@ -104,6 +104,26 @@ fn bad_parameter_names_the_key() {
 }
 
 #[test]
+fn solver_flags_the_solver_does_not_use_are_refused() {
+    for (args, key) in [
+        (&["--solver", "jacobi", "--groups", "4"][..], "`groups`"),
+        (&["--rho", "0.9"][..], "`rho`"),
+    ] {
+        let output = tetrasim()
+            .args(["run", "--frames", "1"])
+            .args(args)
+            .output()
+            .unwrap();
+        assert!(!output.status.success(), "{args:?} was accepted");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(
+            stderr.contains(key) && stderr.contains("acts only with"),
+            "{stderr}"
+        );
+    }
+}
+
+#[test]
 fn unknown_backend_lists_the_known_ones() {
     let dir = tempfile::tempdir().unwrap();
     let prefix = dir.path().join("ball");

@@ -278,6 +278,27 @@ impl RunArgs {
         }
     }
 
+    /// Refuses solver flags the chosen solver does not use (`--groups` without
+    /// Gauss-Seidel, `--rho` without Chebyshev) instead of ignoring them.
+    fn check_solver_flags(&self, params: &SimParams) -> crate::Result<()> {
+        let refuse = |flag: &str, solver: &str| {
+            Err(crate::Error::param(
+                flag,
+                format!(
+                    "acts only with --solver {solver}; the solver is {}",
+                    params.solver
+                ),
+            ))
+        };
+        if self.groups.is_some() && params.solver != SolverKind::GaussSeidel {
+            return refuse("groups", "gauss-seidel");
+        }
+        if self.rho.is_some() && params.solver != SolverKind::Chebyshev {
+            return refuse("rho", "chebyshev");
+        }
+        Ok(())
+    }
+
     /// The scene to run (the file, or the flags' scene) and the methods to run it with.
     pub fn scene_and_methods(&self) -> anyhow::Result<(Scene, Vec<Method>)> {
         match &self.scene {
@@ -291,6 +312,7 @@ impl RunArgs {
                 // the scene key (`solver.dt`).
                 let preset = self.preset();
                 preset.params.validate()?;
+                self.check_solver_flags(&preset.params)?;
                 if preset.frames == 0 {
                     return Err(crate::Error::param("frames", "must be at least 1").into());
                 }
