@@ -84,42 +84,22 @@ pub fn record(
     let acc = accuracy(sim, params, model, reference)?;
     let times = FrameTimes::of(&sim.frame_ms);
     let mut run = RunRecord {
-        method: params.method.name().to_string(),
-        backend: sim.backend.clone(),
-        mesh: mesh.label.clone(),
-        nodes: model.node_count(),
-        tets: model.tets.len(),
-        springs: model.springs.len(),
-        frames: options.total_frames(),
-        frames_run: 0,
-        dt: params.dt,
-        substeps: params.substeps,
-        iterations: params.iterations,
-        omega: params.omega,
-        ks: params.ks,
-        kd: params.kd,
-        friction: params.friction,
-        combine: params.combine.name().to_string(),
-        solver: params.solver.name().to_string(),
-        groups: model
-            .constraint_groups(params.method, params.solver, params.groups)
-            .map_or(1, |g| g.len() as u32),
-        global_volume: params.solves_global_volume(),
         volume_pct: sim.volume_pct.clone(),
         inverted_tets: sim.inverted.clone(),
         local_error_pct: sim.local_error_pct.clone(),
-        min_volume_pct: 0.0,
-        avg_volume_pct: 0.0,
-        max_inverted_tets: 0,
-        avg_local_error_pct: 0.0,
-        max_local_error_pct: 0.0,
         ms_per_frame: times.median,
         wall_s: 1e-3 * sim.frame_ms.iter().sum::<f64>(),
         diverged: sim.divergence.is_some(),
         divergence: sim.divergence.clone(),
         device: sim.gpu.as_ref().map(|g| g.device.clone()),
         atomics: sim.gpu.as_ref().map(|g| g.atomics.clone()),
-        passes: None,
+        ..crate::runner::new_record(
+            model,
+            params,
+            &mesh.label,
+            options.total_frames(),
+            &sim.backend,
+        )
     };
     run.summarise();
     run.ms_per_frame = times.median;

@@ -356,21 +356,7 @@ impl ParallelBackend {
                 );
                 *out = lambda.map_or(Vec3A::ZERO, |l| grad[0] * -l);
             });
-        let out = &self.distance_out;
-        let contact = self
-            .floor
-            .then_some((&self.x[..], &self.v[..], &self.inv_mass[..], k.dt));
-        let iteration = self.iteration;
-        let chebyshev = self.chebyshev.as_mut().map(|c| c.state(iteration));
-        apply_group(
-            &mut self.f,
-            &mut self.floor_force,
-            contact,
-            chebyshev,
-            groups,
-            g,
-            |slots| gather_ends(slots, out),
-        );
+        self.apply_group(groups, g);
     }
 
     /// One Jacobi sweep of group `g`'s volume constraints, then the per-node gather of the
@@ -401,27 +387,43 @@ impl ParallelBackend {
                 );
                 *out = lambda.map_or([Vec3A::ZERO; 4], |l| grad.map(|g| g * -l));
             });
-        let out = &self.tet_out;
-        let contact = self
-            .floor
-            .then_some((&self.x[..], &self.v[..], &self.inv_mass[..], k.dt));
-        let iteration = self.iteration;
-        let chebyshev = self.chebyshev.as_mut().map(|c| c.state(iteration));
-        apply_group(
-            &mut self.f,
-            &mut self.floor_force,
-            contact,
+        self.apply_group(groups, g);
+    }
+
+    /// Per node `i`: `F += apply * (i's results in group g)` (springs' or tets'), the
+    /// Chebyshev extrapolation when it is on, then the floor's solve.
+    fn apply_group(&mut self, groups: &Groups, g: usize) {
+        let ParallelBackend {
+            f,
+            floor_force,
+            x,
+            v,
+            inv_mass,
+            floor,
+            k,
             chebyshev,
-            groups,
-            g,
-            |slots| {
+            iteration,
+            method,
+            distance_out,
+            tet_out,
+            ..
+        } = self;
+        let contact = floor.then_some((&x[..], &v[..], &inv_mass[..], k.dt));
+        let chebyshev = chebyshev.as_mut().map(|c| c.state(*iteration));
+        match method {
+            Method::Distance => {
+                apply_results(f, floor_force, contact, chebyshev, groups, g, |slots| {
+                    gather_ends(slots, distance_out)
+                })
+            }
+            _ => apply_results(f, floor_force, contact, chebyshev, groups, g, |slots| {
                 let mut sum = Vec3A::ZERO;
                 for &e in slots {
-                    sum += out[(e >> 2) as usize][(e & 3) as usize];
+                    sum += tet_out[(e >> 2) as usize][(e & 3) as usize];
                 }
                 sum
-            },
-        );
+            }),
+        }
     }
 
     /// Pass `integrate`: the floor's final solve, symplectic Euler with floor friction.
@@ -527,7 +529,7 @@ type Contact<'a> = (&'a [Vec3A], &'a [Vec3A], &'a [f32], f32);
 
 /// Per node `i`: `F += apply * gather(i's slots in group g)`, then the floor's solve
 /// (`contact`: when there is a floor).
-fn apply_group(
+fn apply_results(
     f: &mut [Vec3A],
     floor_force: &mut [f32],
     contact: Option<Contact<'_>>,

@@ -157,14 +157,26 @@ fn empty_record(
     options: &RunOptions,
     backend: &str,
 ) -> RunRecord {
+    new_record(model, params, &options.mesh_label, options.frames, backend)
+}
+
+/// A record of `frames` frames of `model` under `params` on `backend`, before any frame
+/// ran (also what `bench` fills in).
+pub(crate) fn new_record(
+    model: &Model,
+    params: &SimParams,
+    mesh_label: &str,
+    frames: u32,
+    backend: &str,
+) -> RunRecord {
     RunRecord {
         method: params.method.name().to_string(),
         backend: backend.to_string(),
-        mesh: options.mesh_label.clone(),
+        mesh: mesh_label.to_string(),
         nodes: model.node_count(),
         tets: model.tets.len(),
         springs: model.springs.len(),
-        frames: options.frames,
+        frames,
         frames_run: 0,
         dt: params.dt,
         substeps: params.substeps,
@@ -179,9 +191,9 @@ fn empty_record(
             .constraint_groups(params.method, params.solver, params.groups)
             .map_or(1, |g| g.len() as u32),
         global_volume: params.solves_global_volume(),
-        volume_pct: Vec::with_capacity(options.frames as usize),
-        inverted_tets: Vec::with_capacity(options.frames as usize),
-        local_error_pct: Vec::with_capacity(options.frames as usize),
+        volume_pct: Vec::with_capacity(frames as usize),
+        inverted_tets: Vec::with_capacity(frames as usize),
+        local_error_pct: Vec::with_capacity(frames as usize),
         min_volume_pct: 0.0,
         avg_volume_pct: 0.0,
         max_inverted_tets: 0,
