@@ -48,8 +48,8 @@ use serde::Deserialize;
 
 use crate::error::{Error, Result};
 use crate::params::{
-    AtomicsMode, ConstraintCombine, MassMode, Method, Placement, SimParams, Solver as SolverKind,
-    SEED_FRAMES,
+    default_groups, default_rho, AtomicsMode, ConstraintCombine, MassMode, Method, Placement,
+    SimParams, Solver as SolverKind, SEED_FRAMES,
 };
 
 /// A whole scene as read from a file (paths already resolved against the file's folder).
@@ -86,12 +86,13 @@ pub struct Solver {
     pub combine: ConstraintCombine,
     /// How each iteration sweeps the constraints.
     pub solver: SolverKind,
-    /// Colour groups of the Gauss-Seidel solver.
-    pub groups: u32,
+    /// Colour groups of the Gauss-Seidel solver (`None`: 8; refused with another solver).
+    pub groups: Option<u32>,
     /// One global volume constraint per object (`None`: the solver's default).
     pub global_volume: Option<bool>,
-    /// Spectral radius estimate of the Chebyshev solver.
-    pub rho: f64,
+    /// Spectral radius estimate of the Chebyshev solver (`None`: 0.95; refused with another
+    /// solver).
+    pub rho: Option<f64>,
     /// Float-atomic path on the GPU.
     pub atomics: AtomicsMode,
     /// Skip a constraint whose denominator `A` is at or below this
@@ -113,9 +114,9 @@ impl Default for Solver {
             omega: p.omega,
             combine: p.combine,
             solver: p.solver,
-            groups: p.groups,
+            groups: None,
             global_volume: p.global_volume,
-            rho: p.rho,
+            rho: None,
             atomics: p.atomics,
             epsilon: p.constraint_epsilon,
             gravity: p.gravity,
@@ -313,6 +314,22 @@ impl Scene {
         if self.output.every == 0 {
             return Err(Error::param("output.every", "must be at least 1"));
         }
+        let s = &self.solver;
+        for (key, given, solver) in [
+            ("solver.groups", s.groups.is_some(), SolverKind::GaussSeidel),
+            ("solver.rho", s.rho.is_some(), SolverKind::Chebyshev),
+        ] {
+            if given && s.solver != solver {
+                return Err(Error::param(
+                    key,
+                    format!(
+                        "acts only with solver = \"{}\"; the solver is {}",
+                        solver.name(),
+                        s.solver
+                    ),
+                ));
+            }
+        }
         for i in 0..self.objects.len() {
             let o = &self.objects[i];
             let key = |k: &str| format!("object[{i}].{k}");
@@ -375,9 +392,9 @@ impl Scene {
             mass,
             combine: s.combine,
             solver: s.solver,
-            groups: s.groups,
+            groups: s.groups.unwrap_or_else(default_groups),
             global_volume: s.global_volume,
-            rho: s.rho,
+            rho: s.rho.unwrap_or_else(default_rho),
             constraint_epsilon: s.epsilon,
             atomics: s.atomics,
         }

@@ -210,6 +210,27 @@ fn springs_only_and_volume_with_floor_plan_differently() {
 }
 
 #[test]
+fn solver_keys_the_solver_does_not_use_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    for (text, key) in [
+        (
+            "[solver]\nsolver = \"jacobi\"\ngroups = 4\n",
+            "solver.groups",
+        ),
+        ("[solver]\nrho = 0.9\n", "solver.rho"),
+    ] {
+        let text = format!("{text}[[object]]\nmesh = \"box\"\n");
+        let err = Scene::load(&scene_file(dir.path(), "s.toml", &text))
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains(key) && err.contains("acts only with"), "{err}");
+    }
+    let ok = "[solver]\nsolver = \"chebyshev\"\nrho = 0.9\n[[object]]\nmesh = \"box\"\n";
+    let scene = Scene::load(&scene_file(dir.path(), "ok.toml", ok)).unwrap();
+    assert_eq!(scene.params_for(0).rho, 0.9);
+}
+
+#[test]
 fn plan_cli_prints_the_pass_lists() {
     let dir = tempfile::tempdir().unwrap();
     let a = scene_file(dir.path(), "a.toml", SPRINGS_ONLY);
