@@ -4,7 +4,7 @@
 # printing the paper-style table and the per-pass GPU times. Installs missing system
 # packages first. Extra arguments go to `tetrasim run`, e.g.
 #   scripts/demo.sh --backend cpu-ref        # the f64 reference instead
-#   scripts/demo.sh --mesh meshes/torus --metrics torus.json
+#   scripts/demo.sh --mesh meshes/torus --json torus.json
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh

@@ -46,9 +46,9 @@ for solver in jacobi gauss-seidel:8+global; do
         --json "$out/bench-${solver//[:+]/-}.json" > "$out/bench-${solver//[:+]/-}.txt"
 done
 echo "gpu-report: scaling to $sizes tets" >&2
-"$bin/tetrasim" scaling --sizes "$sizes" --out "$out/scaling" > "$out/scaling.txt"
+"$bin/tetrasim" scaling --sizes "$sizes" --out-dir "$out/scaling" > "$out/scaling.txt"
 echo "gpu-report: bunny trade-off" >&2
 "$bin/tetrasim" tradeoff "${quick[@]}" --mesh "$bunny" --methods volume \
-    --solvers jacobi,gauss-seidel:8,gauss-seidel:8+global --out "$out/tradeoff" \
+    --solvers jacobi,gauss-seidel:8,gauss-seidel:8+global --out-dir "$out/tradeoff" \
     > "$out/tradeoff.txt"
 echo "gpu-report: done; figures in $out" >&2

@@ -81,6 +81,15 @@ pub struct RunRecord {
     /// Whether a global volume constraint per object was solved too.
     #[serde(default)]
     pub global_volume: bool,
+    /// Simulated time at the end of each completed frame [s] (the time axis of the
+    /// per-frame series; empty in records older than the field).
+    #[serde(default)]
+    pub time_s: Vec<f64>,
+    /// When the body first reaches the floor falling from its start [s]
+    /// ([`crate::model::Model::floor_contact_time`]); `None` without a floor or when it
+    /// never does.
+    #[serde(default)]
+    pub contact_time_s: Option<f64>,
     /// Volume percentage after each completed frame.
     pub volume_pct: Vec<f64>,
     /// Inverted tets after each completed frame.
@@ -129,6 +138,13 @@ fn one() -> u32 {
 }
 
 impl RunRecord {
+    /// The contact time, when the run ended before it: its volume figures then measure a
+    /// free fall, not the drop the paper's column is about.
+    pub fn ends_before_contact(&self) -> Option<f64> {
+        let end = f64::from(self.frames_run) * self.dt * f64::from(self.substeps);
+        self.contact_time_s.filter(|&t| end < t)
+    }
+
     /// Recomputes `min_volume_pct`, `avg_volume_pct`, `max_inverted_tets` and `frames_run`
     /// from the per-frame series.
     pub fn summarise(&mut self) {
@@ -177,6 +193,8 @@ pub fn table(records: &[RunRecord]) -> String {
         let paper = paper_avg_volume_pct(&r.method).map_or("-".to_string(), |p| format!("{p:.2}"));
         let note = if r.diverged {
             format!("diverged after {} frames", r.frames_run)
+        } else if let Some(t) = r.ends_before_contact() {
+            format!("ended before reaching the floor (at {t:.3} s): not the paper's experiment")
         } else {
             String::new()
         };
@@ -193,6 +211,29 @@ pub fn table(records: &[RunRecord]) -> String {
             r.ms_per_frame,
             paper
         );
+    }
+    out
+}
+
+/// A warning for each record whose run ended before the body reached the floor, saying
+/// how many frames the drop needs; empty when every run reached it.
+pub fn short_run_warnings(records: &[RunRecord]) -> String {
+    let mut out = String::new();
+    for r in records {
+        if let Some(t) = r.ends_before_contact() {
+            let frame_time = r.dt * f64::from(r.substeps);
+            let _ = writeln!(
+                out,
+                "warning: {} on {} ran {} frames ({:.3} s) and ended before the body reached the \
+                 floor (at {t:.3} s, frame {}): its volume figures are those of a free fall, not \
+                 of the paper's drop",
+                r.method,
+                r.backend,
+                r.frames_run,
+                f64::from(r.frames_run) * frame_time,
+                (t / frame_time).ceil()
+            );
+        }
     }
     out
 }
@@ -279,6 +320,8 @@ mod tests {
             groups: 8,
             global_volume: false,
             local_error_pct: pct.iter().map(|p| (100.0 - p) / 2.0).collect(),
+            time_s: (1..=pct.len()).map(|f| 1e-3 * f as f64).collect(),
+            contact_time_s: None,
             volume_pct: pct,
             inverted_tets: inverted,
             min_volume_pct: f64::NAN,

@@ -227,6 +227,11 @@ impl Default for SimParams {
 }
 
 impl SimParams {
+    /// Simulated time of one frame: `dt * substeps` [s].
+    pub fn frame_time(&self) -> f64 {
+        self.dt * f64::from(self.substeps)
+    }
+
     /// Whether the global volume constraints are solved: asked for (by default with
     /// Gauss-Seidel), and a method with constraint iterations.
     pub fn solves_global_volume(&self) -> bool {

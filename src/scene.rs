@@ -35,10 +35,11 @@
 //! friction = 0.0
 //!
 //! [output]
-//! metrics = "out/metrics.json"
-//! surface_dir = "out/frames"
-//! every = 10
-//! format = "ply"             # or "vtk"
+//! json = "out/metrics.json"  # the run records (`metrics` is accepted too)
+//! dir = "out/frames"         # the deformed mesh every `every` frames (`surface_dir` too)
+//! every = 10                 # these three need `dir`
+//! format = "vtu"             # ply (default), obj, vtk or vtu (+ METHOD.pvd time series)
+//! units = "input"            # simulation (default) or input: the mesh file's units
 //! ```
 
 use std::path::{Path, PathBuf};
@@ -228,33 +229,73 @@ pub enum Collider {
 }
 
 /// `[output]`: files to write.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Output {
-    /// Metrics JSON file.
-    pub metrics: Option<PathBuf>,
-    /// Folder for the deformed surface every `every` frames.
-    pub surface_dir: Option<PathBuf>,
-    /// Frames between surface files.
-    #[serde(default = "default_every")]
-    pub every: u32,
-    /// Surface file format: `ply` (boundary surface) or `vtk` (tet mesh with volume ratios).
-    #[serde(default)]
-    pub format: crate::runner::OutputFormat,
+    /// The run records as JSON (`metrics` in older scenes).
+    #[serde(alias = "metrics")]
+    pub json: Option<PathBuf>,
+    /// Folder for the deformed mesh every `every` frames (`surface_dir` in older scenes).
+    #[serde(alias = "surface_dir")]
+    pub dir: Option<PathBuf>,
+    /// Frames between mesh files (default [`DEFAULT_EVERY`]); needs `dir`.
+    pub every: Option<u32>,
+    /// Mesh file format (default `ply`); needs `dir`.
+    pub format: Option<crate::runner::OutputFormat>,
+    /// Units and frame of written positions (default `simulation`); needs `dir`.
+    pub units: Option<crate::runner::OutputUnits>,
 }
 
-fn default_every() -> u32 {
-    10
-}
+/// Frames between mesh files when `every` is not given.
+pub const DEFAULT_EVERY: u32 = 10;
 
-impl Default for Output {
-    fn default() -> Self {
-        Output {
-            metrics: None,
-            surface_dir: None,
-            every: default_every(),
-            format: Default::default(),
+impl Output {
+    /// The periodic mesh output this section asks for (its folder created), if any.
+    pub fn frames(&self) -> Result<Option<crate::runner::FrameOutput>> {
+        self.dir
+            .as_ref()
+            .map(|dir| {
+                crate::runner::FrameOutput::new(
+                    dir,
+                    self.every.unwrap_or(DEFAULT_EVERY),
+                    self.format.unwrap_or_default(),
+                    self.units.unwrap_or_default(),
+                )
+            })
+            .transpose()
+    }
+
+    /// Creates the output folders (and the JSON file's folder) before any work starts, or
+    /// says why one cannot be; refuses a JSON path that is a folder.
+    pub fn prepare(&self) -> Result<()> {
+        if let Some(path) = &self.json {
+            crate::runner::prepare_output_file(path)?;
         }
+        if let Some(dir) = &self.dir {
+            crate::runner::create_dir(dir)?;
+        }
+        Ok(())
+    }
+
+    /// Error naming the first of `every`, `format`, `units` given without `dir`; `key` turns
+    /// a field name into the name the user wrote (`output.every`, `--every`).
+    pub fn check(&self, key: impl Fn(&str) -> String, dir_key: &str) -> Result<()> {
+        if self.dir.is_some() {
+            return Ok(());
+        }
+        for (name, given) in [
+            ("every", self.every.is_some()),
+            ("format", self.format.is_some()),
+            ("units", self.units.is_some()),
+        ] {
+            if given {
+                return Err(Error::param(
+                    key(name),
+                    format!("acts only on mesh files, and no {dir_key} is given"),
+                ));
+            }
+        }
+        Ok(())
     }
 }
 
@@ -274,10 +315,7 @@ impl Scene {
             object.mesh = base.join(&object.mesh);
         }
         let output = &mut scene.output;
-        for p in [&mut output.metrics, &mut output.surface_dir]
-            .into_iter()
-            .flatten()
-        {
+        for p in [&mut output.json, &mut output.dir].into_iter().flatten() {
             *p = base.join(&*p);
         }
         Ok(scene)
@@ -311,9 +349,11 @@ impl Scene {
         if self.solver.frames == 0 {
             return Err(Error::param("solver.frames", "must be at least 1"));
         }
-        if self.output.every == 0 {
+        if self.output.every == Some(0) {
             return Err(Error::param("output.every", "must be at least 1"));
         }
+        self.output
+            .check(|name| format!("output.{name}"), "output.dir")?;
         let s = &self.solver;
         for (key, given, solver) in [
             ("solver.groups", s.groups.is_some(), SolverKind::GaussSeidel),

@@ -115,7 +115,7 @@ fn plan_of(text: &str) -> EnginePlan {
         &staged.model,
         &staged.params,
         64,
-        scene.output.metrics.is_some(),
+        scene.output.json.is_some(),
     )
     .unwrap()
 }

@@ -50,7 +50,7 @@ fn stability_command_writes_maps_csv_json_and_the_edge() {
     let output = Command::new(env!("CARGO_BIN_EXE_tetrasim"))
         .args(["stability", "--quick", "--mesh"])
         .arg(&prefix)
-        .arg("--out")
+        .arg("--out-dir")
         .arg(&out)
         .output()
         .unwrap();

@@ -13,11 +13,6 @@ use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::params::{Method, SimParams};
 
-/// Simulated time of one frame: `dt * substeps` [s].
-pub fn frame_time(params: &SimParams) -> f64 {
-    params.dt * f64::from(params.substeps)
-}
-
 /// Whether the method runs constraint iterations (`distance`, `volume`).
 pub fn has_iterations(method: Method) -> bool {
     matches!(method, Method::Distance | Method::Volume)
@@ -161,7 +156,7 @@ impl ReferenceSettings {
     pub fn params(&self, trial: &SimParams) -> SimParams {
         let default = SimParams::default();
         SimParams {
-            dt: frame_time(trial) / f64::from(self.substeps.max(1)),
+            dt: trial.frame_time() / f64::from(self.substeps.max(1)),
             substeps: self.substeps,
             iterations: self.iterations,
             omega: 1.0,
@@ -210,7 +205,7 @@ impl Reference {
 
     /// Whether `trial` can be compared to this reference: same method and frame time.
     pub fn matches(&self, trial: &SimParams) -> bool {
-        let (a, b) = (frame_time(trial), frame_time(&self.params));
+        let (a, b) = (trial.frame_time(), self.params.frame_time());
         trial.method == self.params.method && (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
     }
 }
@@ -240,9 +235,9 @@ pub fn accuracy(
                     format!(
                         "the reference ({}, frame time {} s) does not match the run ({}, frame time {} s)",
                         r.params.method,
-                        frame_time(&r.params),
+                        r.params.frame_time(),
                         params.method,
-                        frame_time(params)
+                        params.frame_time()
                     ),
                 ));
             }
@@ -298,7 +293,7 @@ mod tests {
             ..SimParams::default()
         };
         let p = ReferenceSettings::default().params(&trial);
-        assert!((frame_time(&p) - 1e-3).abs() < 1e-15);
+        assert!((p.frame_time() - 1e-3).abs() < 1e-15);
         assert_eq!((p.substeps, p.iterations, p.omega), (8, 100, 1.0));
         assert_eq!(p.method, trial.method);
     }

@@ -201,7 +201,13 @@ pub fn table(records: &[BenchRecord]) -> String {
         let pos = r
             .pos_rms_rel
             .map_or("-".to_string(), |e| format!("{e:.2e}"));
-        let note = if r.run.diverged { "  diverged" } else { "" };
+        let note = if r.run.diverged {
+            "  diverged"
+        } else if r.run.ends_before_contact().is_some() {
+            "  ended before the floor"
+        } else {
+            ""
+        };
         let _ = writeln!(
             out,
             "{:<12} {:>7} {:<9} {:<8} {:>9.3} {:>9.3} {:>9.3} {:>8.1} {:>10.2} {:>8.2} {:>8.2} {:>9}{note}",

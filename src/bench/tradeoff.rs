@@ -347,7 +347,7 @@ pub fn run_tradeoff(
     progress: &mut dyn FnMut(&TradeoffRecord),
 ) -> Result<Vec<TradeoffRecord>> {
     spec.validate()?;
-    let frame_time = super::accuracy::frame_time(base);
+    let frame_time = base.frame_time();
     let mut references: Vec<Reference> = Vec::new();
     let mut records = Vec::new();
     for point in spec.points() {

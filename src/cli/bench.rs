@@ -144,10 +144,13 @@ pub fn execute(args: BenchArgs) -> anyhow::Result<()> {
         params = solver.apply(&params);
     }
     if let Some(ss) = args.substeps {
-        params.dt = crate::bench::accuracy::frame_time(&params) / f64::from(ss.max(1));
+        params.dt = params.frame_time() / f64::from(ss.max(1));
         params.substeps = ss;
     }
     params.validate()?;
+    if let Some(path) = &args.json {
+        crate::runner::prepare_output_file(path)?;
+    }
     let mut paths: Vec<PathBuf> = Vec::new();
     if !args.no_bundled {
         paths.extend(BUNDLED_MESHES.iter().map(|p| bundled_path(p)));
@@ -210,6 +213,8 @@ pub fn execute(args: BenchArgs) -> anyhow::Result<()> {
         )
     })?;
     print!("{}", table(&records));
+    let runs: Vec<_> = records.iter().map(|r| r.run.clone()).collect();
+    eprint!("{}", crate::metrics::short_run_warnings(&runs));
     print!("{}", pass_lines(&records));
     if let Some(path) = &args.json {
         write_json(path, &records)?;

@@ -23,30 +23,40 @@ pub struct Cli {
     pub command: Command,
 }
 
-/// Subcommands.
+/// Subcommands. Every subcommand takes negative numbers as values (`--gravity -9.81`).
+/// Outputs are named alike everywhere: `--out-dir DIR` for a folder of files (created with
+/// its parents before any work starts), `--json FILE` for machine-readable records, and a
+/// flag named for its format for single files (`--gif`, `--sheet`).
 #[derive(Debug, clap::Subcommand)]
 pub enum Command {
     /// Simulate a mesh dropped on the floor and report volume preservation (the paper's
     /// experiment with `--preset seed`).
+    #[command(allow_negative_numbers = true)]
     Run(Box<RunArgs>),
     /// Print what the Vulkan engine would build for a scene (`--scene FILE`) or for run's
     /// flags: passes per time step, buffer sizes, device memory, bytes moved per frame.
+    #[command(allow_negative_numbers = true)]
     Plan(Box<RunArgs>),
     /// Sweep dt x ks per method and write stability heat maps (PNG) and a table.
+    #[command(allow_negative_numbers = true)]
     Stability(stability::StabilityArgs),
     /// Simulate like `run` (always on the `vulkan` backend) and draw it offscreen: PNG
     /// frames, an animated GIF, a contact sheet of every method (coloured by V/V0 by default).
+    #[command(allow_negative_numbers = true)]
     Render(Box<RenderArgs>),
     /// List the Vulkan devices: driver, limits, timestamps, float atomics and the atomic
     /// path and workgroup size the engine would use on each.
     Info,
     /// Headless benchmark: every mesh x method x backend, frame-time percentiles, GPU pass
     /// times, throughput and volume accuracy.
+    #[command(allow_negative_numbers = true)]
     Bench(Box<BenchArgs>),
     /// Speed-versus-accuracy sweep (iterations, substeps, omega, method) on one mesh: CSV,
     /// JSON, Pareto front and PNG plots.
+    #[command(allow_negative_numbers = true)]
     Tradeoff(Box<TradeoffArgs>),
     /// Cost per element against mesh size (a voxel-meshed sphere at several sizes).
+    #[command(allow_negative_numbers = true)]
     Scaling(Box<ScalingArgs>),
 }
 

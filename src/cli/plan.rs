@@ -16,6 +16,7 @@ const FALLBACK_WORKGROUP: u32 = 256;
 
 /// Prints the plan of every method the arguments select.
 pub fn execute(args: RunArgs) -> anyhow::Result<()> {
+    refuse_run_only_flags(&args)?;
     let (scene, methods) = args.scene_and_methods()?;
     let staged = stage(&scene)?;
     let options = EngineOptions {
@@ -27,7 +28,7 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
             .unwrap_or_default(),
         validation: false,
         workgroup_size: args.workgroup_size,
-        volume_on_demand: args.scene.is_some() && scene.output.metrics.is_none(),
+        volume_on_demand: args.scene.is_some() && scene.output.json.is_none(),
         untimed: false,
     };
     let selector: DeviceSelector = options.device.clone();
@@ -53,4 +54,31 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
         println!();
     }
     Ok(())
+}
+
+/// `run`'s flags that do nothing in a plan are refused, naming the flag.
+fn refuse_run_only_flags(args: &RunArgs) -> crate::Result<()> {
+    if let Some(backend) = args.backend.as_deref().filter(|&b| b != "vulkan") {
+        return Err(crate::Error::param(
+            "backend",
+            format!("`plan` describes the `vulkan` backend, not `{backend}`"),
+        ));
+    }
+    let given = [
+        ("json", args.json.is_some()),
+        ("out-dir", args.out_dir.is_some()),
+        ("every", args.every.is_some()),
+        ("format", args.format.is_some()),
+        ("units", args.units.is_some()),
+        ("frames", args.frames.is_some()),
+        ("validation", args.validation),
+        ("quiet", args.quiet),
+    ];
+    match given.iter().find(|(_, on)| *on) {
+        Some((flag, _)) => Err(crate::Error::param(
+            *flag,
+            "`plan` runs nothing and writes nothing; use it with `tetrasim run`",
+        )),
+        None => Ok(()),
+    }
 }

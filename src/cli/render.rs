@@ -12,13 +12,12 @@ use crate::launch::stage;
 use crate::render::{
     parse_size, render_methods, Camera, ColourMode, Outputs, RenderJob, RenderOptions,
 };
-use crate::runner::SurfaceOutput;
 
 /// Arguments of `tetrasim render`.
 #[derive(Debug, clap::Args)]
 pub struct RenderArgs {
-    /// The scene and physics, as for `run` (`--backend` is ignored: rendering runs the
-    /// `vulkan` backend; `--every` is the period of `--frames-dir`).
+    /// The scene and physics, as for `run` (rendering runs the `vulkan` backend: any other
+    /// `--backend` is refused; `--every` is the period of `--frames-dir` and `--out-dir`).
     #[command(flatten)]
     pub run: RunArgs,
     /// Write a PNG of each method every `--every` frames into this folder
@@ -41,7 +40,7 @@ pub struct RenderArgs {
     #[arg(long, default_value = "480x360")]
     pub size: String,
     /// Camera `ex,ey,ez,tx,ty,tz` [m] (default: fitted to the object's starting bounds).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub camera: Option<String>,
     /// Surface colour: flat, volume (V/V0 per node) or strain (per node, of its springs).
     #[arg(long, value_enum, default_value = "volume")]
@@ -57,8 +56,24 @@ pub struct RenderArgs {
 /// Runs `tetrasim render`.
 pub fn execute(args: RenderArgs) -> anyhow::Result<()> {
     let run = &args.run;
-    if run.metrics.is_some() {
-        anyhow::bail!("--metrics is not written by `render`; use `tetrasim run --metrics FILE`");
+    if let Some(backend) = run.backend.as_deref().filter(|&b| b != "vulkan") {
+        return Err(crate::Error::param(
+            "backend",
+            format!(
+                "`render` draws from the GPU's buffers, so it runs `vulkan` only, not `{backend}`"
+            ),
+        )
+        .into());
+    }
+    if run.json.is_some() {
+        anyhow::bail!("--json is not written by `render`; use `tetrasim run --json FILE`");
+    }
+    if run.every.is_some() && args.frames_dir.is_none() && run.out_dir.is_none() {
+        return Err(crate::Error::param(
+            "every",
+            "acts only with --frames-dir or --out-dir, and neither is given",
+        )
+        .into());
     }
     let (width, height) = parse_size(&args.size)?;
     let camera = args
@@ -76,6 +91,21 @@ pub fn execute(args: RenderArgs) -> anyhow::Result<()> {
     };
     render.validate()?;
     let (scene, methods) = run.scene_and_methods()?;
+    if scene.output.json.is_some() {
+        anyhow::bail!("the scene's output.json is not written by `render`; use `tetrasim run`");
+    }
+    let output = &scene.output;
+    output.prepare()?;
+    if let Some(dir) = &args.frames_dir {
+        crate::runner::create_dir(dir)?;
+    }
+    for file in [&args.gif, &args.sheet].into_iter().flatten() {
+        crate::runner::prepare_output_file(file)?;
+    }
+    let every = run
+        .every
+        .or(scene.output.every)
+        .unwrap_or(crate::scene::DEFAULT_EVERY);
     let staged = stage(&scene).with_context(|| match &run.scene {
         Some(path) => format!("staging the scene {}", path.display()),
         None => format!("building the model of {}", run.mesh.display()),
@@ -99,15 +129,12 @@ pub fn execute(args: RenderArgs) -> anyhow::Result<()> {
         render,
         outputs: Outputs {
             frames_dir: args.frames_dir.clone(),
-            every: run.every,
+            every,
             gif: args.gif.clone(),
             gif_every: args.gif_every,
             sheet: args.sheet.clone(),
             sheet_columns: args.sheet_frames,
-            meshes: match &run.out_dir {
-                Some(dir) => Some(SurfaceOutput::new(dir, run.every, run.format)?),
-                None => None,
-            },
+            meshes: output.frames()?,
         },
         workgroup_size: run.workgroup_size,
         progress: !run.quiet,

@@ -7,13 +7,13 @@ use anyhow::Context as _;
 
 use crate::engine::EngineOptions;
 use crate::launch::stage;
-use crate::metrics::{pass_table, table, write_json};
+use crate::metrics::{pass_table, short_run_warnings, table, write_json};
 use crate::params::{
     AtomicsMode, ConstraintCombine, MassMode, Method, SimParams, Solver as SolverKind,
 };
 use crate::preset::{Preset, PresetName};
 use crate::runner::{
-    run_methods, OutputFormat, RunOptions, SurfaceOutput, DEFAULT_MESH, DEFAULT_TARGET_TETS,
+    run_methods, OutputFormat, OutputUnits, RunOptions, DEFAULT_MESH, DEFAULT_TARGET_TETS,
 };
 use crate::scene::{Collider, Material, Object, Output, Pin, Scene, Solver};
 
@@ -61,9 +61,10 @@ pub struct RunArgs {
     /// Method to run.
     #[arg(long, value_enum, default_value = "all")]
     pub method: MethodChoice,
-    /// Solver backend: cpu-ref (f64 reference), cpu (f32, all cores) or vulkan (GPU).
-    #[arg(long, default_value = "cpu")]
-    pub backend: String,
+    /// Solver backend: cpu-ref (f64 reference), cpu (f32, all cores; the default) or vulkan
+    /// (GPU).
+    #[arg(long)]
+    pub backend: Option<String>,
     /// GPU for `--backend vulkan`: an index or a name fragment from `tetrasim info`
     /// (default: discrete > integrated > virtual > CPU).
     #[arg(long)]
@@ -144,25 +145,33 @@ pub struct RunArgs {
     /// Height of the lowest node above the floor at the start [m].
     #[arg(long)]
     pub drop_height: Option<f64>,
-    /// Write the run records (one JSON object per method) to this file.
-    #[arg(long)]
-    pub metrics: Option<PathBuf>,
-    /// Write the deformed mesh every `--every` frames into this folder.
-    #[arg(long)]
+    /// Write the run records (one JSON object per method, with a time axis) to this file
+    /// (its folder is created first; `--metrics` is the older name).
+    #[arg(long, alias = "metrics", value_name = "FILE")]
+    pub json: Option<PathBuf>,
+    /// Write the deformed mesh every `--every` frames into this folder (created with its
+    /// parents before the run starts).
+    #[arg(long, value_name = "DIR")]
     pub out_dir: Option<PathBuf>,
-    /// Output period in frames.
-    #[arg(long, default_value_t = 10)]
-    pub every: u32,
-    /// Output format: ply (surface) or vtk (tet mesh with volume ratios).
-    #[arg(long, value_enum, default_value = "ply")]
-    pub format: OutputFormat,
+    /// Frames between mesh files in --out-dir (default 10).
+    #[arg(long)]
+    pub every: Option<u32>,
+    /// Mesh file format in --out-dir: ply (surface, per-vertex quality V/V0; default), obj
+    /// (surface), vtk or vtu (tet mesh with displacement, velocity, V/V0, inverted; vtu adds
+    /// METHOD.pvd, a ParaView time series with the simulated times).
+    #[arg(long, value_enum)]
+    pub format: Option<OutputFormat>,
+    /// Units of the files in --out-dir: simulation (metres, fitted and lifted; default) or
+    /// input (the mesh file's own units and position, to overlay the scan).
+    #[arg(long, value_enum)]
+    pub units: Option<OutputUnits>,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
 }
 
 /// The flags a scene file replaces.
-const SCENE_CONFLICTS: [&str; 26] = [
+const SCENE_CONFLICTS: [&str; 27] = [
     "mesh",
     "method",
     "preset",
@@ -186,9 +195,10 @@ const SCENE_CONFLICTS: [&str; 26] = [
     "no_floor",
     "fit_size",
     "drop_height",
-    "metrics",
+    "json",
     "out_dir",
     "format",
+    "units",
 ];
 
 impl RunArgs {
@@ -270,10 +280,13 @@ impl RunArgs {
                 Vec::new()
             },
             output: Output {
-                metrics: self.metrics.clone(),
-                surface_dir: self.out_dir.clone(),
-                every: self.every,
+                json: self.json.clone(),
+                dir: self.out_dir.clone(),
+                // `--every` also sets render's picture period; it belongs to the mesh
+                // files only when there are some (run refuses it alone, see `execute`).
+                every: self.every.filter(|_| self.out_dir.is_some()),
                 format: self.format,
+                units: self.units,
             },
         }
     }
@@ -317,6 +330,7 @@ impl RunArgs {
                     return Err(crate::Error::param("frames", "must be at least 1").into());
                 }
                 let scene = self.scene();
+                scene.output.check(|name| name.to_string(), "--out-dir")?;
                 scene.validate()?;
                 Ok((scene, self.method.methods()))
             }
@@ -345,6 +359,20 @@ fn solver_label(params: &SimParams) -> String {
 /// Runs `tetrasim run`.
 pub fn execute(args: RunArgs) -> anyhow::Result<()> {
     let (scene, methods) = args.scene_and_methods()?;
+    if args.scene.is_some() && args.every.is_some() {
+        return Err(crate::Error::param(
+            "every",
+            "with --scene the period of mesh files is the scene's `output.every`",
+        )
+        .into());
+    }
+    if args.scene.is_none() && args.every.is_some() && args.out_dir.is_none() {
+        return Err(
+            crate::Error::param("every", "acts only with --out-dir, and none is given").into(),
+        );
+    }
+    scene.output.prepare()?;
+    let backend = args.backend.as_deref().unwrap_or("cpu");
     let staged = stage(&scene).with_context(|| match &args.scene {
         Some(path) => format!("staging the scene {}", path.display()),
         None => format!("building the model of {}", args.mesh.display()),
@@ -360,7 +388,7 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
         model.node_count() - model.free_node_count(),
         model.tets.len(),
         model.springs.len(),
-        args.backend,
+        backend,
         staged.frames,
         params.dt,
         params.substeps,
@@ -376,12 +404,9 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
         );
     }
     let out = &scene.output;
-    let output = match &out.surface_dir {
-        Some(dir) => Some(SurfaceOutput::new(dir, out.every, out.format)?),
-        None => None,
-    };
+    let output = out.frames()?;
     let options = RunOptions {
-        backend: args.backend.clone(),
+        backend: backend.to_string(),
         frames: staged.frames,
         mesh_label: staged.label.clone(),
         progress: !args.quiet,
@@ -397,14 +422,15 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
             workgroup_size: args.workgroup_size,
             // A scene without a metrics file measures the volume only after the last frame
             // (no per-frame readback); the flags' run always prints its per-frame table.
-            volume_on_demand: args.scene.is_some() && out.metrics.is_none(),
+            volume_on_demand: args.scene.is_some() && out.json.is_none(),
             untimed: false,
         },
     };
     let records = run_methods(model, params, &methods, &options)?;
     print!("{}", table(&records));
     print!("{}", pass_table(&records));
-    if let Some(path) = &out.metrics {
+    eprint!("{}", short_run_warnings(&records));
+    if let Some(path) = &out.json {
         write_json(path, &records)?;
         eprintln!("metrics written to {}", path.display());
     }

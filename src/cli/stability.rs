@@ -24,8 +24,8 @@ pub struct StabilityArgs {
     #[arg(long)]
     pub quick: bool,
     /// Folder for stability_METHOD.png, stability.csv and stability.json.
-    #[arg(long)]
-    pub out: PathBuf,
+    #[arg(long, alias = "out", value_name = "DIR")]
+    pub out_dir: PathBuf,
     /// Solver backend.
     #[arg(long, default_value = "cpu")]
     pub backend: String,
@@ -33,6 +33,7 @@ pub struct StabilityArgs {
 
 /// Runs `tetrasim stability`.
 pub fn execute(args: StabilityArgs) -> anyhow::Result<()> {
+    crate::runner::create_dir(&args.out_dir)?;
     let preset = Preset::seed();
     let loaded = load_mesh(&args.mesh, crate::runner::DEFAULT_TARGET_TETS)?;
     let model = build_model(&loaded.mesh, &preset.params, preset.placement)?;
@@ -55,9 +56,8 @@ pub fn execute(args: StabilityArgs) -> anyhow::Result<()> {
         );
     })?;
     eprintln!();
-    std::fs::create_dir_all(&args.out).map_err(|e| crate::Error::io(&args.out, e))?;
     for method in &config.methods {
-        let path = args.out.join(format!("stability_{method}.png"));
+        let path = args.out_dir.join(format!("stability_{method}.png"));
         let title = format!(
             "{method} on {} ({} tets): max |V - V0| %, X = diverged",
             loaded.mesh_name(),
@@ -73,8 +73,8 @@ pub fn execute(args: StabilityArgs) -> anyhow::Result<()> {
         )?;
         eprintln!("wrote {}", path.display());
     }
-    write_atomically(&args.out.join("stability.csv"), csv(&cells).as_bytes())?;
-    write_json_value(&args.out.join("stability.json"), &cells)?;
+    write_atomically(&args.out_dir.join("stability.csv"), csv(&cells).as_bytes())?;
+    write_json_value(&args.out_dir.join("stability.json"), &cells)?;
     print!("{}", table(&cells, &config.dts, &config.kss));
     println!(
         "largest stable dt at ks {PAPER_KS} N/m (grid {:?} s):",

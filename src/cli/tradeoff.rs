@@ -23,12 +23,12 @@ pub struct TradeoffArgs {
     #[arg(long, required_unless_present = "from_json")]
     pub mesh: Option<PathBuf>,
     /// Do not run: read the records of an earlier run (its tradeoff.json) and write the
-    /// report, CSV and plots again into --out.
+    /// report, CSV and plots again into --out-dir.
     #[arg(long, conflicts_with = "mesh")]
     pub from_json: Option<PathBuf>,
     /// Folder for tradeoff.csv, tradeoff.json, report.md and the PNG plots.
-    #[arg(long)]
-    pub out: PathBuf,
+    #[arg(long, alias = "out", value_name = "DIR")]
+    pub out_dir: PathBuf,
     /// Backend whose cost is measured (vulkan, cpu, cpu-ref).
     #[arg(long, default_value = "vulkan")]
     pub backend: String,
@@ -78,6 +78,7 @@ pub struct TradeoffArgs {
 
 /// Runs `tetrasim tradeoff`.
 pub fn execute_tradeoff(args: TradeoffArgs) -> anyhow::Result<()> {
+    crate::runner::create_dir(&args.out_dir)?;
     if let Some(path) = &args.from_json {
         let text =
             std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
@@ -118,6 +119,15 @@ pub fn execute_tradeoff(args: TradeoffArgs) -> anyhow::Result<()> {
     let total = args.frames.unwrap_or(if args.quick { 200 } else { 300 });
     if total <= args.warmup {
         anyhow::bail!("--frames {total} must exceed --warmup {}", args.warmup);
+    }
+    if let Some(t) = model.floor_contact_time(preset.params.gravity) {
+        let end = f64::from(total) * preset.params.frame_time();
+        if end < t {
+            eprintln!(
+                "warning: {total} frames ({end:.3} s) end before the body reaches the floor (at \
+                 {t:.3} s): the volume figures will be those of a free fall, not of the drop"
+            );
+        }
     }
     let options = TradeoffOptions {
         backend,
@@ -181,7 +191,7 @@ fn finish(args: &TradeoffArgs, records: &[crate::bench::TradeoffRecord]) -> anyh
     print!("{}", verdict(&equal_cost_pairs(records)));
     println!("At equal iterations per frame (iterations x substeps):");
     print!("{}", verdict(&equal_work_pairs(records)));
-    for path in write_outputs(&args.out, records)? {
+    for path in write_outputs(&args.out_dir, records)? {
         eprintln!("wrote {}", path.display());
     }
     Ok(())
@@ -206,12 +216,12 @@ pub struct ScalingArgs {
     #[arg(long, default_value_t = 20)]
     pub frames: u32,
     /// Folder for scaling.csv, scaling.json and scaling.png.
-    #[arg(long)]
-    pub out: PathBuf,
+    #[arg(long, alias = "out", value_name = "DIR")]
+    pub out_dir: PathBuf,
     /// Sizes 1000 and 4000, 5 timed frames.
     #[arg(long)]
     pub quick: bool,
-    /// Do not run: read an earlier scaling.json and write the CSV and plot again into --out.
+    /// Do not run: read an earlier scaling.json and write the CSV and plot again into --out-dir.
     #[arg(long)]
     pub from_json: Option<PathBuf>,
     #[command(flatten)]
@@ -220,12 +230,13 @@ pub struct ScalingArgs {
 
 /// Runs `tetrasim scaling`.
 pub fn execute_scaling(args: ScalingArgs) -> anyhow::Result<()> {
+    crate::runner::create_dir(&args.out_dir)?;
     if let Some(path) = &args.from_json {
         let text =
             std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
         let records: Vec<scaling::ScalingRecord> = serde_json::from_str(&text)
             .with_context(|| format!("{}: not a scaling.json", path.display()))?;
-        for path in scaling::write_outputs(&args.out, &records)? {
+        for path in scaling::write_outputs(&args.out_dir, &records)? {
             eprintln!("wrote {}", path.display());
         }
         return Ok(());
@@ -263,7 +274,7 @@ pub fn execute_scaling(args: ScalingArgs) -> anyhow::Result<()> {
             )
         },
     )?;
-    for path in scaling::write_outputs(&args.out, &records)? {
+    for path in scaling::write_outputs(&args.out_dir, &records)? {
         eprintln!("wrote {}", path.display());
     }
     Ok(())

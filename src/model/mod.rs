@@ -57,6 +57,42 @@ pub struct Model {
     /// Node offsets of the objects (`objects + 1` entries): object `k` owns nodes
     /// `objects[k]..objects[k + 1]` and the tets and springs among them.
     pub objects: Vec<u32>,
+    /// How each object's mesh was placed: simulation position = `placements[k]` applied to
+    /// the mesh file's position (one entry per object). Outputs use it to write in the
+    /// input's units and position.
+    pub placements: Vec<Similarity>,
+}
+
+/// A uniform scale followed by a translation: `p -> scale * p + offset`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Similarity {
+    /// Uniform scale factor (> 0).
+    pub scale: f64,
+    /// Translation applied after scaling.
+    pub offset: DVec3,
+}
+
+impl Similarity {
+    /// The identity map.
+    pub const IDENTITY: Similarity = Similarity {
+        scale: 1.0,
+        offset: DVec3::ZERO,
+    };
+
+    /// The image of point `p`.
+    pub fn apply(&self, p: DVec3) -> DVec3 {
+        p * self.scale + self.offset
+    }
+
+    /// The point that maps to `p` (from simulation back to the input's frame).
+    pub fn invert_point(&self, p: DVec3) -> DVec3 {
+        (p - self.offset) / self.scale
+    }
+
+    /// A displacement or velocity `v` expressed in the input's units.
+    pub fn invert_vector(&self, v: DVec3) -> DVec3 {
+        v / self.scale
+    }
 }
 
 impl Model {
@@ -204,7 +240,8 @@ impl<'a> ModelBuilder<'a> {
                 )));
             }
         }
-        let positions = place(&mesh.nodes, self.placement)?;
+        let placement = place(&mesh.nodes, self.placement)?;
+        let positions: Vec<DVec3> = mesh.nodes.iter().map(|&p| placement.apply(p)).collect();
         let diag = bounds_of(&positions)
             .map(|(lo, hi)| (hi - lo).length())
             .unwrap_or(0.0);
@@ -301,11 +338,41 @@ impl<'a> ModelBuilder<'a> {
             tet_degree,
             surface,
             objects: vec![0, n as u32],
+            placements: vec![placement],
         })
     }
 }
 
 impl Model {
+    /// When the first free node would reach the floor `y = 0` falling freely from the start
+    /// state under `gravity` (along -Y) [s]: 0 if one starts on or below it, `None` if none
+    /// ever does. Exact until the first contact, since nothing but gravity acts on a body
+    /// that starts at rest in its shape (an estimate for a deformed start).
+    pub fn floor_contact_time(&self, gravity: f64) -> Option<f64> {
+        self.positions
+            .iter()
+            .zip(&self.velocities)
+            .zip(&self.inv_mass)
+            .filter(|(_, &w)| w > 0.0)
+            .filter_map(|((p, v), _)| {
+                let (y, vy) = (p.y, v.y);
+                if y <= 0.0 {
+                    return Some(0.0);
+                }
+                // y + vy t - g t^2 / 2 = 0, the first positive root.
+                if gravity == 0.0 {
+                    return (vy < 0.0).then(|| -y / vy);
+                }
+                let disc = vy * vy + 2.0 * gravity * y;
+                if disc < 0.0 {
+                    return None;
+                }
+                let t = (vy + disc.sqrt()) / gravity;
+                (t > 0.0).then_some(t)
+            })
+            .min_by(f64::total_cmp)
+    }
+
     /// Number of nodes that can move (inverse mass > 0).
     pub fn free_node_count(&self) -> usize {
         self.inv_mass.iter().filter(|&&w| w > 0.0).count()
@@ -345,13 +412,14 @@ impl Model {
                 .extend(m.surface.iter().map(|f| f.map(|i| i + nodes)));
             out.objects
                 .extend(m.objects.iter().skip(1).map(|o| o + nodes));
+            out.placements.extend_from_slice(&m.placements);
         }
         Ok(out)
     }
 }
 
-/// Applies a [`Placement`] to a point set.
-fn place(nodes: &[DVec3], placement: Placement) -> Result<Vec<DVec3>> {
+/// The map that applies a [`Placement`] to a point set.
+fn place(nodes: &[DVec3], placement: Placement) -> Result<Similarity> {
     let (lo, hi) = bounds_of(nodes).ok_or_else(|| Error::Mesh("the mesh has no nodes".into()))?;
     let mut scale = 1.0;
     if let Some(size) = placement.fit_size {
@@ -368,7 +436,7 @@ fn place(nodes: &[DVec3], placement: Placement) -> Result<Vec<DVec3>> {
         let centre = (lo + hi) * 0.5 * scale;
         offset = DVec3::new(-centre.x, height - lo.y * scale, -centre.z);
     }
-    Ok(nodes.iter().map(|&p| p * scale + offset).collect())
+    Ok(Similarity { scale, offset })
 }
 
 /// Row `i` lists the indices of the elements that contain node `i`.

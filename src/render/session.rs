@@ -20,7 +20,7 @@ use crate::gpu::Context;
 use crate::metrics::volume_pct;
 use crate::model::Model;
 use crate::params::{Method, SimParams};
-use crate::runner::SurfaceOutput;
+use crate::runner::FrameOutput;
 
 /// What to write.
 #[derive(Debug, Clone, Default)]
@@ -38,7 +38,7 @@ pub struct Outputs {
     /// Columns of the sheet: frames sampled evenly from the first to the last (at least 1).
     pub sheet_columns: u32,
     /// Also write the deformed surface or tet mesh (as `tetrasim run --out-dir`).
-    pub meshes: Option<SurfaceOutput>,
+    pub meshes: Option<FrameOutput>,
 }
 
 impl Outputs {
@@ -228,7 +228,7 @@ pub fn render_methods(
         .collect::<Result<Vec<_>>>()?;
     let out = &job.outputs;
     let rest = model.total_rest_volume();
-    let seconds_per_frame = params.dt * f64::from(params.substeps);
+    let seconds_per_frame = params.frame_time();
     let gif_every = out.gif_every.unwrap_or((job.frames / 60).max(1));
     let sheet_frames = out.sheet_frames(job.frames);
     let mut sheet_cells: Vec<Vec<Image>> = vec![Vec::new(); runs.len()];
@@ -251,8 +251,8 @@ pub fn render_methods(
         if let Some(meshes) = &out.meshes {
             if frame % meshes.every == 0 {
                 for run in runs.iter_mut() {
-                    let positions = run.backend.state()?.positions;
-                    meshes.write(model, run.method, frame, &positions)?;
+                    let state = run.backend.state()?;
+                    meshes.write(model, run.method, frame, params.frame_time(), &state)?;
                 }
             }
         }

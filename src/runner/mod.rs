@@ -8,7 +8,9 @@ mod output;
 
 pub use factory::{create_backend, create_backend_with, BACKENDS};
 pub use load::{load_mesh, LoadedMesh, DEFAULT_MESH, DEFAULT_TARGET_TETS};
-pub use output::{write_atomically, OutputFormat, SurfaceOutput};
+pub use output::{
+    create_dir, prepare_output_file, write_atomically, FrameOutput, OutputFormat, OutputUnits,
+};
 
 use std::time::Instant;
 
@@ -34,7 +36,7 @@ pub struct RunOptions {
     /// Show a progress bar on stderr.
     pub progress: bool,
     /// Write the deformed surface or tet mesh every few frames.
-    pub output: Option<SurfaceOutput>,
+    pub output: Option<FrameOutput>,
     /// Device, validation and workgroup size of the `vulkan` backend.
     pub gpu: EngineOptions,
 }
@@ -55,8 +57,9 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
     let rest = model.total_rest_volume();
     let mut record = empty_record(model, params, options, backend.name());
     let bar = progress_bar(options, params.method);
+    let frame_time = params.frame_time();
     if let Some(out) = &options.output {
-        out.write(model, params.method, 0, &backend.state()?.positions)?;
+        out.write(model, params.method, 0, frame_time, &backend.state()?)?;
     }
     let mut stepping = 0.0;
     // With `volume_on_demand` the volume is sampled after the last frame only.
@@ -94,6 +97,7 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
             record.divergence = Some(divergence.to_string());
             break;
         }
+        record.time_s.push(f64::from(frame + 1) * frame_time);
         record.volume_pct.push(pct);
         record.inverted_tets.push(sample.inverted);
         record
@@ -101,7 +105,13 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
             .push(crate::metrics::local_error_pct(sample, rest));
         if let Some(out) = &options.output {
             if (frame + 1) % out.every == 0 {
-                out.write(model, params.method, frame + 1, &backend.state()?.positions)?;
+                out.write(
+                    model,
+                    params.method,
+                    frame + 1,
+                    frame_time,
+                    &backend.state()?,
+                )?;
             }
         }
         bar.set_message(format!("{pct:.2} %"));
@@ -191,6 +201,12 @@ pub(crate) fn new_record(
             .constraint_groups(params.method, params.solver, params.groups)
             .map_or(1, |g| g.len() as u32),
         global_volume: params.solves_global_volume(),
+        time_s: Vec::with_capacity(frames as usize),
+        contact_time_s: if params.floor {
+            model.floor_contact_time(params.gravity)
+        } else {
+            None
+        },
         volume_pct: Vec::with_capacity(frames as usize),
         inverted_tets: Vec::with_capacity(frames as usize),
         local_error_pct: Vec::with_capacity(frames as usize),

@@ -7,7 +7,11 @@
 //! | OFF | [`read_surface`] | [`write_surface`] | [`off`] |
 //! | STL (ascii, binary) | [`read_surface`] | [`write_surface`] (binary) | [`stl`] |
 //! | TetGen `.node/.ele/.face` | [`read_tetgen`] | [`write_tetgen`] | [`tetgen`] |
-//! | legacy VTK unstructured grid | -- | [`write_vtk`] | [`vtk`] |
+//! | legacy VTK unstructured grid | -- | [`write_vtk`], [`write_vtk_fields`] | [`vtk`] |
+//! | VTK XML unstructured grid `.vtu`, ParaView collection `.pvd` | -- | [`write_vtu`], [`write_pvd`] | [`vtu`] |
+//!
+//! The VTK writers take point and cell data as [`Fields`]; PLY surfaces can carry a
+//! per-vertex quality ([`ply::write_with_quality`]).
 //!
 //! Surface formats are chosen by the file extension (case-insensitive). Every reader checks
 //! what it reads: counts against headers, finite coordinates, indices in range, at least one
@@ -36,6 +40,7 @@
 //!   writer is `stl_io`'s.
 //! - `tempfile` provides the temporary file for [`write_atomic`].
 
+mod fields;
 pub mod obj;
 pub mod off;
 pub mod ply;
@@ -43,9 +48,12 @@ pub mod stl;
 pub mod tetgen;
 mod text;
 pub mod vtk;
+pub mod vtu;
 
+pub use fields::{Field, FieldValues, Fields};
 pub use tetgen::{read_tetgen, write_tetgen};
-pub use vtk::write_vtk;
+pub use vtk::{write_vtk, write_vtk_fields};
+pub use vtu::{write_pvd, write_vtu};
 
 use crate::error::{Error, Result};
 use crate::mesh::SurfaceMesh;
@@ -137,6 +145,20 @@ pub fn check_surface(mesh: &SurfaceMesh) -> Result<()> {
     }
     check_points(&mesh.vertices, "vertex")?;
     check_indices(&mesh.triangles, mesh.vertices.len(), "triangle")
+}
+
+/// Checks that a tet mesh can be written: at least one node and one tet, finite
+/// coordinates, indices in range.
+pub fn check_tet_mesh(mesh: &crate::mesh::TetMesh) -> Result<()> {
+    if mesh.nodes.is_empty() || mesh.tets.is_empty() {
+        return Err(Error::Mesh(format!(
+            "tet mesh is empty ({} nodes, {} tets)",
+            mesh.nodes.len(),
+            mesh.tets.len()
+        )));
+    }
+    check_points(&mesh.nodes, "node")?;
+    check_indices(&mesh.tets, mesh.nodes.len(), "tet")
 }
 
 /// Error unless every point is finite; `what` names an element ("vertex", "node").

@@ -1,8 +1,9 @@
 //! Legacy VTK (`.vtk`, ASCII) unstructured grids of linear tetrahedra (VTK cell type 10),
-//! for viewing in ParaView, with an optional per-tet scalar field.
+//! for viewing in ParaView, with optional point and cell fields ([`Fields`]).
 
-use super::{check_indices, check_points, fmt_f64, write_atomic};
-use crate::error::{Error, Result};
+use super::fields::{FieldValues, Fields};
+use super::{check_tet_mesh, fmt_f64, write_atomic};
+use crate::error::Result;
 use crate::mesh::TetMesh;
 use std::io::Write;
 use std::path::Path;
@@ -18,48 +19,28 @@ pub fn write_vtk(
     mesh: &TetMesh,
     cell_scalars: Option<(&str, &[f64])>,
 ) -> Result<()> {
-    if mesh.nodes.is_empty() || mesh.tets.is_empty() {
-        return Err(Error::Mesh(format!(
-            "tet mesh is empty ({} nodes, {} tets)",
-            mesh.nodes.len(),
-            mesh.tets.len()
-        )));
-    }
-    check_points(&mesh.nodes, "node")?;
-    check_indices(&mesh.tets, mesh.nodes.len(), "tet")?;
-    if let Some((name, values)) = cell_scalars {
-        if name.is_empty() || name.chars().any(|c| c.is_whitespace() || !c.is_ascii()) {
-            return Err(Error::param(
-                "cell_scalars",
-                format!("field name `{name}` must be non-empty ASCII without spaces"),
-            ));
-        }
-        if values.len() != mesh.tets.len() {
-            return Err(Error::param(
-                "cell_scalars",
-                format!(
-                    "`{name}` has {} values for {} tets",
-                    values.len(),
-                    mesh.tets.len()
-                ),
-            ));
-        }
-        // VTK's ASCII reader does not parse `NaN` or `inf`.
-        if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-            return Err(Error::param(
-                "cell_scalars",
-                format!("`{name}` value for tet {i} is {}", values[i]),
-            ));
-        }
-    }
-    write_atomic(path.as_ref(), |w| write_to(w, mesh, cell_scalars))
+    let fields = Fields {
+        point: Vec::new(),
+        cell: cell_scalars
+            .map(|(name, values)| super::Field {
+                name,
+                values: FieldValues::Scalar(values),
+            })
+            .into_iter()
+            .collect(),
+    };
+    write_vtk_fields(path, mesh, &fields)
 }
 
-fn write_to(
-    w: &mut dyn Write,
-    mesh: &TetMesh,
-    cell_scalars: Option<(&str, &[f64])>,
-) -> std::io::Result<()> {
+/// Writes `mesh` with point and cell fields as a legacy ASCII VTK unstructured grid,
+/// atomically. The mesh and the fields are checked first ([`Fields::check`]).
+pub fn write_vtk_fields(path: impl AsRef<Path>, mesh: &TetMesh, fields: &Fields) -> Result<()> {
+    check_tet_mesh(mesh)?;
+    fields.check(mesh.nodes.len(), mesh.tets.len())?;
+    write_atomic(path.as_ref(), |w| write_to(w, mesh, fields))
+}
+
+fn write_to(w: &mut dyn Write, mesh: &TetMesh, fields: &Fields) -> std::io::Result<()> {
     let (n, m) = (mesh.nodes.len(), mesh.tets.len());
     writeln!(w, "# vtk DataFile Version 3.0")?;
     writeln!(w, "tetrasim tet mesh: {n} nodes, {m} tets")?;
@@ -75,13 +56,36 @@ fn write_to(
     for _ in 0..m {
         writeln!(w, "{VTK_TETRA}")?;
     }
-    if let Some((name, values)) = cell_scalars {
-        writeln!(
-            w,
-            "CELL_DATA {m}\nSCALARS {name} double 1\nLOOKUP_TABLE default"
-        )?;
-        for v in values {
-            writeln!(w, "{}", fmt_f64(*v))?;
+    for (section, count, list) in [
+        ("POINT_DATA", n, &fields.point),
+        ("CELL_DATA", m, &fields.cell),
+    ] {
+        if list.is_empty() {
+            continue;
+        }
+        writeln!(w, "{section} {count}")?;
+        for field in list {
+            let name = field.name;
+            match field.values {
+                FieldValues::Scalar(values) => {
+                    writeln!(w, "SCALARS {name} double 1\nLOOKUP_TABLE default")?;
+                    for v in values {
+                        writeln!(w, "{}", fmt_f64(*v))?;
+                    }
+                }
+                FieldValues::Vector(values) => {
+                    writeln!(w, "VECTORS {name} double")?;
+                    for v in values {
+                        writeln!(w, "{} {} {}", fmt_f64(v.x), fmt_f64(v.y), fmt_f64(v.z))?;
+                    }
+                }
+                FieldValues::Flag(values) => {
+                    writeln!(w, "SCALARS {name} unsigned_char 1\nLOOKUP_TABLE default")?;
+                    for v in values {
+                        writeln!(w, "{v}")?;
+                    }
+                }
+            }
         }
     }
     Ok(())

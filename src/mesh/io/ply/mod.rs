@@ -16,7 +16,7 @@ mod header;
 
 use super::text::{Ctx, Lines};
 use super::{check_surface, fmt_f64, read_bytes, write_atomic};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::mesh::SurfaceMesh;
 use body::{read_body, AsciiSource, BinarySource};
 use header::parse_header;
@@ -71,10 +71,45 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<SurfaceMesh> {
 /// Writes `mesh` as PLY in `encoding`, atomically.
 pub fn write(path: impl AsRef<Path>, mesh: &SurfaceMesh, encoding: PlyEncoding) -> Result<()> {
     check_surface(mesh)?;
-    write_atomic(path.as_ref(), |w| write_to(w, mesh, encoding))
+    write_atomic(path.as_ref(), |w| write_to(w, mesh, encoding, None))
 }
 
-fn write_to(w: &mut dyn Write, mesh: &SurfaceMesh, encoding: PlyEncoding) -> std::io::Result<()> {
+/// Writes `mesh` with one `quality` value per vertex (`property float quality`, the vertex
+/// property MeshLab colours by with "Colorize by vertex quality"). Values must be finite.
+pub fn write_with_quality(
+    path: impl AsRef<Path>,
+    mesh: &SurfaceMesh,
+    encoding: PlyEncoding,
+    quality: &[f64],
+) -> Result<()> {
+    check_surface(mesh)?;
+    if quality.len() != mesh.vertices.len() {
+        return Err(Error::param(
+            "quality",
+            format!(
+                "{} values for {} vertices",
+                quality.len(),
+                mesh.vertices.len()
+            ),
+        ));
+    }
+    if let Some(i) = quality.iter().position(|q| !q.is_finite()) {
+        return Err(Error::param(
+            "quality",
+            format!("the value of vertex {i} is {}", quality[i]),
+        ));
+    }
+    write_atomic(path.as_ref(), |w| {
+        write_to(w, mesh, encoding, Some(quality))
+    })
+}
+
+fn write_to(
+    w: &mut dyn Write,
+    mesh: &SurfaceMesh,
+    encoding: PlyEncoding,
+    quality: Option<&[f64]>,
+) -> std::io::Result<()> {
     let format = match encoding {
         PlyEncoding::Ascii => "ascii",
         PlyEncoding::BinaryLittleEndian => "binary_little_endian",
@@ -88,9 +123,14 @@ fn write_to(w: &mut dyn Write, mesh: &SurfaceMesh, encoding: PlyEncoding) -> std
     write!(
         w,
         "ply\nformat {format} 1.0\ncomment written by tetrasim\nelement vertex {}\n\
-         property double x\nproperty double y\nproperty double z\nelement face {}\n\
+         property double x\nproperty double y\nproperty double z\n{}element face {}\n\
          property list uchar {index_type} vertex_indices\nend_header\n",
         mesh.vertices.len(),
+        if quality.is_some() {
+            "property float quality\n"
+        } else {
+            ""
+        },
         mesh.triangles.len()
     )?;
     let big = encoding == PlyEncoding::BinaryBigEndian;
@@ -108,14 +148,26 @@ fn write_to(w: &mut dyn Write, mesh: &SurfaceMesh, encoding: PlyEncoding) -> std
             x.to_le_bytes()
         }
     };
-    for v in &mesh.vertices {
+    for (i, v) in mesh.vertices.iter().enumerate() {
+        let q = quality.map(|q| q[i] as f32);
         match encoding {
             PlyEncoding::Ascii => {
-                writeln!(w, "{} {} {}", fmt_f64(v.x), fmt_f64(v.y), fmt_f64(v.z))?
+                write!(w, "{} {} {}", fmt_f64(v.x), fmt_f64(v.y), fmt_f64(v.z))?;
+                if let Some(q) = q {
+                    write!(w, " {q}")?;
+                }
+                writeln!(w)?;
             }
             _ => {
                 for c in v.to_array() {
                     w.write_all(&f64_bytes(c))?;
+                }
+                if let Some(q) = q {
+                    w.write_all(&if big {
+                        q.to_be_bytes()
+                    } else {
+                        q.to_le_bytes()
+                    })?;
                 }
             }
         }

@@ -1,0 +1,249 @@
+//! The command line without surprises: negative numbers are values, every output flag either
+//! acts or is refused with the reason, output folders are made (or refused) before any work,
+//! the JSON records carry a time axis, and a run that ends before the body reaches the floor
+//! says so next to the paper's column.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use common::ball_mesh;
+use tetrasim::mesh::io::write_tetgen;
+use tetrasim::metrics::RunRecord;
+
+fn tetrasim(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_tetrasim"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn ball(dir: &Path) -> String {
+    let prefix = dir.join("ball");
+    write_tetgen(&prefix, &ball_mesh(2.5)).unwrap();
+    prefix.to_string_lossy().into_owned()
+}
+
+/// Fails unless `o` failed, saying something that contains every one of `words`, and ran
+/// nothing (no table on stdout).
+fn assert_refused(o: &Output, words: &[&str]) {
+    let err = stderr(o);
+    assert!(!o.status.success(), "not refused; stderr: {err}");
+    for w in words {
+        assert!(err.contains(w), "`{w}` not in: {err}");
+    }
+    assert!(
+        o.stdout.is_empty(),
+        "it ran: {}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+}
+
+#[test]
+fn records_have_a_time_axis_and_short_runs_are_flagged() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = ball(dir.path());
+    let json = dir.path().join("deep/er/run.json");
+    let json_s = json.to_string_lossy().into_owned();
+    let common = ["run", "--method", "volume", "--backend", "cpu", "--quiet"];
+    let mut args = common.to_vec();
+    args.extend(["--mesh", &mesh, "--frames", "30", "--json", &json_s]);
+    let short = tetrasim(&args);
+    assert!(short.status.success(), "{}", stderr(&short));
+    let table = String::from_utf8_lossy(&short.stdout);
+    assert!(table.contains("ended before reaching the floor"), "{table}");
+    assert!(stderr(&short).contains("warning: volume on cpu ran 30 frames"));
+    let records: Vec<RunRecord> =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let r = &records[0];
+    assert_eq!(r.time_s.len(), 30);
+    for (k, t) in r.time_s.iter().enumerate() {
+        assert!((t - (k + 1) as f64 * 1e-3).abs() < 1e-15, "{t}");
+    }
+    // Lowest node 0.1 m above the floor, at rest: free fall takes sqrt(2 h / g).
+    let contact = r.contact_time_s.unwrap();
+    assert!(
+        (contact - (2.0 * 0.1 / 9.81f64).sqrt()).abs() < 1e-12,
+        "{contact}"
+    );
+
+    let mut args = common.to_vec();
+    args.extend(["--mesh", &mesh, "--frames", "160"]);
+    let long = tetrasim(&args);
+    assert!(long.status.success(), "{}", stderr(&long));
+    assert!(!String::from_utf8_lossy(&long.stdout).contains("ended before"));
+    assert!(!stderr(&long).contains("warning: volume"));
+
+    // No floor, no contact: nothing to warn about.
+    let mut args = common.to_vec();
+    args.extend(["--mesh", &mesh, "--frames", "5", "--no-floor"]);
+    let free = tetrasim(&args);
+    assert!(!String::from_utf8_lossy(&free.stdout).contains("ended before"));
+}
+
+#[test]
+fn negative_numbers_are_values() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = ball(dir.path());
+    let json = dir.path().join("up.json");
+    let o = tetrasim(&[
+        "run",
+        "--method",
+        "volume",
+        "--quiet",
+        "--frames",
+        "10",
+        "--no-floor",
+        "--gravity",
+        "-9.81",
+        "--mesh",
+        &mesh,
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let records: Vec<RunRecord> =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(records[0].frames_run, 10);
+    // The camera takes a comma list that starts with a minus sign (parsed before any GPU
+    // work: a bad value is refused naming the camera, a good one is not taken for a flag).
+    let o = tetrasim(&["render", "--camera", "-1,0.5,2,0,0.3", "--frames", "1"]);
+    let err = stderr(&o);
+    assert!(!o.status.success());
+    assert!(!err.contains("unexpected argument"), "{err}");
+    assert!(err.to_lowercase().contains("camera"), "{err}");
+}
+
+#[test]
+fn flags_that_would_do_nothing_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = ball(dir.path());
+    let run = |extra: &[&str]| {
+        let mut args = vec!["run", "--quiet", "--frames", "2", "--mesh", &mesh];
+        args.extend(extra);
+        tetrasim(&args)
+    };
+    assert_refused(&run(&["--every", "2"]), &["every", "--out-dir"]);
+    assert_refused(&run(&["--format", "vtu"]), &["format", "--out-dir"]);
+    assert_refused(&run(&["--units", "input"]), &["units", "--out-dir"]);
+    assert_refused(
+        &tetrasim(&[
+            "render",
+            "--backend",
+            "cpu",
+            "--frames",
+            "1",
+            "--mesh",
+            &mesh,
+        ]),
+        &["backend", "vulkan", "cpu"],
+    );
+    assert_refused(
+        &tetrasim(&["render", "--every", "2", "--frames", "1", "--mesh", &mesh]),
+        &["every", "--frames-dir"],
+    );
+    assert_refused(
+        &tetrasim(&["plan", "--out-dir", "x", "--mesh", &mesh]),
+        &["out-dir", "plan"],
+    );
+    assert_refused(
+        &tetrasim(&["plan", "--backend", "cpu", "--mesh", &mesh]),
+        &["backend", "vulkan"],
+    );
+    // A scene gives the period of its mesh files itself.
+    let scene = dir.path().join("s.toml");
+    std::fs::write(
+        &scene,
+        "[[object]]\nmesh = \"ball\"\nmethod = \"volume\"\n[output]\nevery = 5\n",
+    )
+    .unwrap();
+    assert_refused(
+        &tetrasim(&["run", "--scene", scene.to_str().unwrap()]),
+        &["output.every", "output.dir"],
+    );
+}
+
+#[test]
+fn output_folders_are_made_or_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = ball(dir.path());
+    let file = dir.path().join("a-file");
+    std::fs::write(&file, "x").unwrap();
+    let under_file = file.join("run.json");
+    // A JSON file whose folder cannot exist: refused before the run (nothing on stdout).
+    let o = tetrasim(&[
+        "run",
+        "--quiet",
+        "--frames",
+        "400",
+        "--method",
+        "all",
+        "--mesh",
+        &mesh,
+        "--json",
+        under_file.to_str().unwrap(),
+    ]);
+    assert_refused(&o, &["a-file"]);
+    // A JSON path that is a folder.
+    assert_refused(
+        &tetrasim(&[
+            "run",
+            "--quiet",
+            "--frames",
+            "2",
+            "--mesh",
+            &mesh,
+            "--json",
+            dir.path().to_str().unwrap(),
+        ]),
+        &["is a folder"],
+    );
+    // A mesh folder where a file is.
+    assert_refused(
+        &tetrasim(&[
+            "run",
+            "--quiet",
+            "--frames",
+            "2",
+            "--mesh",
+            &mesh,
+            "--out-dir",
+            file.to_str().unwrap(),
+        ]),
+        &["not a folder"],
+    );
+    // The report folders of the other subcommands, refused before they mesh or sweep.
+    for sub in ["tradeoff", "stability"] {
+        assert_refused(
+            &tetrasim(&[sub, "--mesh", &mesh, "--out-dir", file.to_str().unwrap()]),
+            &["not a folder"],
+        );
+    }
+    // Nested folders are made.
+    let nested = dir.path().join("x/y/z");
+    let o = tetrasim(&[
+        "run",
+        "--quiet",
+        "--frames",
+        "2",
+        "--method",
+        "volume",
+        "--mesh",
+        &mesh,
+        "--out-dir",
+        nested.to_str().unwrap(),
+        "--every",
+        "1",
+        "--format",
+        "vtu",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for name in ["volume_00000.vtu", "volume_00002.vtu", "volume.pvd"] {
+        assert!(nested.join(name).is_file(), "{name}");
+    }
+}
