@@ -9,8 +9,10 @@ mod prep_fixtures;
 use glam::DVec3;
 use prep_fixtures::{cube, overlapping_spheres, scan, tet_volumes};
 use tetrasim::mesh::repair::RepairOptions;
+use tetrasim::mesh::repair::RepairReport;
+use tetrasim::mesh::TetMesh;
 use tetrasim::mesh::{shapes, topology, voxel::voxel_mesh};
-use tetrasim::prep::{prep_file, prep_surface, Mesher, PrepOptions, PrepOutput};
+use tetrasim::prep::{prep_file, prep_surface, Mesher, PrepOptions, PrepOutput, PrepStats};
 
 fn quiet() -> impl FnMut(&str) {
     |_: &str| {}
@@ -32,6 +34,67 @@ fn assert_valid(out: &PrepOutput) {
     assert_eq!(out.mesh.faces, topology::boundary_faces(&out.mesh.tets));
     let total: f64 = volumes.iter().sum();
     assert!((out.stats.tet_volume - total).abs() < 1e-9 * total);
+}
+
+/// Measures a hand-made tet mesh (nodes, tets) as the pipeline's stats would.
+fn stats_of(nodes: &[[f64; 3]], tets: Vec<[u32; 4]>) -> PrepStats {
+    let mesh = TetMesh {
+        nodes: nodes.iter().map(|&p| DVec3::from_array(p)).collect(),
+        faces: topology::boundary_faces(&tets),
+        tets,
+    };
+    let report = RepairReport {
+        enclosed_volume: 1.0,
+        ..Default::default()
+    };
+    PrepStats::measure(&mesh, &report, None)
+}
+
+#[test]
+fn pinched_boundary_vertex_is_counted() {
+    let nodes = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, -1.0],
+    ];
+    // One tet: its boundary (4 faces) is a closed manifold.
+    let one = vec![[0, 1, 2, 3]];
+    assert!(topology::non_manifold_vertices(&topology::boundary_faces(&one)).is_empty());
+    let stats = stats_of(&nodes, one);
+    assert_eq!(
+        (stats.surface_faces, stats.surface_non_manifold_vertices),
+        (4, 0)
+    );
+    // Two tets touching only at node 0: the boundary is two closed fans around it.
+    let two = vec![[0, 1, 2, 3], [0, 5, 4, 6]];
+    assert_eq!(
+        topology::non_manifold_vertices(&topology::boundary_faces(&two)),
+        [0]
+    );
+    let stats = stats_of(&nodes, two);
+    assert_eq!(
+        (stats.surface_faces, stats.surface_non_manifold_vertices),
+        (8, 1)
+    );
+    assert_eq!(stats.non_positive_tets, 0);
+    // The JSON carries the count.
+    let json = serde_json::to_value(&stats).unwrap();
+    assert_eq!(json["surface_non_manifold_vertices"], 1);
+    assert!(
+        stats.to_string().contains("8 (1 non-manifold vertices)"),
+        "{stats}"
+    );
+    // Two tets sharing a face, or an edge, pinch nothing at a vertex (the edge is reported as
+    // a non-manifold edge instead).
+    let face = vec![[0, 1, 2, 3], [1, 0, 2, 6]];
+    assert!(topology::non_manifold_vertices(&topology::boundary_faces(&face)).is_empty());
+    let edge = vec![[0, 1, 2, 3], [0, 1, 5, 6]];
+    assert_eq!(topology::boundary_faces(&edge).len(), 8);
+    assert!(topology::non_manifold_vertices(&topology::boundary_faces(&edge)).is_empty());
 }
 
 #[cfg(feature = "tetgen")]

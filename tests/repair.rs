@@ -170,6 +170,41 @@ fn non_manifold_edge_is_reported_and_cut() {
 }
 
 #[test]
+fn pinched_vertex_is_reported() {
+    // Two unit cubes touching at one corner, (1, 1, 1), welded into one vertex there.
+    let mut c = cube();
+    let other = cube();
+    let base = c.vertices.len() as u32;
+    c.vertices
+        .extend(other.vertices.iter().map(|p| *p + DVec3::ONE));
+    c.triangles
+        .extend(other.triangles.iter().map(|t| t.map(|v| v + base)));
+    let (m, r) = repair(&c, &RepairOptions::default()).unwrap();
+    assert_eq!(r.welded_vertices, 1, "{r:?}");
+    assert_eq!(
+        (r.non_manifold_edges, r.non_manifold_vertices),
+        (0, 1),
+        "{r:?}"
+    );
+    let corner = m.vertices.iter().position(|p| *p == DVec3::ONE).unwrap();
+    let warning = r
+        .warnings
+        .iter()
+        .find(|w| w.contains("non-manifold vertices"))
+        .expect("a warning");
+    assert!(warning.contains(&format!("vertices {corner}")), "{warning}");
+    assert!((r.enclosed_volume - 2.0).abs() < 1e-12);
+    // A cube alone has none.
+    assert_eq!(
+        repair(&cube(), &RepairOptions::default())
+            .unwrap()
+            .1
+            .non_manifold_vertices,
+        0
+    );
+}
+
+#[test]
 fn self_intersections_are_reported_in_words() {
     let (_, r) = repair(&overlapping_spheres(), &RepairOptions::default()).unwrap();
     let n = r.self_intersections.unwrap();
@@ -203,6 +238,9 @@ fn small_bunny_scan_is_closed_by_repair() {
     assert_eq!(r.duplicate_faces, 64);
     assert_eq!(r.holes, 3);
     assert!(r.non_manifold_edges_found > 0);
+    // Cutting out the non-manifold edges and refilling leaves pinched vertices (reported; TetGen
+    // takes them, and with -Y they stay on the tet mesh's boundary).
+    assert_eq!(r.non_manifold_vertices, 5, "{:?}", r.warnings);
     assert!(r.is_clean(), "{r:?}");
     assert!(
         r.enclosed_volume > 6.5e-4 && r.enclosed_volume < 7.5e-4,

@@ -1,6 +1,7 @@
 //! Surface repair before meshing: weld duplicate vertices, drop degenerate and duplicate
 //! faces and unreferenced vertices, orient faces consistently and outward, fill holes, and
-//! report what cannot be fixed here (non-manifold edges, self-intersections) in words.
+//! report what cannot be fixed here (non-manifold edges and vertices, self-intersections) in
+//! words.
 //!
 //! Order: clean -> consistent orientation -> fill holes -> cut out crossing faces and refill
 //! -> outward -> checks. Holes are filled after the orientation walk so each patch takes its
@@ -75,6 +76,10 @@ pub struct RepairReport {
     pub boundary_edges: usize,
     /// Edges shared by more than two faces.
     pub non_manifold_edges: usize,
+    /// Vertices where the surface is pinched: their faces form more than one fan (see
+    /// [`crate::mesh::topology::non_manifold_vertices`]). TetGen takes them; mesh viewers
+    /// flag them.
+    pub non_manifold_vertices: usize,
     /// Edges shared by more than two faces before cutting and refilling.
     pub non_manifold_edges_found: usize,
     /// Pairs of faces that crossed each other before fixing (`None` when not checked).
@@ -228,6 +233,20 @@ pub fn repair(mesh: &SurfaceMesh, options: &RepairOptions) -> Result<(SurfaceMes
         r.warnings.push(format!(
             "{} non-manifold edges (shared by more than two faces), e.g. {}",
             non_manifold.len(),
+            examples.join(", ")
+        ));
+    }
+    let pinched = crate::mesh::topology::non_manifold_vertices(&m.triangles);
+    r.non_manifold_vertices = pinched.len();
+    if !pinched.is_empty() {
+        let examples: Vec<String> = pinched
+            .iter()
+            .take(EXAMPLES)
+            .map(|v| v.to_string())
+            .collect();
+        r.warnings.push(format!(
+            "{} non-manifold vertices (the surface is pinched there: their faces form more than one fan), e.g. vertices {}",
+            pinched.len(),
             examples.join(", ")
         ));
     }

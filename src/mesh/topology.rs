@@ -1,4 +1,5 @@
-//! Topology derived from tetrahedra: unique edges and boundary faces.
+//! Topology derived from tetrahedra and triangles: unique edges, boundary faces and the
+//! pinched (non-manifold) vertices of a surface.
 
 use std::collections::HashMap;
 
@@ -43,4 +44,53 @@ pub fn boundary_faces(tets: &[[u32; 4]]) -> Vec<[u32; 3]> {
         .collect();
     faces.sort_unstable();
     faces
+}
+
+/// The vertices where a triangle surface is pinched: the triangles around the vertex form
+/// more than one fan (umbrella), so the surface touches itself there, as two cones meeting
+/// at their tips. Faces joined across an edge count as one fan, so a vertex on a
+/// non-manifold edge only is not reported here (that is an edge problem). Sorted.
+pub fn non_manifold_vertices(triangles: &[[u32; 3]]) -> Vec<u32> {
+    // The link of each vertex: for the triangle (v, a, b), the edge a-b. The vertex is
+    // manifold when its link is connected (one fan, open or closed).
+    let mut links: Vec<(u32, u32, u32)> = triangles
+        .iter()
+        .flat_map(|t| [(t[0], t[1], t[2]), (t[1], t[2], t[0]), (t[2], t[0], t[1])])
+        .collect();
+    links.sort_unstable();
+    let mut pinched = Vec::new();
+    let mut nodes: Vec<u32> = Vec::new();
+    let mut parent: Vec<usize> = Vec::new();
+    for group in links.chunk_by(|x, y| x.0 == y.0) {
+        if group.len() < 2 {
+            continue;
+        }
+        nodes.clear();
+        nodes.extend(group.iter().flat_map(|&(_, a, b)| [a, b]));
+        nodes.sort_unstable();
+        nodes.dedup();
+        parent.clear();
+        parent.extend(0..nodes.len());
+        fn root(parent: &mut [usize], mut i: usize) -> usize {
+            while parent[i] != i {
+                parent[i] = parent[parent[i]];
+                i = parent[i];
+            }
+            i
+        }
+        let mut fans = nodes.len();
+        for &(_, a, b) in group {
+            let ia = nodes.binary_search(&a).unwrap();
+            let ib = nodes.binary_search(&b).unwrap();
+            let (ra, rb) = (root(&mut parent, ia), root(&mut parent, ib));
+            if ra != rb {
+                parent[ra] = rb;
+                fans -= 1;
+            }
+        }
+        if fans > 1 {
+            pinched.push(group[0].0);
+        }
+    }
+    pinched
 }

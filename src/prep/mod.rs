@@ -30,6 +30,10 @@ use crate::mesh::{io, voxel, SurfaceMesh, TetMesh};
 pub struct PrepOutput {
     /// Tets positively oriented, boundary faces outward.
     pub mesh: TetMesh,
+    /// The surface handed to the mesher: scaled, repaired and, when the target needed it,
+    /// simplified (what `tetprep --save-surface` writes). With TetGen under `-Y` (always with
+    /// a target) it is also the boundary of `mesh`; without `-Y` TetGen may add points on it.
+    pub surface: SurfaceMesh,
     /// Counts, quality, volumes, times, repair report, warnings.
     pub stats: PrepStats,
 }
@@ -112,7 +116,7 @@ pub fn prep_surface(
         fell_back: false,
         switches: None,
         runs: 0,
-        faces_meshed: repaired.triangles.len(),
+        surface: None,
     };
     let mesh = match options.mesher {
         Mesher::Voxel => mesh_voxel(&repaired, options, &mut run, progress)?,
@@ -125,7 +129,7 @@ pub fn prep_surface(
                 warnings.push(warning);
                 run.fell_back = true;
                 run.mesher = Mesher::Voxel;
-                run.faces_meshed = repaired.triangles.len();
+                run.surface = None;
                 mesh_voxel(&repaired, options, &mut run, progress)?
             }
             Err(e) => return Err(e),
@@ -139,11 +143,18 @@ pub fn prep_surface(
     stats.fell_back = run.fell_back;
     stats.tetgen_switches = run.switches;
     stats.tetgen_runs = run.runs;
-    stats.faces_meshed = run.faces_meshed;
+    let surface = run.surface.unwrap_or(repaired);
+    stats.faces_meshed = surface.triangles.len();
+    stats.meshed_non_manifold_vertices =
+        crate::mesh::topology::non_manifold_vertices(&surface.triangles).len();
     stats.warnings = warnings;
     stats.total_seconds = started.elapsed().as_secs_f64();
     stats.times = clock.0;
-    Ok(PrepOutput { mesh, stats })
+    Ok(PrepOutput {
+        mesh,
+        surface,
+        stats,
+    })
 }
 
 /// What the meshing stage did.
@@ -152,7 +163,8 @@ struct MeshRun {
     fell_back: bool,
     switches: Option<String>,
     runs: usize,
-    faces_meshed: usize,
+    /// The surface TetGen meshed, when it differs from the repaired one (simplified).
+    surface: Option<SurfaceMesh>,
 }
 
 fn mesh_voxel(
@@ -210,7 +222,7 @@ fn mesh_tetgen(
     })?;
     run.switches = Some(result.switches);
     run.runs = result.runs;
-    run.faces_meshed = result.faces_meshed;
+    run.surface = Some(result.surface);
     Ok(result.mesh)
 }
 

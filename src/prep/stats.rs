@@ -41,6 +41,12 @@ pub struct PrepStats {
     pub springs: usize,
     /// Boundary triangles of the tet mesh.
     pub surface_faces: usize,
+    /// Vertices where the tet mesh's boundary surface is pinched (its triangles around the
+    /// vertex form more than one fan, e.g. two tets touching at a tip); MeshLab calls them
+    /// non-manifold vertices.
+    pub surface_non_manifold_vertices: usize,
+    /// The same count on the surface handed to the mesher (after simplification).
+    pub meshed_non_manifold_vertices: usize,
     /// Dihedral angle range over all tets [degrees].
     pub min_dihedral_deg: f64,
     pub max_dihedral_deg: f64,
@@ -69,6 +75,13 @@ impl PrepStats {
     pub fn measure(mesh: &TetMesh, report: &RepairReport, target: Option<usize>) -> Self {
         let q = tet_quality(mesh);
         let tets = mesh.tets.len();
+        let derived;
+        let boundary = if mesh.faces.is_empty() {
+            derived = topology::boundary_faces(&mesh.tets);
+            &derived
+        } else {
+            &mesh.faces
+        };
         Self {
             input: None,
             mesher: String::new(),
@@ -81,11 +94,9 @@ impl PrepStats {
             nodes: mesh.nodes.len(),
             tets,
             springs: topology::unique_edges(&mesh.tets).len(),
-            surface_faces: if mesh.faces.is_empty() {
-                topology::boundary_faces(&mesh.tets).len()
-            } else {
-                mesh.faces.len()
-            },
+            surface_faces: boundary.len(),
+            surface_non_manifold_vertices: topology::non_manifold_vertices(boundary).len(),
+            meshed_non_manifold_vertices: report.non_manifold_vertices,
             min_dihedral_deg: q.min_dihedral_deg,
             max_dihedral_deg: q.max_dihedral_deg,
             non_positive_tets: q.non_positive,
@@ -116,7 +127,7 @@ impl fmt::Display for PrepStats {
         let crossing = r
             .self_intersections
             .map_or("not checked".to_string(), |n| n.to_string());
-        writeln!(f, "surface checks   {} non-manifold edges, {} boundary edges, {crossing} self-intersections", r.non_manifold_edges, r.boundary_edges)?;
+        writeln!(f, "surface checks   {} non-manifold edges, {} non-manifold vertices, {} boundary edges, {crossing} self-intersections", r.non_manifold_edges, r.non_manifold_vertices, r.boundary_edges)?;
         let fallback = if self.fell_back { " (fallback)" } else { "" };
         let switches = self
             .tetgen_switches
@@ -125,8 +136,8 @@ impl fmt::Display for PrepStats {
             .unwrap_or_default();
         writeln!(
             f,
-            "mesher           {}{fallback}{switches}, {} run(s), {} faces meshed",
-            self.mesher, self.tetgen_runs, self.faces_meshed
+            "mesher           {}{fallback}{switches}, {} run(s), {} faces meshed ({} non-manifold vertices)",
+            self.mesher, self.tetgen_runs, self.faces_meshed, self.meshed_non_manifold_vertices
         )?;
         writeln!(f, "nodes            {}", self.nodes)?;
         write!(f, "tets             {}", self.tets)?;
@@ -135,7 +146,11 @@ impl fmt::Display for PrepStats {
         }
         writeln!(f)?;
         writeln!(f, "springs          {}", self.springs)?;
-        writeln!(f, "surface faces    {}", self.surface_faces)?;
+        writeln!(
+            f,
+            "surface faces    {} ({} non-manifold vertices)",
+            self.surface_faces, self.surface_non_manifold_vertices
+        )?;
         writeln!(
             f,
             "dihedral angles  {:.2} .. {:.2} deg",

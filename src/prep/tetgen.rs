@@ -46,6 +46,8 @@ pub struct TetgenResult {
     pub runs: usize,
     /// Faces of the surface handed to TetGen (after simplification, if any).
     pub faces_meshed: usize,
+    /// The surface handed to TetGen for this run (simplified, if it was).
+    pub surface: SurfaceMesh,
 }
 
 /// Simplifies `surface` to about `faces` faces, then cuts out and refills any crossings or
@@ -105,6 +107,7 @@ pub fn mesh_plain(surface: &SurfaceMesh, options: &PrepOptions) -> Result<Tetgen
         switches: switches.to_tetgen_string(),
         runs: 1,
         faces_meshed: surface.triangles.len(),
+        surface: surface.clone(),
     })
 }
 
@@ -193,6 +196,7 @@ pub fn mesh_for_target(
                 switches: switches.to_tetgen_string(),
                 runs,
                 faces_meshed: current.triangles.len(),
+                surface: current.clone(),
             },
             &mut best,
         );
@@ -229,6 +233,7 @@ pub fn mesh_for_target(
                     switches: switches.to_tetgen_string(),
                     runs,
                     faces_meshed: current.triangles.len(),
+                    surface: current.clone(),
                 },
                 &mut best,
             );

@@ -1,15 +1,18 @@
 //! `tetprep INPUT -o PREFIX`: surface scan in, `PREFIX.node/.ele/.face` out (and `PREFIX.vtk`
-//! with `--vtk`), stats after every run. Errors go to stderr with a non-zero exit; nothing
-//! is written unless meshing succeeded, and every file is written atomically.
+//! with `--vtk`), stats after every run. Output folders are made (and bad output paths
+//! refused) before any work; errors go to stderr with a non-zero exit; nothing is written
+//! unless meshing succeeded, and every file is written atomically.
+
+mod output;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, ValueEnum};
-use tetrasim::mesh::io::{read_surface, write_surface, write_tetgen, write_vtk};
+use output::{output_prefix, with_ext, MadeFolders};
+use tetrasim::mesh::io::{read_surface, write_surface, write_tetgen, write_vtk, SurfaceFormat};
 use tetrasim::mesh::shapes::Shape;
 use tetrasim::prep::{prep_surface, Mesher, PrepOptions, StageTime};
-use tetrasim::SurfaceMesh;
 
 /// Converts a triangle surface (PLY, OBJ, OFF, STL) into a tetrahedral mesh: repairs it
 /// (welds, drops degenerate/duplicate faces, orients, fills holes), simplifies it when the
@@ -23,11 +26,16 @@ struct Args {
     /// Mesh a surface made by code instead of reading one (the shapes in meshes/).
     #[arg(long, value_enum, conflicts_with = "input")]
     shape: Option<Shape>,
-    /// Also write the input surface (after --scale) to this file (.ply, .obj, .off, .stl).
-    #[arg(long)]
+    /// Also write the surface that went into the mesher to this file (.ply, .obj, .off,
+    /// .stl): the input after --scale, repair and, when --target-tets needs it,
+    /// simplification. Missing folders are made.
+    #[arg(long, value_name = "FILE")]
     save_surface: Option<PathBuf>,
-    /// Output prefix: writes PREFIX.node, PREFIX.ele, PREFIX.face.
-    #[arg(short, long)]
+    /// Output prefix: writes PREFIX.node, PREFIX.ele, PREFIX.face (and PREFIX.vtk with
+    /// --vtk). A tet-mesh extension (.node, .ele, .face, .vtk, .vtu, .msh, .mesh) is dropped,
+    /// so `-o out/bunny.node` also writes out/bunny.node, out/bunny.ele, out/bunny.face.
+    /// Missing folders (`out/` here) are made before any work starts.
+    #[arg(short, long, value_name = "PREFIX")]
     output: PathBuf,
     /// TetGen radius-edge ratio bound (>= 1; 0 turns the bound off).
     #[arg(long, default_value_t = 2.0)]
@@ -59,7 +67,7 @@ struct Args {
     json: bool,
 }
 
-fn run(args: &Args) -> tetrasim::Result<()> {
+fn run(args: &Args, made: &mut MadeFolders) -> tetrasim::Result<()> {
     let options = PrepOptions {
         quality: (args.quality != 0.0).then_some(args.quality),
         max_volume: args.max_volume,
@@ -70,6 +78,21 @@ fn run(args: &Args) -> tetrasim::Result<()> {
         fallback: args.fallback,
         ..Default::default()
     };
+    // Everything that can be refused without reading or meshing is checked first, and the
+    // output folders exist before any work starts.
+    options.validate()?;
+    let prefix = output_prefix(&args.output)?;
+    if let Some(path) = &args.save_surface {
+        SurfaceFormat::from_path(path)
+            .map_err(|e| tetrasim::Error::param("save-surface", e.to_string()))?;
+    }
+    made.make_parent_of(&prefix, "output")?;
+    if let Some(path) = &args.save_surface {
+        made.make_parent_of(path, "save-surface")?;
+    }
+    for dir in made.made() {
+        eprintln!("tetprep: made the folder {}", dir.display());
+    }
     let mut progress = |stage: &str| eprintln!("tetprep: {stage}");
     let read_started = std::time::Instant::now();
     let surface = match (&args.input, args.shape) {
@@ -86,14 +109,6 @@ fn run(args: &Args) -> tetrasim::Result<()> {
         }
     };
     let read_time = read_started.elapsed();
-    if let Some(path) = &args.save_surface {
-        let scaled = SurfaceMesh {
-            vertices: surface.vertices.iter().map(|p| *p * args.scale).collect(),
-            triangles: surface.triangles.clone(),
-        };
-        write_surface(path, &scaled)?;
-        progress(&format!("wrote the surface to {}", path.display()));
-    }
     let name = match (&args.input, args.shape) {
         (Some(path), _) => path.display().to_string(),
         (None, shape) => format!(
@@ -122,12 +137,20 @@ fn run(args: &Args) -> tetrasim::Result<()> {
         out.stats.total_seconds += seconds;
     }
     let mut written = vec![];
-    write_tetgen(&args.output, &out.mesh)?;
-    written.push(format!("{}.{{node,ele,face}}", args.output.display()));
+    write_tetgen(&prefix, &out.mesh)?;
+    written.push(format!("{}.{{node,ele,face}}", prefix.display()));
     if args.vtk {
-        let vtk = PathBuf::from(format!("{}.vtk", args.output.display()));
+        let vtk = with_ext(&prefix, "vtk");
         write_vtk(&vtk, &out.mesh, None)?;
         written.push(vtk.display().to_string());
+    }
+    if let Some(path) = &args.save_surface {
+        write_surface(path, &out.surface)?;
+        written.push(format!(
+            "{} (the meshed surface, {} faces)",
+            path.display(),
+            out.surface.triangles.len()
+        ));
     }
     eprintln!("tetprep: wrote {}", written.join(", "));
     if args.json {
@@ -142,9 +165,14 @@ fn run(args: &Args) -> tetrasim::Result<()> {
 
 fn main() -> ExitCode {
     let args = Args::parse();
-    match run(&args) {
+    let mut made = MadeFolders::default();
+    match run(&args, &mut made) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
+            if !made.made().is_empty() {
+                made.remove_empty();
+                eprintln!("tetprep: removed the folders it made (those still empty)");
+            }
             eprintln!("tetprep: error: {e}");
             ExitCode::FAILURE
         }

@@ -5,7 +5,7 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 use glam::DVec3;
-use tetrasim::mesh::io::{read_tetgen, write_surface};
+use tetrasim::mesh::io::{read_surface, read_tetgen, write_surface};
 use tetrasim::mesh::shapes;
 
 fn tetprep(args: &[&str]) -> Output {
@@ -133,4 +133,176 @@ fn self_intersecting_surface_fails_without_fallback_and_voxelizes_with_it() {
     );
     let mesh = read_tetgen(&prefix).unwrap();
     assert!(mesh.tets.len() > 2000, "{}", mesh.tets.len());
+}
+
+fn assert_success(out: &Output) {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn assert_clean_failure(out: &Output) -> String {
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    stderr
+}
+
+#[cfg(feature = "tetgen")]
+#[test]
+fn missing_output_folders_are_made_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("new/sub/ball");
+    let out = tetprep(&[
+        "--shape",
+        "sphere",
+        "-o",
+        prefix.to_str().unwrap(),
+        "--target-tets",
+        "600",
+    ]);
+    assert_success(&out);
+    let mut names = files_with_prefix(&dir.path().join("new/sub"));
+    names.sort();
+    assert_eq!(names, ["ball.ele", "ball.face", "ball.node"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let made = stderr.find("made the folder").expect("says so");
+    let repairing = stderr.find("repairing").expect("stage line");
+    assert!(made < repairing, "{stderr}");
+}
+
+#[test]
+fn failed_run_removes_the_folders_it_made() {
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("new/sub/out");
+    let out = tetprep(&["/nonexistent/bunny.ply", "-o", prefix.to_str().unwrap()]);
+    let stderr = assert_clean_failure(&out);
+    assert!(stderr.contains("/nonexistent/bunny.ply"), "{stderr}");
+    assert!(files_with_prefix(dir.path()).is_empty());
+}
+
+#[test]
+fn bad_output_paths_are_refused_before_reading() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("plain");
+    std::fs::write(&file, "not a folder").unwrap();
+    // The input does not exist either: the output is checked first, so its error comes.
+    let input = "/nonexistent/bunny.ply";
+    let cases = [
+        (
+            vec!["-o".to_string(), format!("{}/out", file.display())],
+            "is a file, not a folder",
+        ),
+        (
+            vec!["-o".to_string(), format!("{}/", dir.path().display())],
+            "names a folder",
+        ),
+        (
+            vec![
+                "-o".to_string(),
+                format!("{}/out", dir.path().display()),
+                "--save-surface".to_string(),
+                format!("{}/s.xyz", dir.path().display()),
+            ],
+            "unknown surface format",
+        ),
+        (
+            vec![
+                "-o".to_string(),
+                format!("{}/out", dir.path().display()),
+                "--save-surface".to_string(),
+                format!("{}/x/s.off", file.display()),
+            ],
+            "is a file, not a folder",
+        ),
+    ];
+    for (args, reason) in cases {
+        let mut all = vec![input.to_string()];
+        all.extend(args);
+        let out = Command::new(env!("CARGO_BIN_EXE_tetprep"))
+            .args(&all)
+            .output()
+            .unwrap();
+        let stderr = assert_clean_failure(&out);
+        assert!(
+            stderr.contains(reason) && !stderr.contains("reading"),
+            "{all:?}: {stderr}"
+        );
+        assert_eq!(files_with_prefix(dir.path()), ["plain"], "{all:?}");
+    }
+}
+
+#[cfg(feature = "tetgen")]
+#[test]
+fn known_extensions_are_dropped_from_the_prefix() {
+    let ball = ["ball.ele", "ball.face", "ball.node", "ball.vtk"];
+    for (given, names) in [
+        ("ball.node", ball),
+        ("ball.vtk", ball),
+        ("ball.MSH", ball),
+        (
+            "ball.v2",
+            ["ball.v2.ele", "ball.v2.face", "ball.v2.node", "ball.v2.vtk"],
+        ),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = tetprep(&[
+            "--shape",
+            "box",
+            "-o",
+            dir.path().join(given).to_str().unwrap(),
+            "--target-tets",
+            "300",
+            "--vtk",
+        ]);
+        assert_success(&out);
+        let mut found = files_with_prefix(dir.path());
+        found.sort();
+        assert_eq!(found, names, "-o {given}");
+    }
+}
+
+#[cfg(feature = "tetgen")]
+#[test]
+fn save_surface_writes_the_simplified_surface_that_was_meshed() {
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("ball");
+    let saved = dir.path().join("surface/meshed.off");
+    // 1280 faces and a target of 600 tets: simplified to about 200 faces.
+    let out = tetprep(&[
+        "--shape",
+        "sphere",
+        "-o",
+        prefix.to_str().unwrap(),
+        "--target-tets",
+        "600",
+        "--scale",
+        "2",
+        "--save-surface",
+        saved.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_success(&out);
+    let stats: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let surface = read_surface(&saved).unwrap();
+    let faces_in = stats["faces_in"].as_u64().unwrap();
+    let faces_meshed = stats["faces_meshed"].as_u64().unwrap();
+    assert_eq!(faces_in, 1280);
+    assert!(faces_meshed < faces_in / 2, "{faces_meshed}");
+    assert_eq!(surface.triangles.len() as u64, faces_meshed);
+    // Scaled like the mesh (radius 0.5 x 2), and kept as the mesh's boundary (-Y).
+    let radius = surface
+        .vertices
+        .iter()
+        .map(|p| p.length())
+        .fold(0.0, f64::max);
+    assert!((radius - 1.0).abs() < 1e-9, "{radius}");
+    let mesh = read_tetgen(&prefix).unwrap();
+    assert_eq!(mesh.faces.len(), surface.triangles.len());
+    assert_eq!(
+        stats["surface_faces"].as_u64().unwrap(),
+        surface.triangles.len() as u64
+    );
 }
