@@ -5,7 +5,7 @@
 
 mod output;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, ValueEnum};
@@ -18,7 +18,7 @@ use tetrasim::prep::{prep_surface, Mesher, PrepOptions, StageTime};
 /// (welds, drops degenerate/duplicate faces, orients, fills holes), simplifies it when the
 /// target needs it, meshes it with TetGen or the voxel mesher and prints the mesh's stats.
 #[derive(Debug, Parser)]
-#[command(version)]
+#[command(version, allow_negative_numbers = true)]
 struct Args {
     /// The surface file (.ply, .obj, .off, .stl).
     #[arg(required_unless_present = "shape")]
@@ -62,9 +62,10 @@ struct Args {
     /// Also write PREFIX.vtk (legacy VTK, for ParaView).
     #[arg(long)]
     vtk: bool,
-    /// Print the stats as JSON on stdout (stage lines still go to stderr).
-    #[arg(long)]
-    json: bool,
+    /// Write the stats as JSON to FILE (its folder is made first), or print them on stdout
+    /// instead of the table when no FILE (or `-`) is given; stage lines go to stderr.
+    #[arg(long, num_args = 0..=1, default_missing_value = "-", value_name = "FILE")]
+    json: Option<PathBuf>,
 }
 
 fn run(args: &Args, made: &mut MadeFolders) -> tetrasim::Result<()> {
@@ -89,6 +90,15 @@ fn run(args: &Args, made: &mut MadeFolders) -> tetrasim::Result<()> {
     made.make_parent_of(&prefix, "output")?;
     if let Some(path) = &args.save_surface {
         made.make_parent_of(path, "save-surface")?;
+    }
+    if let Some(path) = args.json.as_deref().filter(|p| *p != Path::new("-")) {
+        if path.is_dir() {
+            return Err(tetrasim::Error::param(
+                "json",
+                format!("{} is a folder; give a file name", path.display()),
+            ));
+        }
+        made.make_parent_of(path, "json")?;
     }
     for dir in made.made() {
         eprintln!("tetprep: made the folder {}", dir.display());
@@ -153,12 +163,19 @@ fn run(args: &Args, made: &mut MadeFolders) -> tetrasim::Result<()> {
         ));
     }
     eprintln!("tetprep: wrote {}", written.join(", "));
-    if args.json {
-        let json = serde_json::to_string_pretty(&out.stats)
-            .map_err(|e| tetrasim::Error::param("json", e.to_string()))?;
-        println!("{json}");
-    } else {
-        println!("{}", out.stats);
+    let json = || {
+        serde_json::to_string_pretty(&out.stats)
+            .map_err(|e| tetrasim::Error::param("json", e.to_string()))
+    };
+    match args.json.as_deref() {
+        Some(path) if path == Path::new("-") => println!("{}", json()?),
+        Some(path) => {
+            let text = json()?;
+            tetrasim::mesh::io::write_atomic(path, |w| writeln!(w, "{text}"))?;
+            eprintln!("tetprep: stats written to {}", path.display());
+            println!("{}", out.stats);
+        }
+        None => println!("{}", out.stats),
     }
     Ok(())
 }

@@ -306,3 +306,56 @@ fn save_surface_writes_the_simplified_surface_that_was_meshed() {
         surface.triangles.len() as u64
     );
 }
+
+/// `--json FILE` writes the stats there (its folder made first) and keeps the table on
+/// stdout; `--json` alone (or `-`) prints them instead of the table.
+#[cfg(feature = "tetgen")]
+#[test]
+fn json_stats_go_to_a_file_or_stdout() {
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("ball");
+    let json = dir.path().join("stats/new/ball.json");
+    let out = tetprep(&[
+        "--shape",
+        "sphere",
+        "-o",
+        prefix.to_str().unwrap(),
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stats: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains(&format!("{}", stats["tets"])), "{stdout}");
+    assert!(serde_json::from_slice::<serde_json::Value>(&out.stdout).is_err());
+    let out = tetprep(&[
+        "--shape",
+        "sphere",
+        "-o",
+        prefix.to_str().unwrap(),
+        "--json",
+        "-",
+    ]);
+    let printed: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(printed["tets"], stats["tets"]);
+    // A folder is not a file name: refused before any work.
+    let out = tetprep(&[
+        "--shape",
+        "sphere",
+        "-o",
+        prefix.to_str().unwrap(),
+        "--json",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("is a folder") && !err.contains("TetGen"),
+        "{err}"
+    );
+}
