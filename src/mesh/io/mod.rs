@@ -6,10 +6,18 @@
 //! | Wavefront OBJ | [`read_surface`] | [`write_surface`] | [`obj`] |
 //! | OFF | [`read_surface`] | [`write_surface`] | [`off`] |
 //! | STL (ascii, binary) | [`read_surface`] | [`write_surface`] (binary) | [`stl`] |
-//! | TetGen `.node/.ele/.face` | [`read_tetgen`] | [`write_tetgen`] | [`tetgen`] |
-//! | legacy VTK unstructured grid | -- | [`write_vtk`] | [`vtk`] |
+//! | TetGen `.node/.ele/.face` | [`read_tetgen`], [`read_tet_mesh`] | [`write_tetgen`] | [`tetgen`] |
+//! | legacy VTK unstructured grid `.vtk` (ASCII, BINARY; 2.0 to 5.1) | [`read_tet_mesh`] | [`write_vtk`] (ASCII) | [`vtk`] |
+//! | XML VTK `.vtu` (ascii, base64, appended raw/base64, zlib) | [`read_tet_mesh`] | -- | [`vtu`] |
+//! | gmsh `.msh` 2.2 and 4.1 (ASCII, binary) | [`read_tet_mesh`] | -- | [`gmsh`] |
+//! | Medit `.mesh` (ASCII) | [`read_tet_mesh`] | -- | [`medit`] |
 //!
-//! Surface formats are chosen by the file extension (case-insensitive). Every reader checks
+//! Surface formats are chosen by the file extension (case-insensitive). Tet-mesh formats are
+//! chosen by the extension too, else by the first bytes ([`TetFormat::sniff`]). The tet
+//! readers keep linear tets only (other cell types are skipped, quadratic tets are an error
+//! with the reason), keep each tet's orientation as in the file (the model flips negative
+//! tets when it builds, [`crate::model`]), and all but TetGen's drop nodes that no tet uses
+//! ([`drop_unused_nodes`]). Every reader checks
 //! what it reads: counts against headers, finite coordinates, indices in range, at least one
 //! element; a failure is an [`Error::Parse`] naming the file and the line (text formats) or the
 //! element (binary formats). No reader panics on any input: the property tests in
@@ -34,6 +42,18 @@
 //!   80-byte header starts with `solid ` for ASCII (common in CAD exports), and its errors name
 //!   neither line nor facet. The reader here decides by the binary size rule first; the binary
 //!   writer is `stl_io`'s.
+//! - `vtkio` 0.6.3 (VTK legacy and XML) builds `nom` 3 and, by default, the C libraries of
+//!   LZMA and LZ4; it cannot read legacy VTK 5.1 (`OFFSETS`/`CONNECTIVITY`), which is what
+//!   meshio 5 writes by default; 0.7 reads 5.1 but is a release candidate (0.7.0-rc2). Its
+//!   errors name neither line nor cell. The legacy reader here ([`vtk`]) is one small module;
+//!   the `.vtu` reader ([`vtu`]) parses the XML with `roxmltree` 0.20 (already built for
+//!   `shaderc-sys`, fuzzed, never panics) and inflates zlib arrays with `flate2` 1
+//!   (already in the tree through `png`); base64 is a 30-line decoder, since VTK writes a
+//!   compressed array's header and data as two base64 runs, which strict decoders refuse.
+//! - `mshio` 0.4.2 reads gmsh 4.1 only (not 2.2, which meshio's `gmsh22` and many tools write),
+//!   is built on `nom` 5, and has `expect`/`unwrap` in its number parsers; [`gmsh`] reads both
+//!   versions with one set of checks.
+//! - Medit has no maintained Rust reader; [`medit`] is a keyword/count scanner.
 //! - `tempfile` provides the temporary file for [`write_atomic`].
 
 mod cursor;

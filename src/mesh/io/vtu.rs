@@ -11,7 +11,7 @@
 //! line). Not read: the LZ4 and LZMA compressors, polyhedron cells' face streams (polyhedra
 //! are skipped like any non-tet cell), `PUnstructuredGrid` (`.pvtu`).
 //!
-//! The XML is parsed by `roxmltree` (already in the dependency tree, fuzzed, no panics on bad
+//! The XML is parsed by `roxmltree` (already built for `shaderc-sys`, fuzzed, no panics on bad
 //! input); zlib by `flate2`. The raw appended section is binary, not XML, so it is cut out
 //! before the XML is parsed. `vtkio` 0.6.3 was considered: it cannot read meshio's legacy VTK
 //! 5.1 files, builds `nom` 3 and C compression libraries by default, and its errors carry
