@@ -5,4 +5,6 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
+# The Python with meshio that setup.sh made (tests/mesh_readers.rs).
+[ -x target/py/bin/python ] && export TETRASIM_PYTHON="$PWD/target/py/bin/python"
 cargo test --workspace --release "$@"

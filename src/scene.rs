@@ -22,7 +22,8 @@
 //! frames = 400
 //!
 //! [[object]]
-//! mesh = "meshes/sphere"     # .node/.ele prefix (relative to the scene file)
+//! mesh = "meshes/sphere"     # tet mesh: .node/.ele prefix, .vtk, .vtu, .msh or .mesh; or a
+//!                            # surface (.ply/.obj/.off/.stl); relative to the scene file
 //! method = "volume"
 //! fit_size = 1.0             # m, largest bounding-box side (omit to keep the mesh's size)
 //! drop_height = 0.1          # m, lowest node above y = 0 (omit to keep the position)
@@ -130,7 +131,7 @@ impl Default for Solver {
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Object {
-    /// `.node/.ele` prefix or surface file.
+    /// Tet mesh (`.node/.ele` prefix, `.vtk`, `.vtu`, `.msh`, `.mesh`) or surface file.
     pub mesh: PathBuf,
     /// Tets to aim at when `mesh` is a surface file meshed in-process (default 5000).
     #[serde(default)]

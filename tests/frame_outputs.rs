@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use common::ball_mesh;
-use common::skip::skipped;
+use common::python::python_with_meshio;
 use glam::DVec3;
 use tetrasim::mesh::io::write_tetgen;
 use tetrasim::mesh::{tet_signed_volume, TetMesh};
@@ -29,40 +29,9 @@ fn tetrasim() -> Command {
     Command::new(env!("CARGO_BIN_EXE_tetrasim"))
 }
 
-/// A Python with meshio, or `None` after reporting the skip.
-fn python_with_meshio() -> Option<PathBuf> {
-    let python = std::env::var_os("TETRASIM_PYTHON")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from("python3"));
-    let ok = Command::new(&python)
-        .args(["-c", "import meshio, numpy"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if ok {
-        Some(python)
-    } else {
-        skipped(&format!(
-            "no Python with meshio ({} cannot import it; set TETRASIM_PYTHON or run scripts/setup.sh)",
-            python.display()
-        ));
-        None
-    }
-}
-
 /// Runs `script` with `args` and parses what it prints as JSON.
 fn python_json(python: &Path, script: &str, args: &[&Path]) -> serde_json::Value {
-    let out = Command::new(python)
-        .arg("-c")
-        .arg(script)
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "python failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap()
+    serde_json::from_str(&common::python::run(python, script, args)).unwrap()
 }
 
 /// Reads each file with meshio: points, cells per type, point and cell data.

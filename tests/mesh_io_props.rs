@@ -31,6 +31,39 @@ fn read_everything(bytes: &[u8]) {
     let _ = tetgen::parse_tetgen(bytes, ele, None, path);
     let _ = tetgen::parse_tetgen(node, bytes, None, path);
     let _ = tetgen::parse_tetgen(node, ele, Some(bytes), path);
+    for f in TET_FORMATS {
+        let _ = io::parse_tet_mesh(bytes, f, path);
+    }
+}
+
+const TET_FORMATS: [io::TetFormat; 4] = [
+    io::TetFormat::Vtk,
+    io::TetFormat::Vtu,
+    io::TetFormat::Gmsh,
+    io::TetFormat::Medit,
+];
+
+/// The meshio fixtures of tests/mesh_readers.rs (every tet format, ASCII and binary).
+fn tet_fixtures() -> &'static [(String, Vec<u8>)] {
+    static FILES: std::sync::OnceLock<Vec<(String, Vec<u8>)>> = std::sync::OnceLock::new();
+    FILES.get_or_init(|| {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/meshio");
+        let mut v: Vec<(String, Vec<u8>)> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| {
+                io::TetFormat::from_extension(p).is_some_and(|f| f != io::TetFormat::TetGen)
+            })
+            .map(|p| {
+                (
+                    p.file_name().unwrap().to_string_lossy().into_owned(),
+                    std::fs::read(&p).unwrap(),
+                )
+            })
+            .collect();
+        v.sort();
+        v
+    })
 }
 
 type Sample = (String, Vec<u8>, Option<SurfaceFormat>);
@@ -82,6 +115,25 @@ fn make_valid_files() -> Vec<Sample> {
         None,
     ));
     out
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    #[test]
+    fn truncated_and_mutated_tet_files_never_panic(which in 0usize..64, cut in 0.0..1.0f64, at in 0.0..1.0f64, value: u8) {
+        let files = tet_fixtures();
+        let (name, bytes) = &files[which % files.len()];
+        let format = io::TetFormat::from_extension(Path::new(name)).unwrap();
+        let path = Path::new(name);
+        let cut_at = (bytes.len() as f64 * cut) as usize;
+        let _ = io::parse_tet_mesh(&bytes[..cut_at], format, path);
+        let mut changed = bytes.clone();
+        let i = ((changed.len() - 1) as f64 * at) as usize;
+        changed[i] = value;
+        let _ = io::parse_tet_mesh(&changed, format, path);
+        read_everything(&changed);
+    }
 }
 
 proptest! {

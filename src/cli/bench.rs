@@ -1,6 +1,6 @@
 //! `tetrasim bench`: headless benchmark of mesh x method x backend (see [`crate::bench`]).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::Context as _;
 
@@ -72,13 +72,10 @@ pub fn choose_backends(given: &[String], defaults: &[&str]) -> anyhow::Result<Ve
         .collect())
 }
 
-/// A bundled mesh relative to the working directory, else to the source tree.
+/// A bundled mesh's name as a path: `load_mesh` reads it from the working directory when it
+/// is there, else from the copy compiled into the binary (`crate::runner::bundled`).
 pub fn bundled_path(prefix: &str) -> PathBuf {
-    let here = Path::new(prefix);
-    if Path::new(&format!("{prefix}.node")).is_file() {
-        return here.to_path_buf();
-    }
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(prefix)
+    PathBuf::from(prefix)
 }
 
 /// Arguments of `tetrasim bench`.

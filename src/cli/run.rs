@@ -52,7 +52,7 @@ pub struct RunArgs {
     /// The mesh, physics and output flags below must not be given with it.
     #[arg(long, conflicts_with_all = SCENE_CONFLICTS)]
     pub scene: Option<PathBuf>,
-    /// TetGen prefix (PREFIX.node + PREFIX.ele) or a surface file (.ply/.obj/.off/.stl).
+    /// Tet mesh (TetGen PREFIX, .vtk, .vtu, .msh, .mesh) or a surface file (.ply/.obj/.off/.stl).
     #[arg(long, default_value = DEFAULT_MESH)]
     pub mesh: PathBuf,
     /// When --mesh is a surface: tets to aim at when meshing it in-process.

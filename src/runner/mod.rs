@@ -2,6 +2,7 @@
 //! step frames, sample the volume after each, time the steps, write surfaces on request, and
 //! return a [`RunRecord`]. The command line and the tests both run experiments through here.
 
+pub mod bundled;
 mod factory;
 mod load;
 mod output;

@@ -1,6 +1,7 @@
 //! Shared test fixtures: meshes made in code, models and parameter sets.
 #![allow(dead_code)]
 
+pub mod python;
 pub mod skip;
 
 use glam::DVec3;

@@ -6,14 +6,22 @@
 //! | Wavefront OBJ | [`read_surface`] | [`write_surface`] | [`obj`] |
 //! | OFF | [`read_surface`] | [`write_surface`] | [`off`] |
 //! | STL (ascii, binary) | [`read_surface`] | [`write_surface`] (binary) | [`stl`] |
-//! | TetGen `.node/.ele/.face` | [`read_tetgen`] | [`write_tetgen`] | [`tetgen`] |
-//! | legacy VTK unstructured grid | -- | [`write_vtk`], [`write_vtk_fields`] | [`vtk`] |
-//! | VTK XML unstructured grid `.vtu`, ParaView collection `.pvd` | -- | [`write_vtu`], [`write_pvd`] | [`vtu`] |
+//! | TetGen `.node/.ele/.face` | [`read_tetgen`], [`read_tet_mesh`] | [`write_tetgen`] | [`tetgen`] |
+//! | legacy VTK unstructured grid `.vtk` (ASCII, BINARY; 2.0 to 5.1) | [`read_tet_mesh`] | [`write_vtk`], [`write_vtk_fields`] (ASCII) | [`vtk`] |
+//! | XML VTK `.vtu` (ascii, base64, appended raw/base64, zlib) | [`read_tet_mesh`] | [`write_vtu`] (base64) | [`vtu`] |
+//! | ParaView collection `.pvd` | -- | [`write_pvd`] | [`vtu`] |
+//! | gmsh `.msh` 2.2 and 4.1 (ASCII, binary) | [`read_tet_mesh`] | -- | [`gmsh`] |
+//! | Medit `.mesh` (ASCII) | [`read_tet_mesh`] | -- | [`medit`] |
 //!
 //! The VTK writers take point and cell data as [`Fields`]; PLY surfaces can carry a
 //! per-vertex quality ([`ply::write_with_quality`]).
 //!
-//! Surface formats are chosen by the file extension (case-insensitive). Every reader checks
+//! Surface formats are chosen by the file extension (case-insensitive). Tet-mesh formats are
+//! chosen by the extension too, else by the first bytes ([`TetFormat::sniff`]). The tet
+//! readers keep linear tets only (other cell types are skipped, quadratic tets are an error
+//! with the reason), keep each tet's orientation as in the file (the model flips negative
+//! tets when it builds, [`crate::model`]), and all but TetGen's drop nodes that no tet uses
+//! ([`drop_unused_nodes`]). Every reader checks
 //! what it reads: counts against headers, finite coordinates, indices in range, at least one
 //! element; a failure is an [`Error::Parse`] naming the file and the line (text formats) or the
 //! element (binary formats). No reader panics on any input: the property tests in
@@ -38,9 +46,24 @@
 //!   80-byte header starts with `solid ` for ASCII (common in CAD exports), and its errors name
 //!   neither line nor facet. The reader here decides by the binary size rule first; the binary
 //!   writer is `stl_io`'s.
+//! - `vtkio` 0.6.3 (VTK legacy and XML) builds `nom` 3 and, by default, the C libraries of
+//!   LZMA and LZ4; it cannot read legacy VTK 5.1 (`OFFSETS`/`CONNECTIVITY`), which is what
+//!   meshio 5 writes by default; 0.7 reads 5.1 but is a release candidate (0.7.0-rc2). Its
+//!   errors name neither line nor cell. The legacy reader here ([`vtk`]) is one small module;
+//!   the `.vtu` reader ([`vtu`]) parses the XML with `roxmltree` 0.20 (already built for
+//!   `shaderc-sys`, fuzzed, never panics) and inflates zlib arrays with `flate2` 1
+//!   (already in the tree through `png`); base64 is a 30-line decoder, since VTK writes a
+//!   compressed array's header and data as two base64 runs, which strict decoders refuse.
+//! - `mshio` 0.4.2 reads gmsh 4.1 only (not 2.2, which meshio's `gmsh22` and many tools write),
+//!   is built on `nom` 5, and has `expect`/`unwrap` in its number parsers; [`gmsh`] reads both
+//!   versions with one set of checks.
+//! - Medit has no maintained Rust reader; [`medit`] is a keyword/count scanner.
 //! - `tempfile` provides the temporary file for [`write_atomic`].
 
+mod cursor;
 mod fields;
+pub mod gmsh;
+pub mod medit;
 pub mod obj;
 pub mod off;
 pub mod ply;
@@ -56,7 +79,7 @@ pub use vtk::{write_vtk, write_vtk_fields};
 pub use vtu::{write_pvd, write_vtu};
 
 use crate::error::{Error, Result};
-use crate::mesh::SurfaceMesh;
+use crate::mesh::{SurfaceMesh, TetMesh};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
@@ -286,4 +309,172 @@ pub(crate) fn fmt_f64(x: f64) -> String {
     } else {
         format!("{x:e}")
     }
+}
+
+/// The tet-mesh formats known to [`read_tet_mesh`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TetFormat {
+    /// TetGen `.node/.ele` (and `.face`), given as the prefix or any of the three files.
+    TetGen,
+    /// Legacy VTK unstructured grid (`.vtk`).
+    Vtk,
+    /// XML VTK unstructured grid (`.vtu`).
+    Vtu,
+    /// gmsh `.msh` 2.2 or 4.1.
+    Gmsh,
+    /// Medit `.mesh`.
+    Medit,
+}
+
+/// The tet-mesh file extensions, for messages.
+pub const TET_FORMATS: &str =
+    "TetGen prefix (PREFIX.node + PREFIX.ele), .vtk (legacy VTK), .vtu (XML VTK), .msh (gmsh 2.2/4.1), .mesh (Medit)";
+
+impl TetFormat {
+    /// The format named by `path`'s extension (case-insensitive), if it names one.
+    pub fn from_extension(path: &Path) -> Option<Self> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        Some(match ext.as_str() {
+            "node" | "ele" | "face" => Self::TetGen,
+            "vtk" => Self::Vtk,
+            "vtu" => Self::Vtu,
+            "msh" => Self::Gmsh,
+            "mesh" => Self::Medit,
+            _ => return None,
+        })
+    }
+
+    /// The format of a file from its first bytes: `# vtk DataFile`, `<VTKFile` (after an
+    /// optional XML declaration), `$MeshFormat`, `MeshVersionFormatted` (after comments).
+    pub fn sniff(bytes: &[u8]) -> Option<Self> {
+        let head = &bytes[..bytes.len().min(4096)];
+        let mut start = head.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(head);
+        // Blank lines and `#` comments (Medit) before the first keyword.
+        loop {
+            let trimmed = start.trim_ascii_start();
+            if trimmed.starts_with(b"# vtk DataFile") {
+                return Some(Self::Vtk);
+            }
+            if trimmed.starts_with(b"#") {
+                let end = trimmed.iter().position(|&b| b == b'\n');
+                start = end.map_or(&[][..], |e| &trimmed[e + 1..]);
+                continue;
+            }
+            start = trimmed;
+            break;
+        }
+        if start.starts_with(b"$MeshFormat") {
+            Some(Self::Gmsh)
+        } else if start.starts_with(b"MeshVersionFormatted") {
+            Some(Self::Medit)
+        } else if start.starts_with(b"<") && cursor::find(head, b"<VTKFile").is_some() {
+            Some(Self::Vtu)
+        } else {
+            None
+        }
+    }
+}
+
+/// Reads a tet mesh in any format of [`TetFormat`], chosen by the extension
+/// (case-insensitive) or, when that names no tet format, by the content
+/// ([`TetFormat::sniff`]); a path that is no file but a TetGen prefix (`PREFIX.node` exists)
+/// reads TetGen. Indices come back 0-based; tets keep the file's orientation (the model
+/// orients them). The VTK, gmsh and Medit readers drop nodes that no tet uses (see
+/// [`drop_unused_nodes`]); TetGen's are kept as they are.
+pub fn read_tet_mesh(path: &Path) -> Result<TetMesh> {
+    if let Some(format) = TetFormat::from_extension(path) {
+        if format == TetFormat::TetGen {
+            return read_tetgen(path);
+        }
+        return parse_tet_mesh(&read_bytes(path)?, format, path);
+    }
+    if path.is_file() {
+        let bytes = read_bytes(path)?;
+        let format = TetFormat::sniff(&bytes).ok_or_else(|| {
+            Error::parse(
+                path,
+                None,
+                format!("unknown tet-mesh format (neither the extension nor the content says which); tet meshes: {TET_FORMATS}"),
+            )
+        })?;
+        return parse_tet_mesh(&bytes, format, path);
+    }
+    if tetgen::with_ext(path, "node").is_file() {
+        return read_tetgen(path);
+    }
+    Err(Error::parse(
+        path,
+        None,
+        format!(
+            "the file does not exist (nor {}.node); tet meshes: {TET_FORMATS}",
+            path.display()
+        ),
+    ))
+}
+
+/// Parses the bytes of a single-file tet mesh in `format` (not [`TetFormat::TetGen`], which
+/// is two files: see [`tetgen::parse_tetgen`]); `path` names it in errors.
+pub fn parse_tet_mesh(bytes: &[u8], format: TetFormat, path: &Path) -> Result<TetMesh> {
+    match format {
+        TetFormat::Vtk => vtk::parse_vtk(bytes, path),
+        TetFormat::Vtu => vtu::parse(bytes, path),
+        TetFormat::Gmsh => gmsh::parse(bytes, path),
+        TetFormat::Medit => medit::parse(bytes, path),
+        TetFormat::TetGen => Err(Error::parse(
+            path,
+            None,
+            "TetGen meshes are two files (.node and .ele): read them with read_tetgen",
+        )),
+    }
+}
+
+/// Removes the nodes that no tet uses and renumbers the tets, keeping the order of the rest.
+/// Returns how many were removed. Files from gmsh and meshio often hold such nodes (geometry
+/// points, nodes of other element types); the model would give each one a mass and let it
+/// fall alone, unconnected, so the readers of those formats drop them.
+pub fn drop_unused_nodes(mesh: &mut TetMesh) -> usize {
+    let mut new_index = vec![u32::MAX; mesh.nodes.len()];
+    for t in &mesh.tets {
+        for &v in t {
+            new_index[v as usize] = 0;
+        }
+    }
+    let mut kept = 0u32;
+    let mut nodes = Vec::with_capacity(mesh.nodes.len());
+    for (i, slot) in new_index.iter_mut().enumerate() {
+        if *slot == 0 {
+            *slot = kept;
+            kept += 1;
+            nodes.push(mesh.nodes[i]);
+        }
+    }
+    let removed = mesh.nodes.len() - nodes.len();
+    if removed > 0 {
+        for t in &mut mesh.tets {
+            for v in t.iter_mut() {
+                *v = new_index[*v as usize];
+            }
+        }
+        for f in &mut mesh.faces {
+            for v in f.iter_mut() {
+                *v = new_index[*v as usize];
+            }
+        }
+        mesh.faces.retain(|f| f.iter().all(|&v| v != u32::MAX));
+        mesh.nodes = nodes;
+    }
+    removed
+}
+
+/// A tet mesh from checked nodes and tets (indices in range, at least one tet), with unused
+/// nodes dropped and no faces (the model derives the boundary).
+pub(crate) fn finish_tets(nodes: Vec<glam::DVec3>, tets: Vec<[u32; 4]>) -> Result<TetMesh> {
+    check_points(&nodes, "node")?;
+    let mut mesh = TetMesh {
+        nodes,
+        tets,
+        faces: Vec::new(),
+    };
+    drop_unused_nodes(&mut mesh);
+    Ok(mesh)
 }

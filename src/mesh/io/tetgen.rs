@@ -7,7 +7,9 @@
 //! per tet). Only 4-node tets are read (a 10-node `.ele` from `-o2` is an error). Errors name the
 //! file and the line.
 //!
-//! Writing is 0-based, with comments saying so, and no attributes or markers.
+//! Writing is 0-based, with comments saying so, and no attributes or markers. The comments
+//! all come before the header line: readers that skip comments only there (meshio 5.3's
+//! `np.fromfile` after the header) read the data to its end.
 
 use super::text::{Ctx, Line, Lines};
 use super::{check_indices, check_points, PendingFile};
@@ -303,8 +305,8 @@ fn write_node(w: &mut impl Write, mesh: &TetMesh) -> std::io::Result<()> {
         w,
         "# <node count> <dimension> <attribute count> <boundary marker flag>"
     )?;
+    writeln!(w, "# then one line per node: <node number> <x> <y> <z>")?;
     writeln!(w, "{} 3 0 0", mesh.nodes.len())?;
-    writeln!(w, "# <node number> <x> <y> <z>")?;
     for (i, p) in mesh.nodes.iter().enumerate() {
         writeln!(
             w,
@@ -330,6 +332,7 @@ fn write_records<const K: usize>(
         records.len()
     )?;
     writeln!(w, "# {header}")?;
+    writeln!(w, "# then one line per record: <number> <node indices>")?;
     writeln!(w, "{} {flags}", records.len())?;
     for (i, r) in records.iter().enumerate() {
         write!(w, "{i}")?;

@@ -1,15 +1,9 @@
-//! VTK XML unstructured grids (`.vtu`) of linear tetrahedra with point and cell fields, and
-//! ParaView data collections (`.pvd`) that tie a series of them to simulated times.
-//!
-//! Arrays are written inline as `format="binary"`: little-endian values, preceded by a
-//! `UInt64` byte count, base64-encoded together (the layout VTK, ParaView and meshio read
-//! for uncompressed inline data). Points and fields are `Float64`, connectivity and offsets
-//! `Int64`, cell types and flags `UInt8`.
+//! Writing `.vtu` files and `.pvd` collections (see the module above for the layout).
 
-use super::fields::{FieldValues, Fields};
-use super::vtk::VTK_TETRA;
-use super::{check_tet_mesh, write_atomic};
 use crate::error::{Error, Result};
+use crate::mesh::io::fields::{FieldValues, Fields};
+use crate::mesh::io::vtk::VTK_TETRA;
+use crate::mesh::io::{check_tet_mesh, fmt_f64, write_atomic};
 use crate::mesh::TetMesh;
 use base64::engine::general_purpose::STANDARD as BASE64;
 use base64::Engine as _;
@@ -170,7 +164,7 @@ pub fn write_pvd(path: impl AsRef<Path>, entries: &[(f64, String)]) -> Result<()
             writeln!(
                 w,
                 "    <DataSet timestep=\"{}\" group=\"\" part=\"0\" file=\"{file}\"/>",
-                super::fmt_f64(*time)
+                fmt_f64(*time)
             )?;
         }
         writeln!(w, "  </Collection>")?;
