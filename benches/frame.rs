@@ -9,7 +9,7 @@ use tetrasim::runner::{build_model, load_mesh};
 
 fn frames(c: &mut Criterion) {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/sphere");
-    let mesh = load_mesh(&path, tetrasim::runner::DEFAULT_TARGET_TETS)
+    let mesh = load_mesh(&path, None)
         .expect("bundled mesh meshes/sphere")
         .mesh;
     let mut backends = Backends::new(EngineOptions::default());

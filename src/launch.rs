@@ -8,7 +8,7 @@ use glam::DVec3;
 use crate::error::{Error, Result};
 use crate::model::{Model, ModelBuilder};
 use crate::params::SimParams;
-use crate::runner::{load_mesh, DEFAULT_TARGET_TETS};
+use crate::runner::load_mesh;
 use crate::scene::Scene;
 
 /// A scene made ready to run.
@@ -50,10 +50,12 @@ pub fn stage(scene: &Scene) -> Result<Staged> {
     let mut labels = Vec::new();
     let mut notes = Vec::new();
     for (i, object) in scene.objects.iter().enumerate() {
-        let loaded = load_mesh(
-            &object.mesh,
-            object.target_tets.unwrap_or(DEFAULT_TARGET_TETS),
-        )?;
+        let loaded = load_mesh(&object.mesh, object.target_tets).map_err(|e| match e {
+            Error::Param { key, message } if scene.objects.len() > 1 => {
+                Error::param(format!("object[{i}].{key}"), message)
+            }
+            other => other,
+        })?;
         let mut builder = ModelBuilder::new(&loaded.mesh)
             .placement(scene.placement_for(i))
             .mass(params.mass)

@@ -132,6 +132,18 @@ fn flags_that_would_do_nothing_are_refused() {
     assert_refused(&run(&["--format", "vtu"]), &["format", "--out-dir"]);
     assert_refused(&run(&["--units", "input"]), &["units", "--out-dir"]);
     assert_refused(
+        &run(&["--target-tets", "100"]),
+        &["target_tets", "surface", "tet mesh"],
+    );
+    for gpu_flag in [
+        &["--validation"][..],
+        &["--atomics", "cas"],
+        &["--device", "0"],
+        &["--workgroup-size", "64"],
+    ] {
+        assert_refused(&run(gpu_flag), &["--backend vulkan", "cpu"]);
+    }
+    assert_refused(
         &tetrasim(&[
             "render",
             "--backend",

@@ -357,7 +357,9 @@ fn our_vtk_and_vtu_files_read_back() {
     for (i, p) in mesh.nodes.iter_mut().enumerate() {
         *p += common::noise3(i as u64) * 1e-3;
     }
-    let ratio: Vec<f64> = (0..mesh.tets.len()).map(|t| 1.0 + t as f64 * 1e-3).collect();
+    let ratio: Vec<f64> = (0..mesh.tets.len())
+        .map(|t| 1.0 + t as f64 * 1e-3)
+        .collect();
     let fields = io::Fields {
         point: vec![io::Field {
             name: "displacement",

@@ -204,7 +204,8 @@ fn bunny_resting_on_a_frictionless_floor_does_not_slide() {
     let Some(dir) = gpu_support::shared_meshes() else {
         return;
     };
-    let loaded = tetrasim::runner::load_mesh(&dir.join("bun_zipper_res2.ply"), 20_000).unwrap();
+    let loaded =
+        tetrasim::runner::load_mesh(&dir.join("bun_zipper_res2.ply"), Some(20_000)).unwrap();
     let model = seed_model(&loaded.mesh);
     assert!(
         (15_000..25_000).contains(&model.tets.len()),

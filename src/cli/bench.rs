@@ -12,7 +12,7 @@ use crate::bench::{
 use crate::engine::EngineOptions;
 use crate::params::Method;
 use crate::preset::Preset;
-use crate::runner::{build_model, load_mesh, BACKENDS, DEFAULT_TARGET_TETS};
+use crate::runner::{build_model, load_mesh, BACKENDS};
 
 /// GPU options shared by the study commands.
 #[derive(Debug, Clone, clap::Args)]
@@ -158,7 +158,7 @@ pub fn execute(args: BenchArgs) -> anyhow::Result<()> {
     }
     let mut meshes = Vec::new();
     for path in &paths {
-        let loaded = load_mesh(path, DEFAULT_TARGET_TETS)?;
+        let loaded = load_mesh(path, None)?;
         let model = build_model(&loaded.mesh, &params, preset.placement)
             .with_context(|| format!("building the model of {}", loaded.label))?;
         meshes.push(BenchMesh {

@@ -12,9 +12,7 @@ use crate::params::{
     AtomicsMode, ConstraintCombine, MassMode, Method, SimParams, Solver as SolverKind,
 };
 use crate::preset::{Preset, PresetName};
-use crate::runner::{
-    run_methods, OutputFormat, OutputUnits, RunOptions, DEFAULT_MESH, DEFAULT_TARGET_TETS,
-};
+use crate::runner::{run_methods, OutputFormat, OutputUnits, RunOptions, DEFAULT_MESH};
 use crate::scene::{Collider, Material, Object, Output, Pin, Scene, Solver};
 
 /// `--method` values: one method or `all`.
@@ -55,9 +53,10 @@ pub struct RunArgs {
     /// Tet mesh (TetGen PREFIX, .vtk, .vtu, .msh, .mesh) or a surface file (.ply/.obj/.off/.stl).
     #[arg(long, default_value = DEFAULT_MESH)]
     pub mesh: PathBuf,
-    /// When --mesh is a surface: tets to aim at when meshing it in-process.
-    #[arg(long, default_value_t = DEFAULT_TARGET_TETS)]
-    pub target_tets: usize,
+    /// When --mesh is a surface: tets to aim at when meshing it in-process (default 5000;
+    /// refused with a tet mesh).
+    #[arg(long)]
+    pub target_tets: Option<usize>,
     /// Method to run.
     #[arg(long, value_enum, default_value = "all")]
     pub method: MethodChoice,
@@ -259,7 +258,7 @@ impl RunArgs {
             },
             objects: vec![Object {
                 mesh: self.mesh.clone(),
-                target_tets: Some(self.target_tets),
+                target_tets: self.target_tets,
                 method: self.method.methods()[0],
                 fit_size: p.placement.fit_size,
                 drop_height: p.placement.drop_height,
@@ -359,6 +358,7 @@ fn solver_label(params: &SimParams) -> String {
 /// Runs `tetrasim run`.
 pub fn execute(args: RunArgs) -> anyhow::Result<()> {
     let (scene, methods) = args.scene_and_methods()?;
+    let backend = args.backend.as_deref().unwrap_or("cpu");
     if args.scene.is_some() && args.every.is_some() {
         return Err(crate::Error::param(
             "every",
@@ -366,13 +366,27 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
         )
         .into());
     }
+    if backend != "vulkan" {
+        let gpu_only = [
+            ("device", args.device.is_some()),
+            ("atomics", args.atomics.is_some()),
+            ("workgroup-size", args.workgroup_size.is_some()),
+            ("validation", args.validation),
+        ];
+        if let Some((flag, _)) = gpu_only.iter().find(|(_, given)| *given) {
+            return Err(crate::Error::param(
+                *flag,
+                format!("acts only with --backend vulkan; the backend is {backend}"),
+            )
+            .into());
+        }
+    }
     if args.scene.is_none() && args.every.is_some() && args.out_dir.is_none() {
         return Err(
             crate::Error::param("every", "acts only with --out-dir, and none is given").into(),
         );
     }
     scene.output.prepare()?;
-    let backend = args.backend.as_deref().unwrap_or("cpu");
     let staged = stage(&scene).with_context(|| match &args.scene {
         Some(path) => format!("staging the scene {}", path.display()),
         None => format!("building the model of {}", args.mesh.display()),

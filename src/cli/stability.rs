@@ -35,7 +35,7 @@ pub struct StabilityArgs {
 pub fn execute(args: StabilityArgs) -> anyhow::Result<()> {
     crate::runner::create_dir(&args.out_dir)?;
     let preset = Preset::seed();
-    let loaded = load_mesh(&args.mesh, crate::runner::DEFAULT_TARGET_TETS)?;
+    let loaded = load_mesh(&args.mesh, None)?;
     let model = build_model(&loaded.mesh, &preset.params, preset.placement)?;
     let config = SweepConfig::new(args.quick, &args.backend, SimParams::default());
     let total = config.methods.len() * config.dts.len() * config.kss.len();

@@ -14,7 +14,7 @@ use crate::bench::{
 };
 use crate::params::Method;
 use crate::preset::Preset;
-use crate::runner::{build_model, load_mesh, DEFAULT_TARGET_TETS};
+use crate::runner::{build_model, load_mesh};
 
 /// Arguments of `tetrasim tradeoff`.
 #[derive(Debug, clap::Args)]
@@ -91,7 +91,7 @@ pub fn execute_tradeoff(args: TradeoffArgs) -> anyhow::Result<()> {
         anyhow::bail!("give --mesh PREFIX (or --from-json FILE)");
     };
     let preset = Preset::seed();
-    let loaded = load_mesh(mesh, DEFAULT_TARGET_TETS)?;
+    let loaded = load_mesh(mesh, None)?;
     let model = build_model(&loaded.mesh, &preset.params, preset.placement)
         .with_context(|| format!("building the model of {}", loaded.label))?;
     let mut spec = if args.quick {

@@ -34,10 +34,11 @@ const SURFACE_EXTENSIONS: [&str; 4] = ["ply", "obj", "off", "stl"];
 
 /// Loads `path`: a tet mesh in any format [`read_tet_mesh`] knows (chosen by the extension,
 /// else by the content), or a surface file, which is meshed in-process aiming at
-/// `target_tets` tets (see [`DEFAULT_TARGET_TETS`]). A bundled mesh name ([`DEFAULT_MESH`],
+/// `target_tets` tets (default [`DEFAULT_TARGET_TETS`]; given with a tet mesh, where it
+/// would do nothing, it is refused). A bundled mesh name ([`DEFAULT_MESH`],
 /// `meshes/box`, `meshes/torus`) that is not in the working directory is the copy compiled
 /// into the binary.
-pub fn load_mesh(path: &Path, target_tets: usize) -> Result<LoadedMesh> {
+pub fn load_mesh(path: &Path, target_tets: Option<usize>) -> Result<LoadedMesh> {
     let label = path.display().to_string();
     let ext = path
         .extension()
@@ -45,8 +46,17 @@ pub fn load_mesh(path: &Path, target_tets: usize) -> Result<LoadedMesh> {
         .map(str::to_ascii_lowercase);
     if let Some(e) = ext.as_deref() {
         if SURFACE_EXTENSIONS.contains(&e) {
-            return load_surface(path, label, target_tets);
+            return load_surface(path, label, target_tets.unwrap_or(DEFAULT_TARGET_TETS));
         }
+    }
+    if target_tets.is_some() {
+        return Err(Error::param(
+            "target_tets",
+            format!(
+                "acts only when the mesh is a surface file to mesh (.ply, .obj, .off, .stl); \
+                 {label} is a tet mesh"
+            ),
+        ));
     }
     if !path.is_file() && !with_extension(path, "node").is_file() {
         if let Some(mesh) = super::bundled::bundled(&label) {
