@@ -103,38 +103,34 @@ impl<'a> Cursor<'a> {
         Some((self.line_no(), &self.bytes[start..self.pos]))
     }
 
-    /// The next token as a number, or an error naming `what`.
-    pub fn f64_token(&mut self, what: &dyn Fn() -> String) -> Result<(usize, f64)> {
+    /// The next token parsed by `parse`, or an error naming `what` and saying it is not
+    /// `kind` (`a number`, `an integer`).
+    fn parsed_token<T>(
+        &mut self,
+        what: &dyn Fn() -> String,
+        parse: fn(&[u8]) -> Option<T>,
+        kind: &str,
+    ) -> Result<(usize, T)> {
         let (no, t) = self.token().ok_or_else(|| {
             self.err(
                 None,
                 format!("the file ends before {} (truncated?)", what()),
             )
         })?;
-        let v = parse_f64(t).ok_or_else(|| {
-            self.err(
-                Some(no),
-                format!("{}: `{}` is not a number", what(), show(t)),
-            )
+        let v = parse(t).ok_or_else(|| {
+            self.err(Some(no), format!("{}: `{}` is not {kind}", what(), show(t)))
         })?;
         Ok((no, v))
     }
 
+    /// The next token as a number, or an error naming `what`.
+    pub fn f64_token(&mut self, what: &dyn Fn() -> String) -> Result<(usize, f64)> {
+        self.parsed_token(what, parse_f64, "a number")
+    }
+
     /// The next token as an integer, or an error naming `what`.
     pub fn int_token(&mut self, what: &dyn Fn() -> String) -> Result<(usize, i64)> {
-        let (no, t) = self.token().ok_or_else(|| {
-            self.err(
-                None,
-                format!("the file ends before {} (truncated?)", what()),
-            )
-        })?;
-        let v = parse_i64(t).ok_or_else(|| {
-            self.err(
-                Some(no),
-                format!("{}: `{}` is not an integer", what(), show(t)),
-            )
-        })?;
-        Ok((no, v))
+        self.parsed_token(what, parse_i64, "an integer")
     }
 
     /// The next `n` bytes, or an error saying the file ends inside `what`.

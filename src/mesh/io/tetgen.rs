@@ -12,7 +12,7 @@
 //! `np.fromfile` after the header) read the data to its end.
 
 use super::text::{Ctx, Line, Lines};
-use super::{check_indices, check_points, PendingFile};
+use super::{check_indices, PendingFile};
 use crate::error::{Error, Result};
 use crate::mesh::{topology, TetMesh};
 use glam::DVec3;
@@ -250,15 +250,7 @@ fn parse_elements<const K: usize>(
 /// three files are written to temporary files first and renamed only when all succeeded.
 pub fn write_tetgen(prefix: impl AsRef<Path>, mesh: &TetMesh) -> Result<()> {
     let prefix = strip_prefix_ext(prefix.as_ref());
-    if mesh.nodes.is_empty() || mesh.tets.is_empty() {
-        return Err(Error::Mesh(format!(
-            "tet mesh is empty ({} nodes, {} tets)",
-            mesh.nodes.len(),
-            mesh.tets.len()
-        )));
-    }
-    check_points(&mesh.nodes, "node")?;
-    check_indices(&mesh.tets, mesh.nodes.len(), "tet")?;
+    super::check_tet_mesh(mesh)?;
     check_indices(&mesh.faces, mesh.nodes.len(), "face")?;
     let derived;
     let faces = if mesh.faces.is_empty() {

@@ -263,25 +263,31 @@ mod legacy {
         })
     }
 
+    /// Reads one text value: its line and the value, or an error naming it.
+    type TokenReader<'a, T> = fn(&mut Cursor<'a>, &dyn Fn() -> String) -> Result<(usize, T)>;
+
     struct Reader<'a> {
         c: Cursor<'a>,
         binary: bool,
     }
 
     impl<'a> Reader<'a> {
-        /// `n` numbers as `f64`; `what(i)` names value `i`.
-        fn floats(
+        /// `n` values, binary (decoded by `decode`) or text (read by `token`); `what(i)`
+        /// names value `i`.
+        fn values<T>(
             &mut self,
             n: usize,
             num: Num,
             what: &dyn Fn(usize) -> String,
-        ) -> Result<Values<f64>> {
+            decode: fn(&[u8], Num, Endian) -> Vec<T>,
+            token: TokenReader<'a, T>,
+        ) -> Result<Values<T>> {
             if self.binary {
                 self.c.fits(n, num.size(), "values")?;
                 let b = self.c.take(n * num.size(), &|| what(0))?;
                 self.c.skip_newline();
                 return Ok(Values {
-                    v: decode_f64(b, num, Endian::Big),
+                    v: decode(b, num, Endian::Big),
                     lines: Vec::new(),
                 });
             }
@@ -291,11 +297,21 @@ mod legacy {
                 lines: Vec::with_capacity(cap),
             };
             for i in 0..n {
-                let (no, v) = self.c.f64_token(&|| what(i))?;
+                let (no, v) = token(&mut self.c, &|| what(i))?;
                 out.v.push(v);
                 out.lines.push(no);
             }
             Ok(out)
+        }
+
+        /// `n` numbers as `f64`; `what(i)` names value `i`.
+        fn floats(
+            &mut self,
+            n: usize,
+            num: Num,
+            what: &dyn Fn(usize) -> String,
+        ) -> Result<Values<f64>> {
+            self.values(n, num, what, decode_f64, Cursor::f64_token)
         }
 
         /// `n` integers.
@@ -305,26 +321,7 @@ mod legacy {
             num: Num,
             what: &dyn Fn(usize) -> String,
         ) -> Result<Values<i64>> {
-            if self.binary {
-                self.c.fits(n, num.size(), "values")?;
-                let b = self.c.take(n * num.size(), &|| what(0))?;
-                self.c.skip_newline();
-                return Ok(Values {
-                    v: decode_i64(b, num, Endian::Big),
-                    lines: Vec::new(),
-                });
-            }
-            let cap = n.min(self.c.left() / 2);
-            let mut out = Values {
-                v: Vec::with_capacity(cap),
-                lines: Vec::with_capacity(cap),
-            };
-            for i in 0..n {
-                let (no, v) = self.c.int_token(&|| what(i))?;
-                out.v.push(v);
-                out.lines.push(no);
-            }
-            Ok(out)
+            self.values(n, num, what, decode_i64, Cursor::int_token)
         }
     }
 
