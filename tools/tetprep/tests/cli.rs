@@ -54,6 +54,10 @@ fn shape_to_files_with_json_stats() {
     let mut names = files_with_prefix(dir.path());
     names.sort();
     assert_eq!(names, ["ball.ele", "ball.face", "ball.node", "ball.vtk"]);
+    // The .vtk is a mesh `tetrasim run --mesh` takes: the same nodes and tets.
+    let vtk = tetrasim::mesh::io::read_tet_mesh(&dir.path().join("ball.vtk")).unwrap();
+    assert_eq!(vtk.nodes, mesh.nodes);
+    assert_eq!(vtk.tets, mesh.tets);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("tetprep: TetGen run 1"), "{stderr}");
 }
