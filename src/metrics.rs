@@ -138,6 +138,18 @@ fn one() -> u32 {
 }
 
 impl RunRecord {
+    /// Takes the per-frame series and the divergence of `sim`, then [`RunRecord::summarise`]s.
+    pub fn fill_from(&mut self, sim: &crate::runner::Simulation) {
+        let series = sim.series.clone();
+        self.time_s = series.time_s;
+        self.volume_pct = series.volume_pct;
+        self.inverted_tets = series.inverted;
+        self.local_error_pct = series.local_error_pct;
+        self.diverged = sim.divergence.is_some();
+        self.divergence = sim.divergence.clone();
+        self.summarise();
+    }
+
     /// The contact time, when the run ended before it: its volume figures then measure a
     /// free fall, not the drop the paper's column is about.
     pub fn ends_before_contact(&self) -> Option<f64> {

@@ -8,7 +8,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::simulate::{simulate, Backends, Sample, SimulateOptions, Simulation};
+use super::simulate::{simulate, Backends, Measured, Sample, SimulateOptions};
 use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::params::{Method, SimParams};
@@ -174,7 +174,7 @@ pub struct Reference {
     /// The parameters it ran with.
     pub params: SimParams,
     /// Its frames, samples and volumes.
-    pub simulation: Simulation,
+    pub simulation: Measured,
 }
 
 impl Reference {
@@ -221,7 +221,7 @@ pub struct Accuracy {
 
 /// The accuracy of `sim` (run with `params` on `model`), against `reference` if given.
 pub fn accuracy(
-    sim: &Simulation,
+    sim: &Measured,
     params: &SimParams,
     model: &Model,
     reference: Option<&Reference>,

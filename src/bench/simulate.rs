@@ -1,21 +1,19 @@
-//! The measured frame loop of the benchmarks and the trade-off study: the same steps as
-//! [`crate::runner::run`] (step a frame, then sample the volume), plus per-frame wall times,
+//! The measured frame loop of the benchmarks and the trade-off study: frames advanced by the
+//! one driver ([`crate::runner::Simulation`]), with the volume sampled every frame, plus per-frame wall times,
 //! warm-up frames whose times are dropped, GPU pass times over the timed frames only, and
 //! node positions read back at chosen frames for the position error.
 
 use std::sync::Arc;
-use std::time::Instant;
 
 use glam::DVec3;
 
-use crate::backend::{Backend, Divergence, GpuReport};
+use crate::backend::{Backend, GpuReport};
 use crate::engine::{EngineOptions, VulkanBackend};
 use crate::error::{Error, Result};
 use crate::gpu::{Context, ContextOptions};
-use crate::metrics::{local_error_pct, volume_pct};
 use crate::model::Model;
 use crate::params::SimParams;
-use crate::runner::create_backend;
+use crate::runner::{create_backend, Advance, Simulation};
 
 /// Creates backends by name; every `vulkan` backend shares one Vulkan context (one instance,
 /// one device), created on first use. The `vulkan` backends it creates for timing run without
@@ -166,7 +164,7 @@ pub struct Sample {
 
 /// What one simulation measured.
 #[derive(Debug, Clone)]
-pub struct Simulation {
+pub struct Measured {
     /// Backend name.
     pub backend: String,
     /// Wall time of each timed frame's `step_frame` [ms] (warm-up frames left out).
@@ -192,65 +190,43 @@ pub fn simulate(
     model: &Model,
     params: &SimParams,
     options: &SimulateOptions,
-) -> Result<Simulation> {
+) -> Result<Measured> {
     let total = options.total_frames();
     if total == 0 {
         return Err(Error::param("frames", "must be at least 1"));
     }
     let sample_frames = options.sample_frames();
-    let rest = model.total_rest_volume();
-    let mut sim = Simulation {
-        backend: solver.backend().name().to_string(),
-        frame_ms: Vec::with_capacity(options.frames as usize),
-        volume_pct: Vec::with_capacity(total as usize),
-        inverted: Vec::with_capacity(total as usize),
-        local_error_pct: Vec::with_capacity(total as usize),
-        samples: Vec::with_capacity(sample_frames.len()),
-        divergence: None,
-        gpu: None,
-    };
+    let mut frame_ms = Vec::with_capacity(options.frames as usize);
+    let mut samples = Vec::with_capacity(sample_frames.len());
+    let mut run = Simulation::new(model, params);
     for frame in 0..total {
         if frame == options.warmup && options.warmup > 0 {
             solver.reset_timing()?;
         }
-        let backend = solver.backend();
-        let t0 = Instant::now();
-        let stepped = backend.step_frame();
-        let ms = 1e3 * t0.elapsed().as_secs_f64();
-        match stepped {
-            Ok(()) => {}
-            Err(Error::Diverged(d)) => {
-                sim.divergence = Some(d.to_string());
-                break;
-            }
-            Err(e) => return Err(e),
-        }
-        if frame >= options.warmup {
-            sim.frame_ms.push(ms);
-        }
-        let sample = backend.volume()?;
-        let pct = volume_pct(sample, rest);
-        if !pct.is_finite() {
-            let d = Divergence {
-                frame,
-                substep: None,
-                method: params.method.name().to_string(),
-                node: None,
-                cause: "the total volume became non-finite (positions unbounded)".to_string(),
-            };
-            sim.divergence = Some(d.to_string());
+        let Advance::Stepped(step_s) = run.advance(solver.backend(), true)? else {
             break;
+        };
+        if frame >= options.warmup {
+            frame_ms.push(1e3 * step_s);
         }
-        sim.volume_pct.push(pct);
-        sim.inverted.push(sample.inverted);
-        sim.local_error_pct.push(local_error_pct(sample, rest));
         if sample_frames.contains(&(frame + 1)) {
-            sim.samples.push(Sample {
+            samples.push(Sample {
                 frame: frame + 1,
-                positions: backend.state()?.positions,
+                positions: solver.backend().state()?.positions,
             });
         }
     }
+    let series = run.series;
+    let mut sim = Measured {
+        backend: solver.backend().name().to_string(),
+        frame_ms,
+        volume_pct: series.volume_pct,
+        inverted: series.inverted,
+        local_error_pct: series.local_error_pct,
+        samples,
+        divergence: run.divergence,
+        gpu: None,
+    };
     sim.gpu = solver.backend().gpu_report()?;
     Ok(sim)
 }

@@ -8,7 +8,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use super::accuracy::{accuracy, element_iterations_per_frame, Reference, ReferenceSettings};
-use super::simulate::{simulate, Backends, SimulateOptions, Simulation};
+use super::simulate::{simulate, Backends, Measured, SimulateOptions};
 use super::stats::FrameTimes;
 use crate::error::{Error, Result};
 use crate::metrics::RunRecord;
@@ -77,7 +77,7 @@ pub fn record(
     mesh: &BenchMesh,
     params: &SimParams,
     options: &SimulateOptions,
-    sim: &Simulation,
+    sim: &Measured,
     reference: Option<&Reference>,
 ) -> Result<BenchRecord> {
     let model = &mesh.model;

@@ -17,10 +17,9 @@ use crate::backend::Backend;
 use crate::engine::VulkanBackend;
 use crate::error::{Error, Result};
 use crate::gpu::Context;
-use crate::metrics::volume_pct;
 use crate::model::Model;
 use crate::params::{Method, SimParams};
-use crate::runner::FrameOutput;
+use crate::runner::{FrameOutput, Simulation};
 
 /// What to write.
 #[derive(Debug, Clone, Default)]
@@ -127,41 +126,25 @@ pub struct RenderReport {
 struct Run {
     method: Method,
     backend: VulkanBackend,
-    summary: MethodSummary,
-    volume_pct: f64,
+    sim: Simulation,
 }
 
 impl Run {
-    fn stopped(&self) -> bool {
-        self.summary.divergence.is_some()
+    /// The volume after the last frame run [% of rest] (100 before the first).
+    fn volume_pct(&self) -> f64 {
+        self.sim.last_volume_pct().unwrap_or(100.0)
     }
 
-    /// Steps one frame and samples the volume; a non-finite volume stops the method.
-    fn step(&mut self, frame: u32, rest: f64) -> Result<()> {
-        if self.stopped() {
-            return Ok(());
+    /// What the run did, for the report.
+    fn summary(&self) -> MethodSummary {
+        let series = &self.sim.series.volume_pct;
+        MethodSummary {
+            method: self.method,
+            min_volume_pct: series.iter().copied().fold(100.0, f64::min),
+            final_volume_pct: self.volume_pct(),
+            frames_run: series.len() as u32,
+            divergence: self.sim.divergence.clone(),
         }
-        match self.backend.step_frame() {
-            Ok(()) => {}
-            Err(Error::Diverged(d)) => {
-                self.summary.divergence = Some(d.to_string());
-                return Ok(());
-            }
-            Err(e) => return Err(e),
-        }
-        let pct = volume_pct(self.backend.volume()?, rest);
-        if !pct.is_finite() {
-            self.summary.divergence = Some(format!(
-                "diverged at frame {frame} (method {}): the total volume became non-finite",
-                self.method
-            ));
-            return Ok(());
-        }
-        self.volume_pct = pct;
-        self.summary.frames_run = frame + 1;
-        self.summary.final_volume_pct = pct;
-        self.summary.min_volume_pct = self.summary.min_volume_pct.min(pct);
-        Ok(())
     }
 }
 
@@ -215,19 +198,11 @@ pub fn render_methods(
             Ok(Run {
                 method,
                 backend: VulkanBackend::with_context(ctx.clone(), model, &p, job.workgroup_size)?,
-                summary: MethodSummary {
-                    method,
-                    min_volume_pct: 100.0,
-                    final_volume_pct: 100.0,
-                    frames_run: 0,
-                    divergence: None,
-                },
-                volume_pct: 100.0,
+                sim: Simulation::new(model, &p),
             })
         })
         .collect::<Result<Vec<_>>>()?;
     let out = &job.outputs;
-    let rest = model.total_rest_volume();
     let seconds_per_frame = params.frame_time();
     let gif_every = out.gif_every.unwrap_or((job.frames / 60).max(1));
     let sheet_frames = out.sheet_frames(job.frames);
@@ -243,7 +218,7 @@ pub fn render_methods(
         if frame > 0 {
             let t0 = Instant::now();
             for run in runs.iter_mut() {
-                run.step(frame - 1, rest)?;
+                run.sim.advance(&mut run.backend, true)?;
             }
             step_s += t0.elapsed().as_secs_f64();
             bar.inc(1);
@@ -272,7 +247,7 @@ pub fn render_methods(
             let mut shots = Shots {
                 images: [None, None],
             };
-            let volume = format!("V {:.1} %", run.volume_pct);
+            let volume = format!("V {:.1} %", run.volume_pct());
             if let Some(dir) = out.frames_dir.as_ref().filter(|_| want_file) {
                 let mut image = shots
                     .get(&mut renderer, run, true, &mut render_s, &mut images)?
@@ -334,7 +309,7 @@ pub fn render_methods(
             .map(|r| {
                 vec![
                     r.method.to_string(),
-                    format!("min {:.1} %", r.summary.min_volume_pct),
+                    format!("min {:.1} %", r.summary().min_volume_pct),
                 ]
             })
             .collect();
@@ -342,7 +317,7 @@ pub fn render_methods(
     }
     write_s += t0.elapsed().as_secs_f64();
     Ok(RenderReport {
-        methods: runs.iter().map(|r| r.summary.clone()).collect(),
+        methods: runs.iter().map(Run::summary).collect(),
         images,
         step_s,
         render_s,

@@ -3,10 +3,12 @@
 //! return a [`RunRecord`]. The command line and the tests both run experiments through here.
 
 pub mod bundled;
+mod driver;
 mod factory;
 mod load;
 mod output;
 
+pub use driver::{Advance, Series, Simulation};
 pub use factory::{create_backend, create_backend_with, BACKENDS};
 pub use load::{load_mesh, LoadedMesh, DEFAULT_MESH, DEFAULT_TARGET_TETS};
 pub use output::{
@@ -17,11 +19,10 @@ use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::backend::Divergence;
 use crate::engine::EngineOptions;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::mesh::TetMesh;
-use crate::metrics::{volume_pct, RunRecord};
+use crate::metrics::RunRecord;
 use crate::model::{Model, ModelBuilder};
 use crate::params::{Method, Placement, SimParams};
 
@@ -55,55 +56,20 @@ pub fn build_model(mesh: &TetMesh, params: &SimParams, placement: Placement) -> 
 pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<RunRecord> {
     let started = Instant::now();
     let mut backend = create_backend_with(&options.backend, model, params, &options.gpu)?;
-    let rest = model.total_rest_volume();
     let mut record = empty_record(model, params, options, backend.name());
     let bar = progress_bar(options, params.method);
     let frame_time = params.frame_time();
     if let Some(out) = &options.output {
         out.write(model, params.method, 0, frame_time, &backend.state()?)?;
     }
-    let mut stepping = 0.0;
     // With `volume_on_demand` the volume is sampled after the last frame only.
     let every_frame = !options.gpu.volume_on_demand;
-    let mut completed = 0;
+    let mut sim = Simulation::new(model, params);
     for frame in 0..options.frames {
-        let t0 = Instant::now();
-        let stepped = backend.step_frame();
-        stepping += t0.elapsed().as_secs_f64();
-        match stepped {
-            Ok(()) => {}
-            Err(Error::Diverged(d)) => {
-                record.diverged = true;
-                record.divergence = Some(d.to_string());
-                break;
-            }
-            Err(e) => return Err(e),
-        }
-        completed = frame + 1;
-        if !every_frame && completed < options.frames {
-            bar.inc(1);
-            continue;
-        }
-        let sample = backend.volume()?;
-        let pct = volume_pct(sample, rest);
-        if !pct.is_finite() {
-            let divergence = Divergence {
-                frame,
-                substep: None,
-                method: params.method.name().to_string(),
-                node: None,
-                cause: "the total volume became non-finite (positions unbounded)".to_string(),
-            };
-            record.diverged = true;
-            record.divergence = Some(divergence.to_string());
+        let last = frame + 1 == options.frames;
+        if sim.advance(backend.as_mut(), every_frame || last)? == Advance::Stopped {
             break;
         }
-        record.time_s.push(f64::from(frame + 1) * frame_time);
-        record.volume_pct.push(pct);
-        record.inverted_tets.push(sample.inverted);
-        record
-            .local_error_pct
-            .push(crate::metrics::local_error_pct(sample, rest));
         if let Some(out) = &options.output {
             if (frame + 1) % out.every == 0 {
                 out.write(
@@ -115,16 +81,18 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
                 )?;
             }
         }
-        bar.set_message(format!("{pct:.2} %"));
+        if let Some(pct) = sim.last_volume_pct() {
+            bar.set_message(format!("{pct:.2} %"));
+        }
         bar.inc(1);
     }
     bar.finish_and_clear();
-    record.summarise();
+    record.fill_from(&sim);
     if !every_frame {
-        record.frames_run = completed;
+        record.frames_run = sim.frames();
     }
-    record.ms_per_frame = if record.frames_run > 0 {
-        1e3 * stepping / f64::from(record.frames_run)
+    record.ms_per_frame = if sim.frames() > 0 {
+        1e3 * sim.stepping_s / f64::from(sim.frames())
     } else {
         0.0
     };

@@ -1,0 +1,132 @@
+//! The one frame driver: [`Simulation::advance`] steps a backend by one frame, samples the
+//! volume when asked, turns a divergence (a backend's report, or a volume that went
+//! non-finite) into a stop, and keeps the per-frame series every report is made from. `run`,
+//! `bench`/`tradeoff` and `render` all drive their backends through it and add only their
+//! extras (progress and mesh files; timing and position samples; pictures).
+
+use std::time::Instant;
+
+use crate::backend::{Backend, Divergence};
+use crate::error::{Error, Result};
+use crate::metrics::{local_error_pct, volume_pct};
+use crate::model::Model;
+use crate::params::SimParams;
+
+/// The per-frame series of a run, one entry per sampled frame.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Series {
+    /// Simulated time at the end of the frame [s].
+    pub time_s: Vec<f64>,
+    /// Total volume over the rest volume [%].
+    pub volume_pct: Vec<f64>,
+    /// Tets with V <= 0.
+    pub inverted: Vec<u32>,
+    /// Local volume error [%] (`100 sum_t |V_t - V0_t| / sum_t V0_t`).
+    pub local_error_pct: Vec<f64>,
+}
+
+/// A run in progress: how far it got, what it measured, and why it stopped, if it did.
+#[derive(Debug, Clone)]
+pub struct Simulation {
+    method: String,
+    rest_volume: f64,
+    frame_time: f64,
+    frames: u32,
+    /// The sampled frames' measures.
+    pub series: Series,
+    /// Where and why the run diverged; no frame advances after it.
+    pub divergence: Option<String>,
+    /// Wall time spent in `step_frame` over all frames [s] (sampling excluded).
+    pub stepping_s: f64,
+}
+
+/// What one call of [`Simulation::advance`] did.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Advance {
+    /// A frame was stepped; its `step_frame` took this long [s].
+    Stepped(f64),
+    /// The run has stopped (it diverged, now or before): nothing was stepped.
+    Stopped,
+}
+
+impl Simulation {
+    /// A run of `model` under `params`, before its first frame.
+    pub fn new(model: &Model, params: &SimParams) -> Self {
+        Simulation {
+            method: params.method.name().to_string(),
+            rest_volume: model.total_rest_volume(),
+            frame_time: params.frame_time(),
+            frames: 0,
+            series: Series::default(),
+            divergence: None,
+            stepping_s: 0.0,
+        }
+    }
+
+    /// Frames completed.
+    pub fn frames(&self) -> u32 {
+        self.frames
+    }
+
+    /// Simulated time reached [s].
+    pub fn time(&self) -> f64 {
+        f64::from(self.frames) * self.frame_time
+    }
+
+    /// Whether the run has stopped (diverged).
+    pub fn stopped(&self) -> bool {
+        self.divergence.is_some()
+    }
+
+    /// The last sampled total volume [%], if any frame was sampled.
+    pub fn last_volume_pct(&self) -> Option<f64> {
+        self.series.volume_pct.last().copied()
+    }
+
+    /// Steps `backend` by one frame and, when `sample` is set, reads its volume into
+    /// [`Simulation::series`]. A divergence stops the run (recorded in
+    /// [`Simulation::divergence`], not returned as an error); other failures are errors.
+    pub fn advance(&mut self, backend: &mut dyn Backend, sample: bool) -> Result<Advance> {
+        if self.stopped() {
+            return Ok(Advance::Stopped);
+        }
+        let t0 = Instant::now();
+        let stepped = backend.step_frame();
+        let step_s = t0.elapsed().as_secs_f64();
+        match stepped {
+            Ok(()) => {}
+            Err(Error::Diverged(d)) => {
+                self.divergence = Some(d.to_string());
+                return Ok(Advance::Stopped);
+            }
+            Err(e) => return Err(e),
+        }
+        self.stepping_s += step_s;
+        let frame = self.frames;
+        self.frames += 1;
+        if sample {
+            let measured = backend.volume()?;
+            let pct = volume_pct(measured, self.rest_volume);
+            if !pct.is_finite() {
+                let divergence = Divergence {
+                    frame,
+                    substep: None,
+                    method: self.method.clone(),
+                    node: None,
+                    cause: "the total volume became non-finite (positions unbounded)".to_string(),
+                };
+                self.divergence = Some(divergence.to_string());
+                return Ok(Advance::Stopped);
+            }
+            let time = self.time();
+            let series = &mut self.series;
+            series.time_s.push(time);
+            series.volume_pct.push(pct);
+            series.inverted.push(measured.inverted);
+            series
+                .local_error_pct
+                .push(local_error_pct(measured, self.rest_volume));
+        }
+        Ok(Advance::Stepped(step_s))
+    }
+}
