@@ -250,21 +250,10 @@ pub fn short_run_warnings(records: &[RunRecord]) -> String {
     out
 }
 
-/// Position of a pass in a time step, for printing passes in execution order.
+/// Position of a pass in a time step, for printing passes in execution order (unknown
+/// names last).
 fn pass_rank(name: &str) -> usize {
-    const ORDER: [&str; 10] = [
-        "spring_scatter",
-        "spring_gather",
-        "global_volume_prepare",
-        "distance",
-        "volume",
-        "constraint_apply",
-        "global_volume",
-        "integrate",
-        "check",
-        "volume_sum",
-    ];
-    ORDER.iter().position(|&n| n == name).unwrap_or(ORDER.len())
+    crate::engine::pass_kind::PassKind::from_name(name).map_or(usize::MAX, |k| k as usize)
 }
 
 /// Per-pass GPU time of every run that has it: ms per frame and share of the frame's GPU

@@ -302,7 +302,8 @@ fn the_engine_builds_and_records_exactly_the_plan() {
                 .into_iter()
                 .map(|p| p.name)
                 .collect();
-            let mut planned: Vec<String> = plan.passes.iter().map(|p| p.name.to_string()).collect();
+            let mut planned: Vec<String> =
+                plan.passes.iter().map(|p| p.name().to_string()).collect();
             if !timed.is_empty() {
                 timed.sort();
                 planned.sort();

@@ -7,6 +7,7 @@
 //! to host-visible memory; only [`Backend::state`] reads back every node.
 
 mod buffers;
+pub mod pass_kind;
 mod passes;
 pub mod plan;
 

@@ -62,13 +62,14 @@ impl Pass {
                 b.get(*id).map(|buf| (id.binding(), buf)).ok_or_else(|| {
                     Error::Gpu(format!(
                         "pass `{}` binds buffer `{}`, which the plan does not build",
-                        plan.name,
+                        plan.name(),
                         id.name()
                     ))
                 })
             })
             .collect::<Result<Vec<_>>>()?;
-        let kernel = Kernel::with_constants(ctx, plan.name, &key, &bindings, wg, &plan.constants)?;
+        let kernel =
+            Kernel::with_constants(ctx, plan.name(), &key, &bindings, wg, &plan.constants)?;
         kernel.check_elements(plan.elements)?;
         Ok(Pass {
             plan: plan.clone(),
@@ -128,7 +129,7 @@ impl Recorder<'_> {
     ) -> Result<()> {
         pass.kernel.record(self.cmd, push, elements);
         if let Some(timer) = self.timer.as_deref_mut() {
-            timer.record_mark(self.cmd, pass.plan.name)?;
+            timer.record_mark(self.cmd, pass.plan.name())?;
         }
         barrier(
             self.ctx,

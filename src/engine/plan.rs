@@ -15,6 +15,7 @@
 
 use std::fmt::Write as _;
 
+use super::pass_kind::PassKind;
 use crate::gpu::layout::binding;
 use crate::params::{chebyshev_weights, Method, SimParams, Solver};
 
@@ -183,8 +184,8 @@ pub enum Variant {
 /// One planned compute pass.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PassPlan {
-    /// Name in the timing report (the shader's file stem).
-    pub name: &'static str,
+    /// Which pass (its name in the timing report and its shader).
+    pub kind: PassKind,
     /// Which of the shader's variants.
     pub variant: Variant,
     /// Specialisation constants from id 1 on (id 0 is the workgroup size).
@@ -207,20 +208,26 @@ impl PassPlan {
             Variant::Named(v) => format!("#{v}"),
             _ => String::new(),
         };
-        let floor = match (self.name, self.constants.first()) {
-            ("integrate" | "constraint_apply" | "global_volume", Some(1)) => "[floor]",
-            ("integrate" | "constraint_apply" | "global_volume", Some(_)) => "[no floor]",
+        let floor = match (self.kind.has_floor_constant(), self.constants.first()) {
+            (true, Some(1)) => "[floor]",
+            (true, Some(_)) => "[no floor]",
             _ => "",
         };
-        format!("{}{variant}{floor}", self.name)
+        format!("{}{variant}{floor}", self.name())
+    }
+
+    /// The pass's name (the shader's file stem), as timings and records print it.
+    pub fn name(&self) -> &'static str {
+        self.kind.name()
     }
 
     /// The shader module's key in [`crate::shaders::SHADERS`] for a device on `atomics`.
     pub fn shader_key(&self, atomics: &str) -> String {
+        let shader = self.kind.shader();
         match self.variant {
-            Variant::Plain => format!("passes/{}.comp", self.name),
-            Variant::Atomics => format!("passes/{}.comp#{atomics}", self.name),
-            Variant::Named(v) => format!("passes/{}.comp#{v}", self.name),
+            Variant::Plain => shader.to_string(),
+            Variant::Atomics => format!("{shader}#{atomics}"),
+            Variant::Named(v) => format!("{shader}#{v}"),
         }
     }
 }
@@ -446,8 +453,8 @@ impl EnginePlan {
             })
             .collect();
 
-        let pass = |name, variant, elements, bindings: Vec<_>, repeat| PassPlan {
-            name,
+        let pass = |kind, variant, elements, bindings: Vec<_>, repeat| PassPlan {
+            kind,
             variant,
             constants: Vec::new(),
             elements,
@@ -457,7 +464,7 @@ impl EnginePlan {
         };
         let mut passes = vec![match spring_gather {
             true => pass(
-                "spring_gather",
+                PassKind::SpringGather,
                 Variant::Plain,
                 counts.nodes,
                 vec![
@@ -471,7 +478,7 @@ impl EnginePlan {
                 Repeat::Substep,
             ),
             false => pass(
-                "spring_scatter",
+                PassKind::SpringScatter,
                 Variant::Atomics,
                 counts.springs,
                 vec![
@@ -485,7 +492,7 @@ impl EnginePlan {
         }];
         if let Some(g) = global {
             passes.push(pass(
-                "global_volume_prepare",
+                PassKind::GlobalVolumePrepare,
                 Variant::Plain,
                 g.objects * workgroup_size,
                 vec![
@@ -511,7 +518,7 @@ impl EnginePlan {
             };
             let mut solve = match method {
                 Method::Volume => pass(
-                    "volume",
+                    PassKind::Volume,
                     variant,
                     counts.tets,
                     vec![
@@ -525,7 +532,7 @@ impl EnginePlan {
                     Repeat::Iteration,
                 ),
                 _ => pass(
-                    "distance",
+                    PassKind::Distance,
                     variant,
                     counts.springs,
                     vec![
@@ -557,7 +564,7 @@ impl EnginePlan {
                 false => (Variant::Named("sums"), vec![(ConstraintSum, ReadWrite)]),
             };
             let mut apply = pass(
-                "constraint_apply",
+                PassKind::ConstraintApply,
                 variant,
                 counts.nodes,
                 vec![
@@ -573,7 +580,7 @@ impl EnginePlan {
             passes.push(apply);
             if let Some(g) = global {
                 let mut global_pass = pass(
-                    "global_volume",
+                    PassKind::GlobalVolume,
                     Variant::Plain,
                     g.objects * workgroup_size,
                     vec![
@@ -592,7 +599,7 @@ impl EnginePlan {
             }
         }
         let mut integrate = pass(
-            "integrate",
+            PassKind::Integrate,
             Variant::Plain,
             counts.nodes,
             vec![
@@ -605,7 +612,7 @@ impl EnginePlan {
         integrate.constants = vec![u32::from(params.floor)];
         passes.push(integrate);
         passes.push(pass(
-            "check",
+            PassKind::Check,
             Variant::Plain,
             counts.nodes,
             vec![(Positions, Read), (Velocities, Read), (Status, ReadWrite)],
@@ -642,7 +649,12 @@ impl EnginePlan {
 
     /// Whether pass `name` is part of the frame.
     pub fn has_pass(&self, name: &str) -> bool {
-        self.passes.iter().any(|p| p.name == name)
+        PassKind::from_name(name).is_some_and(|k| self.runs(k))
+    }
+
+    /// Whether `pass` is part of the frame.
+    pub fn runs(&self, pass: PassKind) -> bool {
+        self.passes.iter().any(|p| p.kind == pass)
     }
 
     /// How many times `pass` runs in a frame.
@@ -851,7 +863,7 @@ impl EnginePlan {
 /// The `volume_sum` pass (per frame with metrics; on demand otherwise).
 pub fn volume_sum_pass(counts: PlanCounts) -> PassPlan {
     PassPlan {
-        name: "volume_sum",
+        kind: PassKind::VolumeSum,
         variant: Variant::Plain,
         constants: Vec::new(),
         elements: counts.tets,
