@@ -80,6 +80,12 @@ pub trait Backend {
     fn volume(&mut self) -> Result<VolumeSample>;
     /// Copies the current state out (a full readback on the GPU: not for every frame).
     fn state(&mut self) -> Result<State>;
+    /// Replaces every node's position and velocity between frames (a full upload on the
+    /// GPU). Inverse masses stay the model's, so a pinned node (inverse mass 0) stays where
+    /// it is put and then moves at the velocity it is given: this is how a program drags
+    /// pinned nodes (`examples/pull.rs`). Fails unless `state` has one finite position and
+    /// velocity per node.
+    fn set_state(&mut self, state: &State) -> Result<()>;
     /// Device, atomic path and per-pass GPU times; `None` for CPU backends.
     fn gpu_report(&mut self) -> Result<Option<GpuReport>> {
         Ok(None)

@@ -38,7 +38,7 @@ pub fn node_tet_corners(model: &Model) -> Csr {
 }
 
 /// Checks that `state` has `n` nodes and is finite.
-fn check_state(n: usize, state: &State) -> Result<()> {
+pub(crate) fn check_state(n: usize, state: &State) -> Result<()> {
     if state.positions.len() != n || state.velocities.len() != n {
         return Err(Error::param(
             "state",

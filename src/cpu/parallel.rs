@@ -666,4 +666,8 @@ impl Backend for ParallelBackend {
             velocities: self.v.iter().map(|p| p.to_dvec3()).collect(),
         })
     }
+
+    fn set_state(&mut self, state: &State) -> Result<()> {
+        ParallelBackend::set_state(self, state)
+    }
 }

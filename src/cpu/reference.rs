@@ -392,4 +392,8 @@ impl Backend for ReferenceBackend {
             velocities: self.v.clone(),
         })
     }
+
+    fn set_state(&mut self, state: &State) -> Result<()> {
+        ReferenceBackend::set_state(self, state)
+    }
 }

@@ -8,6 +8,7 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use super::plan::{BufferId, EnginePlan};
+use crate::backend::State;
 use crate::gpu::layout::{vec4, GpuGlobalObject, GpuSpring};
 use crate::gpu::{Buffer, Context};
 use crate::model::{ConstraintGroups, GlobalVolume, Model};
@@ -68,6 +69,25 @@ fn floats(v: &[f64]) -> Vec<f32> {
 }
 
 impl SimBuffers {
+    /// Overwrites positions and velocities with `state`, keeping the model's inverse masses
+    /// and masses in the `w` components (see [`crate::backend::Backend::set_state`]).
+    pub fn upload_state(&self, state: &State, inv_mass: &[f64], mass: &[f64]) -> Result<()> {
+        let positions: Vec<[f32; 4]> = state
+            .positions
+            .iter()
+            .zip(inv_mass)
+            .map(|(&p, &w)| vec4(p, w))
+            .collect();
+        let velocities: Vec<[f32; 4]> = state
+            .velocities
+            .iter()
+            .zip(mass)
+            .map(|(&v, &m)| vec4(v, m))
+            .collect();
+        self.positions.upload(bytes(&positions))?;
+        self.velocities.upload(bytes(&velocities))
+    }
+
     /// Uploads `model` for `params` as `plan` says, with the method's constraints split into
     /// `groups` (the groups the plan was made for); `speed_limit` [m/s] goes into `status`.
     pub fn new(

@@ -82,6 +82,10 @@ pub struct VulkanBackend {
     /// Whether `partials_readback` holds the volume of the current positions.
     partials_fresh: bool,
     frames: u32,
+    /// The model's inverse masses and masses, the `w` of the uploaded positions and
+    /// velocities ([`Backend::set_state`]).
+    inv_mass: Vec<f64>,
+    mass: Vec<f64>,
     ctx: Arc<Context>,
 }
 
@@ -238,6 +242,8 @@ impl VulkanBackend {
             counts,
             partials_fresh: false,
             frames: 0,
+            inv_mass: model.inv_mass.clone(),
+            mass: model.mass.clone(),
             ctx,
         })
     }
@@ -465,6 +471,15 @@ impl Backend for VulkanBackend {
             positions: read(pos)?,
             velocities: read(vel)?,
         })
+    }
+
+    /// Waits for a frame in flight, then uploads positions and velocities (the volume
+    /// partials of the old positions are stale until the next frame or measure).
+    fn set_state(&mut self, state: &State) -> Result<()> {
+        crate::cpu::check_state(self.inv_mass.len(), state)?;
+        self.finish_frame()?;
+        self.partials_fresh = false;
+        self.buffers.upload_state(state, &self.inv_mass, &self.mass)
     }
 
     fn gpu_report(&mut self) -> Result<Option<GpuReport>> {
