@@ -16,25 +16,13 @@ use crate::params::Method;
 /// For each node, the `(tet, corner)` slots it occupies, encoded as `4 * tet + corner`
 /// (node-centric gather of per-tet results, no atomics).
 pub fn node_tet_corners(model: &Model) -> Csr {
-    let n = model.node_count();
-    let mut offsets = vec![0u32; n + 1];
-    for tet in &model.tets {
-        for &v in tet {
-            offsets[v as usize + 1] += 1;
-        }
-    }
-    for i in 0..n {
-        offsets[i + 1] += offsets[i];
-    }
-    let mut fill = offsets.clone();
-    let mut items = vec![0u32; model.tets.len() * 4];
-    for (t, tet) in model.tets.iter().enumerate() {
-        for (corner, &v) in tet.iter().enumerate() {
-            items[fill[v as usize] as usize] = (4 * t + corner) as u32;
-            fill[v as usize] += 1;
-        }
-    }
-    Csr { offsets, items }
+    Csr::from_pairs(model.node_count(), || {
+        model.tets.iter().enumerate().flat_map(|(t, tet)| {
+            tet.iter()
+                .enumerate()
+                .map(move |(corner, &v)| (v as usize, (4 * t + corner) as u32))
+        })
+    })
 }
 
 /// Checks that `state` has `n` nodes and is finite.

@@ -81,25 +81,14 @@ fn node_faces(nodes: &[u32], faces: &[[u32; 3]], node_count: usize) -> Csr {
     for (k, &i) in nodes.iter().enumerate() {
         position[i as usize] = k as u32;
     }
-    let mut offsets = vec![0u32; nodes.len() + 1];
-    for f in faces {
-        for &i in f {
-            offsets[position[i as usize] as usize + 1] += 1;
-        }
-    }
-    for k in 0..nodes.len() {
-        offsets[k + 1] += offsets[k];
-    }
-    let mut fill = offsets.clone();
-    let mut items = vec![0u32; offsets[nodes.len()] as usize];
-    for (f, face) in faces.iter().enumerate() {
-        for (corner, &i) in face.iter().enumerate() {
-            let k = position[i as usize] as usize;
-            items[fill[k] as usize] = (3 * f + corner) as u32;
-            fill[k] += 1;
-        }
-    }
-    Csr { offsets, items }
+    Csr::from_pairs(nodes.len(), || {
+        faces.iter().enumerate().flat_map(|(f, face)| {
+            let position = &position;
+            face.iter()
+                .enumerate()
+                .map(move |(corner, &i)| (position[i as usize] as usize, (3 * f + corner) as u32))
+        })
+    })
 }
 
 #[cfg(test)]

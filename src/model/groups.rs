@@ -54,31 +54,19 @@ impl ConstraintGroups {
     /// `corner` (a slot of a per-position result array, as the `cpu` and `vulkan` gathers
     /// use).
     pub fn node_slots<const K: usize>(&self, elements: &[[u32; K]], nodes: usize) -> Csr {
-        let rows = self.len() * nodes;
-        let mut offsets = vec![0u32; rows + 1];
-        for g in 0..self.len() {
-            for &e in self.group(g) {
-                for &k in &elements[e as usize] {
-                    offsets[g * nodes + k as usize + 1] += 1;
-                }
-            }
-        }
-        for r in 0..rows {
-            offsets[r + 1] += offsets[r];
-        }
-        let mut fill = offsets.clone();
-        let mut items = vec![0u32; offsets[rows] as usize];
-        for g in 0..self.len() {
-            let first = self.members.offsets[g] as usize;
-            for (p, &e) in self.group(g).iter().enumerate() {
-                for (corner, &k) in elements[e as usize].iter().enumerate() {
-                    let row = g * nodes + k as usize;
-                    items[fill[row] as usize] = (K * (first + p) + corner) as u32;
-                    fill[row] += 1;
-                }
-            }
-        }
-        Csr { offsets, items }
+        Csr::from_pairs(self.len() * nodes, || {
+            (0..self.len()).flat_map(move |g| {
+                let first = self.members.offsets[g] as usize;
+                self.group(g).iter().enumerate().flat_map(move |(p, &e)| {
+                    elements[e as usize]
+                        .iter()
+                        .enumerate()
+                        .map(move |(corner, &k)| {
+                            (g * nodes + k as usize, (K * (first + p) + corner) as u32)
+                        })
+                })
+            })
+        })
     }
 
     /// Every constraint in one group: the Jacobi sweep.
@@ -112,21 +100,13 @@ impl ConstraintGroups {
             group_of_colour[c as usize] = g;
             load[g as usize] += size[c as usize];
         }
-        let mut offsets = vec![0u32; groups as usize + 1];
-        for &c in &colour {
-            offsets[group_of_colour[c as usize] as usize + 1] += 1;
-        }
-        for g in 0..groups as usize {
-            offsets[g + 1] += offsets[g];
-        }
-        let mut fill = offsets.clone();
-        let mut items = vec![0u32; elements.len()];
-        for (e, &c) in colour.iter().enumerate() {
-            let g = group_of_colour[c as usize] as usize;
-            items[fill[g] as usize] = e as u32;
-            fill[g] += 1;
-        }
-        Self::with_members(elements, nodes, Csr { offsets, items }, colours)
+        let members = Csr::from_pairs(groups as usize, || {
+            colour
+                .iter()
+                .enumerate()
+                .map(|(e, &c)| (group_of_colour[c as usize] as usize, e as u32))
+        });
+        Self::with_members(elements, nodes, members, colours)
     }
 
     fn with_members<const K: usize>(

@@ -23,6 +23,26 @@ pub struct Csr {
 }
 
 impl Csr {
+    /// The one CSR builder: `rows` rows filled from `pairs()`, `(row, item)` in order (a
+    /// counting sort; each row keeps its items in the order `pairs` gives them). `pairs` is
+    /// called twice, to count and to fill.
+    pub fn from_pairs<I: Iterator<Item = (usize, u32)>>(rows: usize, pairs: impl Fn() -> I) -> Csr {
+        let mut offsets = vec![0u32; rows + 1];
+        for (row, _) in pairs() {
+            offsets[row + 1] += 1;
+        }
+        for r in 0..rows {
+            offsets[r + 1] += offsets[r];
+        }
+        let mut fill = offsets.clone();
+        let mut items = vec![0u32; offsets[rows] as usize];
+        for (row, item) in pairs() {
+            items[fill[row] as usize] = item;
+            fill[row] += 1;
+        }
+        Csr { offsets, items }
+    }
+
     /// Entries of row `i`.
     pub fn row(&self, i: usize) -> &[u32] {
         &self.items[self.offsets[i] as usize..self.offsets[i + 1] as usize]
@@ -441,22 +461,10 @@ fn place(nodes: &[DVec3], placement: Placement) -> Result<Similarity> {
 
 /// Row `i` lists the indices of the elements that contain node `i`.
 pub fn adjacency<'e>(nodes: usize, elements: impl Iterator<Item = &'e [u32]> + Clone) -> Csr {
-    let mut offsets = vec![0u32; nodes + 1];
-    for element in elements.clone() {
-        for &v in element {
-            offsets[v as usize + 1] += 1;
-        }
-    }
-    for i in 0..nodes {
-        offsets[i + 1] += offsets[i];
-    }
-    let mut fill = offsets.clone();
-    let mut items = vec![0u32; *offsets.last().unwrap_or(&0) as usize];
-    for (e, element) in elements.enumerate() {
-        for &v in element {
-            items[fill[v as usize] as usize] = e as u32;
-            fill[v as usize] += 1;
-        }
-    }
-    Csr { offsets, items }
+    Csr::from_pairs(nodes, || {
+        elements
+            .clone()
+            .enumerate()
+            .flat_map(|(e, element)| element.iter().map(move |&v| (v as usize, e as u32)))
+    })
 }
