@@ -17,7 +17,8 @@
 //! volume_sum (with per-frame metrics)       the frame's volume metric
 //! copy status (+ partials) to the host      one copy, read after the frame's fence
 //! ```
-//! Each pass is followed by a timestamp and a barrier on the buffers it writes.
+//! Each dispatch sits in a debug label region named for its pass (so RenderDoc and Nsight
+//! captures name it) and is followed by a timestamp and a barrier on the buffers it writes.
 
 use std::sync::Arc;
 
@@ -127,7 +128,9 @@ impl Recorder<'_> {
         push: &PushConstants,
         elements: u32,
     ) -> Result<()> {
+        self.ctx.begin_label(self.cmd, pass.plan.name());
         pass.kernel.record(self.cmd, push, elements);
+        self.ctx.end_label(self.cmd);
         if let Some(timer) = self.timer.as_deref_mut() {
             timer.record_mark(self.cmd, pass.plan.name())?;
         }

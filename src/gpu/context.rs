@@ -327,6 +327,27 @@ impl Context {
         let _ = unsafe { names.set_debug_utils_object_name(&info) };
     }
 
+    /// Opens a labelled region in `cmd` (RenderDoc, Nsight and the validation layer show the
+    /// commands inside under `label`); close it with [`Context::end_label`]. Does nothing
+    /// without `VK_EXT_debug_utils`.
+    pub fn begin_label(&self, cmd: vk::CommandBuffer, label: &str) {
+        let Some(names) = &self.names else { return };
+        let Ok(label) = std::ffi::CString::new(label) else {
+            return;
+        };
+        let info = vk::DebugUtilsLabelEXT::default().label_name(&label);
+        // SAFETY: `cmd` is a command buffer of this device in the recording state.
+        unsafe { names.cmd_begin_debug_utils_label(cmd, &info) };
+    }
+
+    /// Closes the region opened by the last [`Context::begin_label`] on `cmd`.
+    pub fn end_label(&self, cmd: vk::CommandBuffer) {
+        let Some(names) = &self.names else { return };
+        // SAFETY: `cmd` is recording and has an open label region (begun by `begin_label`,
+        // which does nothing exactly when this does nothing).
+        unsafe { names.cmd_end_debug_utils_label(cmd) };
+    }
+
     /// Whether the validation layer is on.
     pub fn validation(&self) -> bool {
         self.debug.is_some()
