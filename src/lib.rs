@@ -14,12 +14,10 @@ pub mod engine;
 pub mod error;
 pub mod gpu;
 pub mod launch;
-pub mod mesh;
 pub mod metrics;
 pub mod model;
 pub mod params;
 pub mod physics;
-pub mod prep;
 pub mod preset;
 pub mod render;
 pub mod runner;
@@ -28,9 +26,13 @@ pub mod stability;
 
 pub use backend::{Backend, State, VolumeSample};
 pub use error::{Error, Result};
-pub use mesh::{SurfaceMesh, TetMesh};
 pub use model::{Model, ModelBuilder};
 pub use params::{Method, SimParams};
+/// Mesh types, readers/writers, repair, voxel mesher, simplification (the `tetmesh` crate).
+pub use tetmesh::mesh;
+/// The preprocessing pipeline shared with `tetprep` (the `tetmesh` crate).
+pub use tetmesh::prep;
+pub use tetmesh::{SurfaceMesh, TetMesh};
 
 /// SPIR-V of every shader under `glsl/`, compiled by `build.rs`.
 pub mod shaders {
