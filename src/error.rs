@@ -76,6 +76,28 @@ impl Error {
     }
 }
 
+/// Mesh and preprocessing errors (the `tetmesh` crate) become the variant of the same name,
+/// with the same message.
+impl From<tetmesh::Error> for Error {
+    fn from(e: tetmesh::Error) -> Self {
+        match e {
+            tetmesh::Error::Io { path, cause } => Error::Io { path, cause },
+            tetmesh::Error::Parse {
+                path,
+                line,
+                message,
+            } => Error::Parse {
+                path,
+                line,
+                message,
+            },
+            tetmesh::Error::Mesh(m) => Error::Mesh(m),
+            tetmesh::Error::Param { key, message } => Error::Param { key, message },
+            tetmesh::Error::Meshing(m) => Error::Meshing(m),
+        }
+    }
+}
+
 /// Turns an `ash` result into ours, naming the call.
 pub trait VkContext<T> {
     fn vk(self, call: &'static str) -> Result<T>;

@@ -119,13 +119,11 @@ pub mod error;
 pub mod gpu;
 #[doc(hidden)]
 pub mod launch;
-pub mod mesh;
 pub mod metrics;
 pub mod model;
 pub mod params;
 #[doc(hidden)]
 pub mod physics;
-pub mod prep;
 #[doc(hidden)]
 pub mod preset;
 #[doc(hidden)]
@@ -138,10 +136,14 @@ pub mod stability;
 
 pub use backend::{Backend, State, VolumeSample};
 pub use error::{Error, Result};
-pub use mesh::{SurfaceMesh, TetMesh};
 pub use model::{Model, ModelBuilder};
 pub use params::{MassMode, Method, Placement, SimParams, Solver};
 pub use runner::{create_backend, load_mesh};
+/// Mesh types, readers/writers, repair, voxel mesher, simplification (the `tetmesh` crate).
+pub use tetmesh::mesh;
+/// The preprocessing pipeline shared with `tetprep` (the `tetmesh` crate).
+pub use tetmesh::prep;
+pub use tetmesh::{SurfaceMesh, TetMesh};
 
 /// SPIR-V of every shader under `glsl/`, compiled by `build.rs`.
 #[doc(hidden)]

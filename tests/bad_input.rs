@@ -15,7 +15,7 @@ fn read_as(
 ) -> (
     tempfile::TempDir,
     std::path::PathBuf,
-    tetrasim::Result<tetrasim::SurfaceMesh>,
+    tetrasim::mesh::Result<tetrasim::SurfaceMesh>,
 ) {
     let dir = tempfile::tempdir().unwrap();
     let path = put(dir.path(), name, bytes);

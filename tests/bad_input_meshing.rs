@@ -6,8 +6,9 @@ mod prep_fixtures;
 use glam::DVec3;
 use prep_fixtures::cube;
 use tetrasim::mesh::voxel::voxel_mesh;
-use tetrasim::prep::{prep_file, prep_surface, Mesher, PrepOptions};
-use tetrasim::{Error, SurfaceMesh};
+// The pipeline (crate tetmesh) returns its own error type, re-exported here.
+use tetrasim::prep::{prep_file, prep_surface, Error, Mesher, PrepOptions};
+use tetrasim::SurfaceMesh;
 
 fn prep_err(surface: &SurfaceMesh, options: &PrepOptions) -> String {
     match prep_surface(surface, options, &mut |_: &str| {}) {

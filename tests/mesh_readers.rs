@@ -8,8 +8,9 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use tetrasim::error::Error;
+// The readers (crate tetmesh) return its own error type, re-exported here.
 use tetrasim::mesh::io::{self, read_tet_mesh, TetFormat};
+use tetrasim::mesh::Error;
 use tetrasim::mesh::{tet_signed_volume, TetMesh};
 
 /// Reference figures printed by make_fixtures.py (computed by meshio/numpy, not by us):

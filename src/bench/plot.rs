@@ -191,7 +191,7 @@ fn draw(
 /// temporary file and a rename).
 pub fn write_png(path: &Path, chart: &LogChart, size: (u32, u32)) -> Result<()> {
     let pixels = render(chart, size)?;
-    crate::mesh::io::write_atomic(path, |w| {
+    Ok(crate::mesh::io::write_atomic(path, |w| {
         let mut encoder = png::Encoder::new(w, size.0, size.1);
         encoder.set_color(png::ColorType::Rgb);
         encoder.set_depth(png::BitDepth::Eight);
@@ -200,7 +200,7 @@ pub fn write_png(path: &Path, chart: &LogChart, size: (u32, u32)) -> Result<()> 
             .write_image_data(&pixels)
             .map_err(std::io::Error::other)?;
         writer.finish().map_err(std::io::Error::other)
-    })
+    })?)
 }
 
 #[cfg(test)]

@@ -23,7 +23,7 @@ pub const DEFAULT_SIZES: [usize; 5] = [1_000, 4_000, 16_000, 64_000, 256_000];
 /// The scaling scene's mesh: a sphere of radius 0.5 m (icosahedron subdivided 4 times)
 /// filled by the voxel mesher with about `target_tets` tets.
 pub fn sphere_mesh(target_tets: usize) -> Result<TetMesh> {
-    voxel::voxel_mesh(&shapes::sphere(0.5, 4), target_tets)
+    Ok(voxel::voxel_mesh(&shapes::sphere(0.5, 4), target_tets)?)
 }
 
 /// What to run at each size.

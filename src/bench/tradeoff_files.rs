@@ -109,11 +109,11 @@ pub fn write_outputs(dir: &Path, records: &[TradeoffRecord]) -> Result<Vec<PathB
 
 /// Writes serialisable rows as CSV with a header (through a temporary file and a rename).
 pub fn write_csv<T: serde::Serialize>(path: &Path, rows: &[T]) -> Result<()> {
-    crate::mesh::io::write_atomic(path, |w| {
+    Ok(crate::mesh::io::write_atomic(path, |w| {
         let mut writer = csv::Writer::from_writer(w);
         for row in rows {
             writer.serialize(row).map_err(std::io::Error::other)?;
         }
         writer.flush()
-    })
+    })?)
 }

@@ -87,7 +87,7 @@ impl Image {
     /// Writes the image as PNG to `path` (atomically); see [`Image::png_bytes`] for `compact`.
     pub fn save_png(&self, path: &Path, compact: bool) -> Result<()> {
         let bytes = self.png_bytes(compact)?;
-        write_atomic(path, |w| w.write_all(&bytes))
+        Ok(write_atomic(path, |w| w.write_all(&bytes))?)
     }
 }
 
@@ -141,7 +141,7 @@ impl GifWriter {
             .encoder
             .into_inner()
             .map_err(|e| Error::io(path, std::io::Error::other(e)))?;
-        write_atomic(path, |w| w.write_all(&bytes))
+        Ok(write_atomic(path, |w| w.write_all(&bytes))?)
     }
 }
 

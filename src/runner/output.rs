@@ -133,24 +133,29 @@ impl FrameOutput {
             OutputFormat::Ply => {
                 let (surface, nodes) = deformed_surface_nodes(model, &data.positions);
                 let quality: Vec<f64> = nodes.iter().map(|&i| data.node_ratio[i]).collect();
-                io::ply::write_with_quality(
+                Ok(io::ply::write_with_quality(
                     &path,
                     &surface,
                     io::ply::PlyEncoding::BinaryLittleEndian,
                     &quality,
-                )
+                )?)
             }
-            OutputFormat::Obj => {
-                io::write_surface(&path, &deformed_surface(model, &data.positions))
-            }
-            OutputFormat::Vtk => io::write_vtk_fields(&path, &data.mesh(model), &data.fields()),
+            OutputFormat::Obj => Ok(io::write_surface(
+                &path,
+                &deformed_surface(model, &data.positions),
+            )?),
+            OutputFormat::Vtk => Ok(io::write_vtk_fields(
+                &path,
+                &data.mesh(model),
+                &data.fields(),
+            )?),
             OutputFormat::Vtu => {
                 io::write_vtu(&path, &data.mesh(model), &data.fields())?;
                 let entries: Vec<(f64, String)> = (0..=frame)
                     .step_by(self.every as usize)
                     .map(|f| (f64::from(f) * frame_time, self.file_name(method, f)))
                     .collect();
-                io::write_pvd(self.pvd_path(method), &entries)
+                Ok(io::write_pvd(self.pvd_path(method), &entries)?)
             }
         }
     }
@@ -319,5 +324,5 @@ fn deformed_surface_nodes(model: &Model, positions: &[DVec3]) -> (SurfaceMesh, V
 
 /// Writes `bytes` to `path` through a temporary file and a rename.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
-    io::write_atomic(path, |w| w.write_all(bytes))
+    Ok(io::write_atomic(path, |w| w.write_all(bytes))?)
 }

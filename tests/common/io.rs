@@ -74,8 +74,8 @@ pub fn shared_meshes() -> Option<PathBuf> {
 /// string in `needles` (e.g. `":12:"` for a line, `"face 3"` for an element), and returns
 /// the message.
 #[track_caller]
-pub fn assert_err<T: std::fmt::Debug>(
-    result: tetrasim::Result<T>,
+pub fn assert_err<T: std::fmt::Debug, E: std::fmt::Display>(
+    result: Result<T, E>,
     path: &Path,
     needles: &[&str],
 ) -> String {

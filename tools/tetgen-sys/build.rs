@@ -1,64 +1,41 @@
-//! Compiles TetGen 1.5 (sources from the `tritet` registry crate) and our shim with `cc`.
+//! Compiles TetGen 1.5 and our shim with `cc`.
 //!
-//! The sources are found in `$TETGEN_SRC_DIR` when set, else in
-//! `$CARGO_HOME/registry/src/*/tritet-3.4.0/c_code` (CARGO_HOME defaults to `~/.cargo`).
+//! The sources are the copy in `tetgen/` next to this file (TetGen 1.5 as shipped in the
+//! `tritet` 3.4.0 crate's `c_code`, AGPL-3.0; see `tetgen/README.md`), so the build needs no
+//! download and no knowledge of where cargo keeps registry sources (which differs with
+//! `cargo vendor`, source replacement and mirrors). `$TETGEN_SRC_DIR`, when set, names another
+//! directory holding `tetgen.cxx`, `tetgen.h` and `predicates.cxx` to compile instead.
 
 use std::env;
 use std::path::{Path, PathBuf};
 
-const TRITET_DIR: &str = "tritet-3.4.0";
 const NEEDED: [&str; 3] = ["tetgen.cxx", "tetgen.h", "predicates.cxx"];
 
 fn has_sources(dir: &Path) -> bool {
     NEEDED.iter().all(|f| dir.join(f).is_file())
 }
 
-fn cargo_home() -> Option<PathBuf> {
-    if let Some(home) = env::var_os("CARGO_HOME") {
-        return Some(PathBuf::from(home));
-    }
-    env::var_os("HOME").map(|h| PathBuf::from(h).join(".cargo"))
-}
-
-fn find_sources() -> Result<PathBuf, String> {
+fn find_sources(bundled: &Path) -> Result<PathBuf, String> {
     println!("cargo:rerun-if-env-changed=TETGEN_SRC_DIR");
-    println!("cargo:rerun-if-env-changed=CARGO_HOME");
-    if let Some(dir) = env::var_os("TETGEN_SRC_DIR") {
-        let dir = PathBuf::from(dir);
-        return if has_sources(&dir) {
-            Ok(dir)
-        } else {
-            Err(format!(
-                "TETGEN_SRC_DIR={} does not contain {}",
-                dir.display(),
-                NEEDED.join(", ")
-            ))
-        };
+    let (dir, what) = match env::var_os("TETGEN_SRC_DIR") {
+        Some(dir) => (PathBuf::from(dir), "TETGEN_SRC_DIR="),
+        None => (bundled.to_path_buf(), "the bundled copy "),
+    };
+    if has_sources(&dir) {
+        Ok(dir)
+    } else {
+        Err(format!(
+            "{what}{} does not contain {}",
+            dir.display(),
+            NEEDED.join(", ")
+        ))
     }
-    let home = cargo_home().ok_or("neither CARGO_HOME nor HOME is set")?;
-    let registry = home.join("registry").join("src");
-    let mut searched = Vec::new();
-    if let Ok(entries) = std::fs::read_dir(&registry) {
-        for entry in entries.flatten() {
-            let dir = entry.path().join(TRITET_DIR).join("c_code");
-            if has_sources(&dir) {
-                return Ok(dir);
-            }
-            searched.push(dir.display().to_string());
-        }
-    }
-    Err(format!(
-        "TetGen sources not found: looked for {TRITET_DIR}/c_code under {} (searched: [{}]). \
-         Run `cargo fetch` (the `tritet` build-dependency brings them) or set TETGEN_SRC_DIR \
-         to a directory holding {}",
-        registry.display(),
-        searched.join(", "),
-        NEEDED.join(", ")
-    ))
 }
 
 fn main() {
-    let src = match find_sources() {
+    let manifest = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("CARGO_MANIFEST_DIR"));
+    let bundled = manifest.join("tetgen");
+    let src = match find_sources(&bundled) {
         Ok(dir) => dir,
         Err(message) => {
             eprintln!("error: tetgen-sys: {message}");
@@ -68,6 +45,7 @@ fn main() {
     for f in NEEDED {
         println!("cargo:rerun-if-changed={}", src.join(f).display());
     }
+    println!("cargo:rerun-if-changed=tetgen/auxiliary.h");
     println!("cargo:rerun-if-changed=shim/shim.cpp");
     println!("cargo:rerun-if-changed=shim/tetgen_unit.cpp");
 
@@ -77,6 +55,9 @@ fn main() {
     build
         .cpp(true)
         .include(&src)
+        // `auxiliary.h` (tritet's small helper that its tetgen.cxx includes) when the
+        // override directory lacks it.
+        .include(&bundled)
         .file("shim/tetgen_unit.cpp")
         .file(src.join("predicates.cxx"))
         .file("shim/shim.cpp")

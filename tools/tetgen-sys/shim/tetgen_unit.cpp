@@ -1,7 +1,7 @@
 // TetGen 1.5 compiled as one translation unit, with its assertions turned into the same
 // exception TetGen throws for an internal error (int 2) instead of abort(): the process that
-// calls TetGen must never die because one input was bad. The TetGen sources are not copied
-// here; build.rs puts their directory on the include path.
+// calls TetGen must never die because one input was bad. The TetGen sources are in ../tetgen/
+// (or $TETGEN_SRC_DIR); build.rs puts their directory on the include path.
 //
 // Everything tetgen.cxx includes is included first, so that no later #include <assert.h>
 // can bring the standard assert back after we redefine it.

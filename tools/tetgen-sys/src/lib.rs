@@ -9,10 +9,9 @@
 //!   max-volume switches, and on an invalid surface prints TetGen's message to stdout and
 //!   returns success with zero tets.
 //!
-//! So this crate compiles TetGen 1.5's sources itself (`build.rs`, with `cc`), taking them
-//! from the `tritet` crate's download (`tritet-3.4.0/c_code`; `tritet` is only a
-//! build-dependency, nothing of it is linked; `TETGEN_SRC_DIR` overrides the location). No
-//! TetGen source is copied into this repository. Its `tetgen.h` defines `TETLIBRARY`, so
+//! So this crate compiles TetGen 1.5's sources itself (`build.rs`, with `cc`): the copy in
+//! `tetgen/` (taken unchanged from the `tritet` 3.4.0 crate's `c_code`, AGPL-3.0; see
+//! `tetgen/README.md`; `TETGEN_SRC_DIR` overrides the location). Its `tetgen.h` defines `TETLIBRARY`, so
 //! TetGen throws an `int` on error; a small C++ shim (`shim/shim.cpp`) catches it (and any
 //! other exception), turns TetGen's assertions into the same "internal error" exception
 //! (`shim/tetgen_unit.cpp`), passes any switch string, and captures what TetGen prints so the

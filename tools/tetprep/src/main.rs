@@ -10,9 +10,9 @@ use std::process::ExitCode;
 
 use clap::{Parser, ValueEnum};
 use output::{output_prefix, with_ext, MadeFolders};
-use tetrasim::mesh::io::{read_surface, write_surface, write_tetgen, write_vtk, SurfaceFormat};
-use tetrasim::mesh::shapes::Shape;
-use tetrasim::prep::{prep_surface, Mesher, PrepOptions, StageTime};
+use tetmesh::mesh::io::{read_surface, write_surface, write_tetgen, write_vtk, SurfaceFormat};
+use tetmesh::mesh::shapes::Shape;
+use tetmesh::prep::{prep_surface, Mesher, PrepOptions, StageTime};
 
 /// Converts a triangle surface (PLY, OBJ, OFF, STL) into a tetrahedral mesh: repairs it
 /// (welds, drops degenerate/duplicate faces, orients, fills holes), simplifies it when the
@@ -68,7 +68,7 @@ struct Args {
     json: Option<PathBuf>,
 }
 
-fn run(args: &Args, made: &mut MadeFolders) -> tetrasim::Result<()> {
+fn run(args: &Args, made: &mut MadeFolders) -> tetmesh::Result<()> {
     let options = PrepOptions {
         quality: (args.quality != 0.0).then_some(args.quality),
         max_volume: args.max_volume,
@@ -85,7 +85,7 @@ fn run(args: &Args, made: &mut MadeFolders) -> tetrasim::Result<()> {
     let prefix = output_prefix(&args.output)?;
     if let Some(path) = &args.save_surface {
         SurfaceFormat::from_path(path)
-            .map_err(|e| tetrasim::Error::param("save-surface", e.to_string()))?;
+            .map_err(|e| tetmesh::Error::param("save-surface", e.to_string()))?;
     }
     made.make_parent_of(&prefix, "output")?;
     if let Some(path) = &args.save_surface {
@@ -93,7 +93,7 @@ fn run(args: &Args, made: &mut MadeFolders) -> tetrasim::Result<()> {
     }
     if let Some(path) = args.json.as_deref().filter(|p| *p != Path::new("-")) {
         if path.is_dir() {
-            return Err(tetrasim::Error::param(
+            return Err(tetmesh::Error::param(
                 "json",
                 format!("{} is a folder; give a file name", path.display()),
             ));
@@ -112,7 +112,7 @@ fn run(args: &Args, made: &mut MadeFolders) -> tetrasim::Result<()> {
             read_surface(path)?
         }
         (None, None) => {
-            return Err(tetrasim::Error::param(
+            return Err(tetmesh::Error::param(
                 "input",
                 "give an input file or --shape",
             ))
@@ -130,8 +130,8 @@ fn run(args: &Args, made: &mut MadeFolders) -> tetrasim::Result<()> {
         ),
     };
     let mut out = prep_surface(&surface, &options, &mut progress).map_err(|e| match e {
-        tetrasim::Error::Mesh(m) => tetrasim::Error::Mesh(format!("{name}: {m}")),
-        tetrasim::Error::Meshing(m) => tetrasim::Error::Meshing(format!("{name}: {m}")),
+        tetmesh::Error::Mesh(m) => tetmesh::Error::Mesh(format!("{name}: {m}")),
+        tetmesh::Error::Meshing(m) => tetmesh::Error::Meshing(format!("{name}: {m}")),
         e => e,
     })?;
     out.stats.input = Some(name);
@@ -165,13 +165,13 @@ fn run(args: &Args, made: &mut MadeFolders) -> tetrasim::Result<()> {
     eprintln!("tetprep: wrote {}", written.join(", "));
     let json = || {
         serde_json::to_string_pretty(&out.stats)
-            .map_err(|e| tetrasim::Error::param("json", e.to_string()))
+            .map_err(|e| tetmesh::Error::param("json", e.to_string()))
     };
     match args.json.as_deref() {
         Some(path) if path == Path::new("-") => println!("{}", json()?),
         Some(path) => {
             let text = json()?;
-            tetrasim::mesh::io::write_atomic(path, |w| writeln!(w, "{text}"))?;
+            tetmesh::mesh::io::write_atomic(path, |w| writeln!(w, "{text}"))?;
             eprintln!("tetprep: stats written to {}", path.display());
             println!("{}", out.stats);
         }

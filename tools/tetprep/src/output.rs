@@ -4,7 +4,7 @@
 
 use std::path::{Component, Path, PathBuf};
 
-use tetrasim::{Error, Result};
+use tetmesh::{Error, Result};
 
 /// Extensions `-o` drops (case-insensitive): TetGen's files and other tet-mesh formats.
 pub const TET_EXTENSIONS: [&str; 7] = ["node", "ele", "face", "vtk", "vtu", "msh", "mesh"];

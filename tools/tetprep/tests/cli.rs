@@ -5,8 +5,8 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 use glam::DVec3;
-use tetrasim::mesh::io::{read_surface, read_tetgen, write_surface};
-use tetrasim::mesh::shapes;
+use tetmesh::mesh::io::{read_surface, read_tetgen, write_surface};
+use tetmesh::mesh::shapes;
 
 fn tetprep(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_tetprep"))
@@ -55,7 +55,7 @@ fn shape_to_files_with_json_stats() {
     names.sort();
     assert_eq!(names, ["ball.ele", "ball.face", "ball.node", "ball.vtk"]);
     // The .vtk is a mesh `tetrasim run --mesh` takes: the same nodes and tets.
-    let vtk = tetrasim::mesh::io::read_tet_mesh(&dir.path().join("ball.vtk")).unwrap();
+    let vtk = tetmesh::mesh::io::read_tet_mesh(&dir.path().join("ball.vtk")).unwrap();
     assert_eq!(vtk.nodes, mesh.nodes);
     assert_eq!(vtk.tets, mesh.tets);
     let stderr = String::from_utf8_lossy(&out.stderr);

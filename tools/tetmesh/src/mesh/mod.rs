@@ -11,6 +11,9 @@ pub mod voxel;
 
 use glam::DVec3;
 
+/// What reading, repairing and meshing fail with (the crate's [`crate::Error`]).
+pub use crate::error::{Error, Result};
+
 /// A triangle surface, as read from PLY/OBJ/OFF/STL (polygons already triangulated).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SurfaceMesh {

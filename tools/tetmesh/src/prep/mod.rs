@@ -2,11 +2,11 @@
 //! read -> scale -> repair -> (simplify) -> mesh (TetGen or voxel) -> stats.
 //!
 //! ```no_run
-//! use tetrasim::prep::{prep_file, PrepOptions};
+//! use tetmesh::prep::{prep_file, PrepOptions};
 //! let options = PrepOptions { target_tets: Some(20_000), ..Default::default() };
 //! let out = prep_file("bunny.ply".as_ref(), &options, &mut |stage| eprintln!("{stage}"))?;
 //! println!("{} tets, {:.2} % of the enclosed volume", out.mesh.tets.len(), out.stats.volume_percent);
-//! # Ok::<(), tetrasim::Error>(())
+//! # Ok::<(), tetmesh::Error>(())
 //! ```
 
 pub mod options;
@@ -21,7 +21,8 @@ use std::time::Instant;
 pub use options::{Mesher, PrepOptions, DEFAULT_VOXEL_TETS};
 pub use stats::{PrepStats, StageTime};
 
-use crate::error::{Error, Result};
+/// What the pipeline fails with (the crate's [`crate::Error`]).
+pub use crate::error::{Error, Result};
 use crate::mesh::repair::{self, RepairReport};
 use crate::mesh::{io, voxel, SurfaceMesh, TetMesh};
 

@@ -20,7 +20,7 @@
 //! chosen by the extension too, else by the first bytes ([`TetFormat::sniff`]). The tet
 //! readers keep linear tets only (other cell types are skipped, quadratic tets are an error
 //! with the reason), keep each tet's orientation as in the file (the model flips negative
-//! tets when it builds, [`crate::model`]), and all but TetGen's drop nodes that no tet uses
+//! tets when it builds: `tetrasim::model`), and all but TetGen's drop nodes that no tet uses
 //! ([`drop_unused_nodes`]). Every reader checks
 //! what it reads: counts against headers, finite coordinates, indices in range, at least one
 //! element; a failure is an [`Error::Parse`] naming the file and the line (text formats) or the
