@@ -9,7 +9,7 @@
 // Per node, vec4: xyz = velocity [m/s], w = mass [kg].
 #define B_VELOCITIES 1
 // Per node, vec4: xyz = force F of the current step [N] (float view for atomics),
-// w = the floor's normal force [N], already part of F.y (physics/floor.glsl).
+// w = the floor's normal force [N], already part of F.y (physics/integrate.glsl).
 #define B_FORCES 2
 // Per node, vec4: xyz = this iteration's summed constraint forces [N].
 #define B_CONSTRAINT_SUM 3

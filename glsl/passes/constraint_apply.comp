@@ -17,7 +17,7 @@
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/implicit.glsl"
-#include "physics/floor.glsl"
+#include "physics/integrate.glsl"
 
 // 1 when the scene has a floor; 0 compiles the contact solve away (specialisation constant 1,
 // set by the engine plan).

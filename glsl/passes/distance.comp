@@ -29,12 +29,14 @@ void main() {
     Spring sp = springs[s];
     vec4 xa = positions[sp.a];
     vec4 xb = positions[sp.b];
-    vec3 ga = distance_gradient_i(xa.xyz, xb.xyz);
+    vec3 ga;
+    vec3 gb;
+    float c = distance_constraint(xa.xyz, xb.xyz, sp.rest, ga, gb);
     float a = 0.0;
     float b = 0.0;
     implicit_accumulate(a, b, ga, xa.w, combine_a_scale(pc.combine, degrees[group_node(sp.a)]), velocities[sp.a].xyz, forces[sp.a].xyz, pc.dt);
-    implicit_accumulate(a, b, -ga, xb.w, combine_a_scale(pc.combine, degrees[group_node(sp.b)]), velocities[sp.b].xyz, forces[sp.b].xyz, pc.dt);
-    float lambda = implicit_lambda(distance_value(xa.xyz, xb.xyz, sp.rest), a, b, pc.dt, pc.epsilon);
+    implicit_accumulate(a, b, gb, xb.w, combine_a_scale(pc.combine, degrees[group_node(sp.b)]), velocities[sp.b].xyz, forces[sp.b].xyz, pc.dt);
+    float lambda = implicit_multiplier(c, a, b, pc.dt, pc.epsilon);
     constraint_output(position, 2u, 0u, sp.a, -lambda * ga, lambda != 0.0);
-    constraint_output(position, 2u, 1u, sp.b, lambda * ga, lambda != 0.0);
+    constraint_output(position, 2u, 1u, sp.b, -lambda * gb, lambda != 0.0);
 }

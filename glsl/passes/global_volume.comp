@@ -9,7 +9,7 @@
 #include "common/bindings.glsl"
 #include "common/workgroup_sum.glsl"
 #include "physics/implicit.glsl"
-#include "physics/floor.glsl"
+#include "physics/integrate.glsl"
 
 // 1 when the scene has a floor (specialisation constant 1, as in constraint_apply).
 layout(constant_id = 1) const uint FLOOR = 1u;
@@ -35,7 +35,7 @@ void main() {
         implicit_accumulate(unused_a, b, g.xyz, g.w, 1.0, velocities[node].xyz, forces[node].xyz, pc.dt);
     }
     b = workgroup_sum2(b, 0.0).x;
-    float lambda = implicit_lambda(state.x, state.y, b, pc.dt, pc.epsilon);
+    float lambda = implicit_multiplier(state.x, state.y, b, pc.dt, pc.epsilon);
     for (uint k = l; k < object.node_count; k += stride) {
         uint node = surface_nodes[object.node_first + k];
         vec4 f = forces[node];

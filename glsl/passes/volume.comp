@@ -30,15 +30,14 @@ void main() {
     uvec4 tet = tets[t];
     vec4 p[4] = vec4[4](positions[tet.x], positions[tet.y], positions[tet.z], positions[tet.w]);
     vec3 g[4];
-    volume_gradients(p[0].xyz, p[1].xyz, p[2].xyz, p[3].xyz, g[0], g[1], g[2], g[3]);
+    float c = volume_constraint(p[0].xyz, p[1].xyz, p[2].xyz, p[3].xyz, rest_volumes[t], g[0], g[1], g[2], g[3]);
     float a = 0.0;
     float b = 0.0;
     for (int k = 0; k < 4; ++k) {
         uint node = tet[k];
         implicit_accumulate(a, b, g[k], p[k].w, combine_a_scale(pc.combine, degrees[group_node(node)]), velocities[node].xyz, forces[node].xyz, pc.dt);
     }
-    float c = volume_value(p[0].xyz, p[1].xyz, p[2].xyz, p[3].xyz, rest_volumes[t]);
-    float lambda = implicit_lambda(c, a, b, pc.dt, pc.epsilon);
+    float lambda = implicit_multiplier(c, a, b, pc.dt, pc.epsilon);
     for (uint k = 0u; k < 4u; ++k) {
         constraint_output(position, 4u, k, tet[k], -lambda * g[k], lambda != 0.0);
     }

@@ -3,13 +3,12 @@
 #ifndef PHYSICS_DISTANCE_GLSL
 #define PHYSICS_DISTANCE_GLSL
 
-float distance_value(vec3 xi, vec3 xj, float rest) {
+// C and its gradients (distance_constraint in src/physics/constraint.rs).
+float distance_constraint(vec3 xi, vec3 xj, float rest, out vec3 gi, out vec3 gj) {
     vec3 d = xi - xj;
+    gi = d * 2.0;
+    gj = d * -2.0;
     return dot(d, d) - rest * rest;
-}
-
-vec3 distance_gradient_i(vec3 xi, vec3 xj) {
-    return 2.0 * (xi - xj);
 }
 
 #endif

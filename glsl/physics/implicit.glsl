@@ -22,8 +22,9 @@ void implicit_accumulate(inout float a, inout float b, vec3 grad, float w, float
     b += dot(grad, v / dt + w * f);
 }
 
-// lambda from the constraint value and the accumulated A and B sums.
-float implicit_lambda(float c, float a, float b, float dt, float epsilon) {
+// lambda from the constraint value and the accumulated A and B sums (0, i.e. skip, where
+// Rust's implicit_multiplier returns None).
+float implicit_multiplier(float c, float a, float b, float dt, float epsilon) {
     if (!(a > epsilon) || isinf(a)) {
         return 0.0;
     }

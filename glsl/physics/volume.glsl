@@ -6,27 +6,27 @@
 #ifndef PHYSICS_VOLUME_GLSL
 #define PHYSICS_VOLUME_GLSL
 
-// Signed volume [m^3], positive for a positively oriented tet.
+// Signed volume [m^3], positive for a positively oriented tet (tet_volume in
+// src/physics/constraint.rs, computed in the same order).
 float tet_volume(vec3 p1, vec3 p2, vec3 p3, vec3 p4) {
     vec3 e1 = p2 - p1;
     vec3 e2 = p3 - p1;
     vec3 e3 = p4 - p1;
-    return dot(cross(e1, e2), e3) / 6.0;
+    return dot(cross(e1, e2), e3) * (1.0 / 6.0);
 }
 
-float volume_value(vec3 p1, vec3 p2, vec3 p3, vec3 p4, float rest) {
-    return tet_volume(p1, p2, p3, p4) - rest;
-}
-
-// Gradients of C with respect to p1..p4.
-void volume_gradients(vec3 p1, vec3 p2, vec3 p3, vec3 p4, out vec3 g1, out vec3 g2, out vec3 g3, out vec3 g4) {
+// C and its gradients with respect to p1..p4 (volume_constraint in
+// src/physics/constraint.rs, computed in the same order).
+float volume_constraint(vec3 p1, vec3 p2, vec3 p3, vec3 p4, float rest, out vec3 g1, out vec3 g2, out vec3 g3, out vec3 g4) {
     vec3 e1 = p2 - p1;
     vec3 e2 = p3 - p1;
     vec3 e3 = p4 - p1;
-    g2 = cross(e2, e3) / 6.0;
-    g3 = cross(e3, e1) / 6.0;
-    g4 = cross(e1, e2) / 6.0;
+    const float sixth = 1.0 / 6.0;
+    g2 = cross(e2, e3) * sixth;
+    g3 = cross(e3, e1) * sixth;
+    g4 = cross(e1, e2) * sixth;
     g1 = -(g2 + g3 + g4);
+    return dot(g4, e3) - rest;
 }
 
 // One boundary face's share of the enclosed volume measured from the reference point o

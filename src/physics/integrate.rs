@@ -1,4 +1,5 @@
-//! Time integration and the floor (physics.md, "Time integration" and step 3).
+//! Time integration and the floor (physics.md, "Time integration" and step 3); the GLSL
+//! twins, same names, are in glsl/physics/integrate.glsl.
 
 use super::{Real, Vector};
 
@@ -34,7 +35,7 @@ pub fn floor_force<R: Real>(y: R, vy: R, fy_other: R, w: R, dt: R) -> R {
 /// Re-solves a node's floor force against its total force `f` [N], which already holds the
 /// floor force `n` found so far (as part of `f.y`): returns the updated `(f, n)`. Every
 /// backend calls this after each constraint sweep and before integrating (`floor_solve` in
-/// glsl/physics/floor.glsl).
+/// glsl/physics/integrate.glsl).
 #[inline]
 pub fn floor_solve<V: Vector>(
     f: V,
@@ -58,7 +59,8 @@ pub fn floor_friction<V: Vector>(v: V, friction: V::Real) -> V {
     (v - up * vn) * (V::Real::ONE - friction) + up * vn
 }
 
-/// Symplectic Euler with floor friction: `v' = v + dt w F`; a node in contact (`contact`:
+/// Symplectic Euler with floor friction (`integrate_node` in glsl/physics/integrate.glsl):
+/// `v' = v + dt w F`; a node in contact (`contact`:
 /// its floor force is positive) loses `friction` of its tangential velocity; then
 /// `x' = x + dt v'`. Returns `(x', v')`.
 #[inline]
