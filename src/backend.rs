@@ -26,34 +26,8 @@ pub struct VolumeSample {
     pub local_error: f64,
 }
 
-/// Where and why a run diverged.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Divergence {
-    /// Frame (0-based) in which it was detected.
-    pub frame: u32,
-    /// Substep within that frame, when known.
-    pub substep: Option<u32>,
-    /// Method that was running.
-    pub method: String,
-    /// First node with a non-finite or out-of-bound value.
-    pub node: Option<u32>,
-    /// Human-readable cause and advice.
-    pub cause: String,
-}
-
-impl std::fmt::Display for Divergence {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "diverged at frame {}", self.frame)?;
-        if let Some(s) = self.substep {
-            write!(f, ", substep {s}")?;
-        }
-        write!(f, " (method {})", self.method)?;
-        if let Some(n) = self.node {
-            write!(f, ", first bad node {n}")?;
-        }
-        write!(f, ": {}", self.cause)
-    }
-}
+/// Where and why a run diverged (defined with the error that carries it).
+pub use crate::error::Divergence;
 
 /// What a GPU backend reports about a run besides the physics (`vulkan` only).
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -41,7 +41,7 @@ pub enum Error {
     Gpu(String),
     /// The simulation became non-finite or unbounded.
     #[error("{0}")]
-    Diverged(Box<crate::backend::Divergence>),
+    Diverged(Box<Divergence>),
 }
 
 /// Result with the library's [`Error`].
@@ -106,5 +106,34 @@ pub trait VkContext<T> {
 impl<T> VkContext<T> for std::result::Result<T, ash::vk::Result> {
     fn vk(self, call: &'static str) -> Result<T> {
         self.map_err(|result| Error::Vulkan { call, result })
+    }
+}
+
+/// Where and why a run diverged.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Divergence {
+    /// Frame (0-based) in which it was detected.
+    pub frame: u32,
+    /// Substep within that frame, when known.
+    pub substep: Option<u32>,
+    /// Method that was running.
+    pub method: String,
+    /// First node with a non-finite or out-of-bound value.
+    pub node: Option<u32>,
+    /// Human-readable cause and advice.
+    pub cause: String,
+}
+
+impl std::fmt::Display for Divergence {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "diverged at frame {}", self.frame)?;
+        if let Some(s) = self.substep {
+            write!(f, ", substep {s}")?;
+        }
+        write!(f, " (method {})", self.method)?;
+        if let Some(n) = self.node {
+            write!(f, ", first bad node {n}")?;
+        }
+        write!(f, ": {}", self.cause)
     }
 }

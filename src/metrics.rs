@@ -138,18 +138,6 @@ fn one() -> u32 {
 }
 
 impl RunRecord {
-    /// Takes the per-frame series and the divergence of `sim`, then [`RunRecord::summarise`]s.
-    pub fn fill_from(&mut self, sim: &crate::runner::Simulation) {
-        let series = sim.series.clone();
-        self.time_s = series.time_s;
-        self.volume_pct = series.volume_pct;
-        self.inverted_tets = series.inverted;
-        self.local_error_pct = series.local_error_pct;
-        self.diverged = sim.divergence.is_some();
-        self.divergence = sim.divergence.clone();
-        self.summarise();
-    }
-
     /// The contact time, when the run ended before it: its volume figures then measure a
     /// free fall, not the drop the paper's column is about.
     pub fn ends_before_contact(&self) -> Option<f64> {
@@ -285,14 +273,18 @@ pub fn pass_table(records: &[RunRecord]) -> String {
 pub fn write_json(path: &Path, records: &[RunRecord]) -> Result<()> {
     let text = serde_json::to_string_pretty(records)
         .map_err(|e| Error::param("metrics", format!("cannot serialise the run records: {e}")))?;
-    crate::runner::write_atomically(path, text.as_bytes())
+    Ok(crate::mesh::io::write_atomic(path, |w| {
+        w.write_all(text.as_bytes())
+    })?)
 }
 
 /// Writes any serialisable value as pretty JSON to `path` (temporary file, then rename).
 pub fn write_json_value<T: Serialize + ?Sized>(path: &Path, value: &T) -> Result<()> {
     let text = serde_json::to_string_pretty(value)
         .map_err(|e| Error::param("json", format!("cannot serialise {}: {e}", path.display())))?;
-    crate::runner::write_atomically(path, text.as_bytes())
+    Ok(crate::mesh::io::write_atomic(path, |w| {
+        w.write_all(text.as_bytes())
+    })?)
 }
 
 #[cfg(test)]

@@ -8,10 +8,11 @@ use std::path::Path;
 use std::process::Command;
 
 use common::box_mesh;
-use tetrasim::bench::report::{equal_work_pairs, write_outputs, OUTPUT_FILES};
+use tetrasim::bench::report::equal_work_pairs;
 use tetrasim::bench::scaling::{self, ScalingOptions};
 use tetrasim::bench::suite::write_json;
 use tetrasim::bench::tradeoff::SolverSetting;
+use tetrasim::bench::tradeoff_files::{write_outputs, OUTPUT_FILES};
 use tetrasim::bench::{
     run_suite, run_tradeoff, Backends, BenchMesh, BenchOptions, BenchRecord, ReferenceSettings,
     SimulateOptions, SweepSpec, TradeoffOptions, TradeoffRecord,

@@ -4,10 +4,7 @@
 
 use std::fmt::Write as _;
 
-use super::pareto::pareto_front;
 use super::tradeoff::TradeoffRecord;
-
-pub use super::tradeoff_files::{write_csv, write_outputs, OUTPUT_FILES};
 
 /// Volume-error budgets [%] the report answers "cheapest setting" for.
 pub const VOLUME_BUDGETS: [f64; 6] = [10.0, 5.0, 2.0, 1.0, 0.5, 0.2];
@@ -18,46 +15,6 @@ pub const LOCAL_BUDGETS: [f64; 6] = [2.0, 1.0, 0.5, 0.25, 0.15, 0.1];
 
 /// Cost ratio within which two settings count as "equal cost".
 pub const EQUAL_COST_RATIO: f64 = 1.5;
-
-pub(super) fn volume_point(r: &TradeoffRecord) -> (f64, f64) {
-    if r.diverged {
-        (f64::NAN, f64::NAN)
-    } else {
-        (r.ms_per_frame, r.volume_error_pct)
-    }
-}
-
-pub(super) fn position_point(r: &TradeoffRecord) -> (f64, f64) {
-    match r.pos_rms_rel {
-        Some(e) if !r.diverged => (r.ms_per_frame, e),
-        _ => (f64::NAN, f64::NAN),
-    }
-}
-
-/// Sets `pareto_volume` (over all settings) and `pareto_position` (within each method: the
-/// position errors of different methods are measured against different references, so they
-/// are not compared) on every record. Diverged runs are never on a front.
-pub fn mark_pareto(records: &mut [TradeoffRecord]) {
-    let vol: Vec<(f64, f64)> = records.iter().map(volume_point).collect();
-    let fv = pareto_front(&vol);
-    let methods: Vec<String> = records.iter().map(|r| r.method.clone()).collect();
-    let pos: Vec<(f64, f64)> = records.iter().map(position_point).collect();
-    for (i, r) in records.iter_mut().enumerate() {
-        r.pareto_volume = fv.contains(&i);
-        let masked: Vec<(f64, f64)> = pos
-            .iter()
-            .zip(&methods)
-            .map(|(&p, m)| {
-                if *m == methods[i] {
-                    p
-                } else {
-                    (f64::NAN, f64::NAN)
-                }
-            })
-            .collect();
-        r.pareto_position = pareto_front(&masked).contains(&i);
-    }
-}
 
 fn setting(r: &TradeoffRecord) -> String {
     format!(

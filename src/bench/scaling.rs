@@ -8,9 +8,9 @@ use serde::{Deserialize, Serialize};
 
 use super::accuracy::element_iterations_per_frame;
 use super::plot::{write_png, LogChart, Series, SeriesKind, PLOT_SIZE};
-use super::report::write_csv;
 use super::simulate::{simulate, Backends, SimulateOptions};
 use super::stats::FrameTimes;
+use super::tradeoff_files::write_csv;
 use crate::error::{Error, Result};
 use crate::mesh::{shapes, voxel, TetMesh};
 use crate::model::Model;

@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 use super::accuracy::{
     accuracy, element_iterations_per_frame, has_iterations, Reference, ReferenceSettings,
 };
+use super::pareto::pareto_front;
 use super::simulate::{simulate, Backends, SimulateOptions};
 use super::stats::FrameTimes;
 use crate::error::{Error, Result};
@@ -416,8 +417,50 @@ pub fn run_tradeoff(
         progress(&record);
         records.push(record);
     }
-    super::report::mark_pareto(&mut records);
+    mark_pareto(&mut records);
     Ok(records)
+}
+
+/// A record's (cost, volume error) point; NaN for a diverged run.
+pub(super) fn volume_point(r: &TradeoffRecord) -> (f64, f64) {
+    if r.diverged {
+        (f64::NAN, f64::NAN)
+    } else {
+        (r.ms_per_frame, r.volume_error_pct)
+    }
+}
+
+/// A record's (cost, position error) point; NaN without one or for a diverged run.
+pub(super) fn position_point(r: &TradeoffRecord) -> (f64, f64) {
+    match r.pos_rms_rel {
+        Some(e) if !r.diverged => (r.ms_per_frame, e),
+        _ => (f64::NAN, f64::NAN),
+    }
+}
+
+/// Sets `pareto_volume` (over all settings) and `pareto_position` (within each method: the
+/// position errors of different methods are measured against different references, so they
+/// are not compared) on every record. Diverged runs are never on a front.
+pub fn mark_pareto(records: &mut [TradeoffRecord]) {
+    let vol: Vec<(f64, f64)> = records.iter().map(volume_point).collect();
+    let fv = pareto_front(&vol);
+    let methods: Vec<String> = records.iter().map(|r| r.method.clone()).collect();
+    let pos: Vec<(f64, f64)> = records.iter().map(position_point).collect();
+    for (i, r) in records.iter_mut().enumerate() {
+        r.pareto_volume = fv.contains(&i);
+        let masked: Vec<(f64, f64)> = pos
+            .iter()
+            .zip(&methods)
+            .map(|(&p, m)| {
+                if *m == methods[i] {
+                    p
+                } else {
+                    (f64::NAN, f64::NAN)
+                }
+            })
+            .collect();
+        r.pareto_position = pareto_front(&masked).contains(&i);
+    }
 }
 
 #[cfg(test)]

@@ -4,8 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use super::plot::{write_png, LogChart, Series, SeriesKind, PLOT_SIZE};
-use super::report::{position_point, report, volume_point};
-use super::tradeoff::TradeoffRecord;
+use super::report::report;
+use super::tradeoff::{position_point, volume_point, TradeoffRecord};
 use crate::error::{Error, Result};
 
 fn chart(records: &[TradeoffRecord], volume: bool) -> LogChart {

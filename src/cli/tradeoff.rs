@@ -5,10 +5,9 @@ use std::path::PathBuf;
 use anyhow::Context as _;
 
 use super::bench::{choose_backends, GpuArgs};
-use crate::bench::report::{
-    equal_cost_pairs, equal_work_pairs, front_table, verdict, write_outputs,
-};
+use crate::bench::report::{equal_cost_pairs, equal_work_pairs, front_table, verdict};
 use crate::bench::scaling::{self, ScalingOptions, DEFAULT_SIZES};
+use crate::bench::tradeoff_files::write_outputs;
 use crate::bench::{
     run_tradeoff, Backends, ReferenceSettings, SimulateOptions, SweepSpec, TradeoffOptions,
 };
@@ -84,7 +83,7 @@ pub fn execute_tradeoff(args: TradeoffArgs) -> anyhow::Result<()> {
             std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
         let mut records: Vec<crate::bench::TradeoffRecord> = serde_json::from_str(&text)
             .with_context(|| format!("{}: not a tradeoff.json", path.display()))?;
-        crate::bench::report::mark_pareto(&mut records);
+        crate::bench::tradeoff::mark_pareto(&mut records);
         return finish(&args, &records);
     }
     let Some(mesh) = &args.mesh else {

@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use crate::backend::{Backend, Divergence};
 use crate::error::{Error, Result};
-use crate::metrics::{local_error_pct, volume_pct};
+use crate::metrics::{local_error_pct, volume_pct, RunRecord};
 use crate::model::Model;
 use crate::params::SimParams;
 
@@ -76,6 +76,19 @@ impl Simulation {
     /// Whether the run has stopped (diverged).
     pub fn stopped(&self) -> bool {
         self.divergence.is_some()
+    }
+
+    /// Puts the per-frame series and the divergence into `record`, then
+    /// [`RunRecord::summarise`]s it.
+    pub fn fill_record(&self, record: &mut RunRecord) {
+        let series = self.series.clone();
+        record.time_s = series.time_s;
+        record.volume_pct = series.volume_pct;
+        record.inverted_tets = series.inverted;
+        record.local_error_pct = series.local_error_pct;
+        record.diverged = self.divergence.is_some();
+        record.divergence = self.divergence.clone();
+        record.summarise();
     }
 
     /// The last sampled total volume [%], if any frame was sampled.

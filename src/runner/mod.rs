@@ -87,7 +87,7 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
         bar.inc(1);
     }
     bar.finish_and_clear();
-    record.fill_from(&sim);
+    sim.fill_record(&mut record);
     if !every_frame {
         record.frames_run = sim.frames();
     }

@@ -1,9 +1,9 @@
 //! Where the edge of stability is: the stable-step estimate ([`estimate`]), the divergence
-//! speed limit, and the dt x ks sweep behind `tetrasim stability`.
+//! speed limit and the likely cause of a divergence. Every backend uses them, so they depend
+//! on the model and the parameters only; the dt x ks sweep that measures the edge is in
+//! [`crate::bench::stability_map`].
 
 pub mod estimate;
-pub mod plot;
-pub mod sweep;
 
 pub use estimate::{estimate, speed_limit, StepEstimate};
 

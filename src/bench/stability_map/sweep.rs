@@ -117,7 +117,7 @@ pub fn sweep(
                     diverged: r.diverged,
                     max_volume_error_pct: error,
                     final_volume_pct: r.volume_pct.last().copied().unwrap_or(0.0),
-                    dt_estimate: super::estimate(model, &params).dt_max,
+                    dt_estimate: crate::stability::estimate(model, &params).dt_max,
                 };
                 progress(&cell);
                 cells.push(cell);
