@@ -2,7 +2,7 @@
 //! (2857 tets), `seed` physics. The `vulkan` rows are skipped when no Vulkan device exists.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use tetrasim::bench::{Backends, Solver};
+use tetrasim::bench::Backends;
 use tetrasim::engine::EngineOptions;
 use tetrasim::params::{Method, Placement, SimParams};
 use tetrasim::runner::{build_model, load_mesh};
@@ -29,10 +29,10 @@ fn frames(c: &mut Criterion) {
                 ..SimParams::default()
             };
             let model = build_model(&mesh, &params, Placement::default()).expect("model");
-            let mut solver: Solver = backends.create(backend, &model, &params).expect("backend");
+            let mut solver = backends.create(backend, &model, &params).expect("backend");
             group.bench_function(format!("{backend}/{method}"), |b| {
                 // The scene keeps falling and bouncing; each frame is a real frame of it.
-                b.iter(|| solver.backend().step_frame().expect("frame"))
+                b.iter(|| solver.step_frame().expect("frame"))
             });
         }
     }

@@ -60,6 +60,11 @@ pub trait Backend {
     /// pinned nodes (`examples/pull.rs`). Fails unless `state` has one finite position and
     /// velocity per node.
     fn set_state(&mut self, state: &State) -> Result<()>;
+    /// Forgets the GPU pass times measured so far, so a benchmark times only the frames after
+    /// its warm-up; nothing on backends without GPU timing.
+    fn reset_timing(&mut self) -> Result<()> {
+        Ok(())
+    }
     /// Device, atomic path and per-pass GPU times; `None` for CPU backends.
     fn gpu_report(&mut self) -> Result<Option<GpuReport>> {
         Ok(None)

@@ -190,7 +190,7 @@ impl Reference {
         let params = settings.params(trial);
         params.validate()?;
         let mut solver = backends.create(&settings.backend, model, &params)?;
-        let simulation = simulate(&mut solver, model, &params, options)?;
+        let simulation = simulate(solver.as_mut(), model, &params, options)?;
         if let Some(d) = &simulation.divergence {
             return Err(Error::param(
                 "reference",

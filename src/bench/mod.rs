@@ -25,7 +25,7 @@ pub mod tradeoff;
 pub mod tradeoff_files;
 
 pub use accuracy::{Accuracy, PositionError, Reference, ReferenceSettings, VolumeStats};
-pub use simulate::{simulate, Backends, Measured, Sample, SimulateOptions, Solver};
+pub use simulate::{simulate, Backends, Measured, Sample, SimulateOptions};
 pub use suite::{run_suite, BenchMesh, BenchOptions, BenchRecord};
 pub use tradeoff::{run_tradeoff, SweepSpec, TradeoffOptions, TradeoffRecord};
 

@@ -97,7 +97,7 @@ pub fn run_scaling(
             };
             for backend in &options.backends {
                 let mut solver = backends.create(backend, &model, &params)?;
-                let sim = simulate(&mut solver, &model, &params, &options.frames)?;
+                let sim = simulate(solver.as_mut(), &model, &params, &options.frames)?;
                 drop(solver);
                 let times = FrameTimes::of(&sim.frame_ms);
                 let work = element_iterations_per_frame(&model, &params);

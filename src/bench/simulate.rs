@@ -3,78 +3,47 @@
 //! warm-up frames whose times are dropped, GPU pass times over the timed frames only, and
 //! node positions read back at chosen frames for the position error.
 
-use std::sync::Arc;
-
 use glam::DVec3;
 
 use crate::backend::{Backend, GpuReport};
-use crate::engine::{EngineOptions, VulkanBackend};
+use crate::engine::EngineOptions;
 use crate::error::{Error, Result};
-use crate::gpu::{Context, ContextOptions};
 use crate::model::Model;
 use crate::params::SimParams;
-use crate::runner::{create_backend, Advance, Simulation};
+use crate::runner::{Advance, BackendFactory, Simulation};
 
-/// Creates backends by name; every `vulkan` backend shares one Vulkan context (one instance,
-/// one device), created on first use. The `vulkan` backends it creates for timing run without
-/// GPU timestamps and measure the volume on demand, outside the timed `step_frame` (as the
-/// CPU backends do); [`Backends::pass_report`] measures the pass breakdown in a separate,
-/// timestamped run.
+/// The benchmarks' backends: a [`BackendFactory`] whose `vulkan` backends run without GPU
+/// timestamps and measure the volume on demand, outside the timed `step_frame` (as the CPU
+/// backends do); [`Backends::pass_report`] measures the pass breakdown in a separate,
+/// timestamped run on the same context.
 pub struct Backends {
-    gpu: EngineOptions,
-    ctx: Option<Arc<Context>>,
+    factory: BackendFactory,
 }
 
 /// Frames of the timestamped run that measures the pass breakdown (after 5 warm-up frames).
 pub const PASS_REPORT_FRAMES: u32 = 20;
 
-/// A backend, with the Vulkan one kept concrete so its pass timers can be reset after the
-/// warm-up frames.
-pub enum Solver {
-    /// The `vulkan` backend.
-    Vulkan(Box<VulkanBackend>),
-    /// `cpu` or `cpu-ref`.
-    Other(Box<dyn Backend>),
-}
-
-impl Solver {
-    /// The backend behind the common interface.
-    pub fn backend(&mut self) -> &mut dyn Backend {
-        match self {
-            Solver::Vulkan(b) => b.as_mut(),
-            Solver::Other(b) => b.as_mut(),
-        }
-    }
-
-    /// Forgets GPU pass times measured so far (nothing on CPU backends).
-    pub fn reset_timing(&mut self) -> Result<()> {
-        match self {
-            Solver::Vulkan(b) => b.reset_pass_times(),
-            Solver::Other(_) => Ok(()),
-        }
-    }
-}
-
 impl Backends {
     /// Backends with these GPU options (device, validation, workgroup size).
     pub fn new(gpu: EngineOptions) -> Self {
-        Backends { gpu, ctx: None }
+        Backends {
+            factory: BackendFactory::new(EngineOptions {
+                untimed: true,
+                volume_on_demand: true,
+                ..gpu
+            }),
+        }
     }
 
     /// The backend `name` (`vulkan`, `cpu`, `cpu-ref`) for `model` with `params`; a
     /// `vulkan` one untimed, with the volume measured on demand.
-    pub fn create(&mut self, name: &str, model: &Model, params: &SimParams) -> Result<Solver> {
-        if name != "vulkan" {
-            return Ok(Solver::Other(create_backend(name, model, params)?));
-        }
-        let options = EngineOptions {
-            untimed: true,
-            volume_on_demand: true,
-            ..self.gpu.clone()
-        };
-        Ok(Solver::Vulkan(Box::new(
-            self.vulkan(model, params, &options)?,
-        )))
+    pub fn create(
+        &mut self,
+        name: &str,
+        model: &Model,
+        params: &SimParams,
+    ) -> Result<Box<dyn Backend>> {
+        self.factory.create(name, model, params)
     }
 
     /// Device, atomics and GPU time per pass of `model` under `params`, from a separate
@@ -84,9 +53,9 @@ impl Backends {
         let options = EngineOptions {
             untimed: false,
             volume_on_demand: false,
-            ..self.gpu.clone()
+            ..self.factory.options().clone()
         };
-        let mut gpu = self.vulkan(model, params, &options)?;
+        let mut gpu = self.factory.vulkan(model, params, &options)?;
         for frame in 0..5 + PASS_REPORT_FRAMES {
             if frame == 5 {
                 gpu.reset_pass_times()?;
@@ -98,26 +67,6 @@ impl Backends {
             }
         }
         gpu.gpu_report()
-    }
-
-    fn vulkan(
-        &mut self,
-        model: &Model,
-        params: &SimParams,
-        options: &EngineOptions,
-    ) -> Result<VulkanBackend> {
-        let ctx = match &self.ctx {
-            Some(ctx) => ctx.clone(),
-            None => {
-                let ctx = Arc::new(Context::new(&ContextOptions {
-                    device: self.gpu.device.clone(),
-                    validation: self.gpu.validation,
-                })?);
-                self.ctx = Some(ctx.clone());
-                ctx
-            }
-        };
-        VulkanBackend::with_context_and_options(ctx, model, params, options)
     }
 }
 
@@ -186,7 +135,7 @@ pub struct Measured {
 /// Runs `options.total_frames()` frames of `solver` on `model` (see the module doc). A
 /// divergence ends the run early and is recorded, not returned as an error.
 pub fn simulate(
-    solver: &mut Solver,
+    backend: &mut dyn Backend,
     model: &Model,
     params: &SimParams,
     options: &SimulateOptions,
@@ -201,9 +150,9 @@ pub fn simulate(
     let mut run = Simulation::new(model, params);
     for frame in 0..total {
         if frame == options.warmup && options.warmup > 0 {
-            solver.reset_timing()?;
+            backend.reset_timing()?;
         }
-        let Advance::Stepped(step_s) = run.advance(solver.backend(), true)? else {
+        let Advance::Stepped(step_s) = run.advance(backend, true)? else {
             break;
         };
         if frame >= options.warmup {
@@ -212,13 +161,13 @@ pub fn simulate(
         if sample_frames.contains(&(frame + 1)) {
             samples.push(Sample {
                 frame: frame + 1,
-                positions: solver.backend().state()?.positions,
+                positions: backend.state()?.positions,
             });
         }
     }
     let series = run.series;
     let mut sim = Measured {
-        backend: solver.backend().name().to_string(),
+        backend: backend.name().to_string(),
         frame_ms,
         volume_pct: series.volume_pct,
         inverted: series.inverted,
@@ -227,7 +176,7 @@ pub fn simulate(
         divergence: run.divergence,
         gpu: None,
     };
-    sim.gpu = solver.backend().gpu_report()?;
+    sim.gpu = backend.gpu_report()?;
     Ok(sim)
 }
 

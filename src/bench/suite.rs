@@ -159,7 +159,7 @@ pub fn run_suite(
             };
             for backend in &options.backends {
                 let mut solver = backends.create(backend, &mesh.model, &params)?;
-                let mut sim = simulate(&mut solver, &mesh.model, &params, &sim_options)?;
+                let mut sim = simulate(solver.as_mut(), &mesh.model, &params, &sim_options)?;
                 drop(solver);
                 if backend == "vulkan" {
                     sim.gpu = backends.pass_report(&mesh.model, &params)?;

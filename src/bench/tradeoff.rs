@@ -376,7 +376,7 @@ pub fn run_tradeoff(
             }
         };
         let mut solver = backends.create(&options.backend, model, &params)?;
-        let sim = simulate(&mut solver, model, &params, &options.frames)?;
+        let sim = simulate(solver.as_mut(), model, &params, &options.frames)?;
         drop(solver);
         let acc = accuracy(&sim, &params, model, Some(reference))?;
         let times = FrameTimes::of(&sim.frame_ms);

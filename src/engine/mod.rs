@@ -374,6 +374,10 @@ impl Backend for VulkanBackend {
         "vulkan"
     }
 
+    fn reset_timing(&mut self) -> Result<()> {
+        self.reset_pass_times()
+    }
+
     /// Submits the recorded frame and waits for it: one fence wait, no extra transfer (the
     /// divergence status and, with per-frame metrics, the volume partials are copied to
     /// host-visible memory by the frame itself). A diverged frame is an

@@ -9,7 +9,7 @@ mod load;
 mod output;
 
 pub use driver::{Advance, Series, Simulation};
-pub use factory::{create_backend, create_backend_with, BACKENDS};
+pub use factory::{create_backend, create_backend_with, BackendFactory, BACKENDS};
 pub use load::{load_mesh, LoadedMesh, DEFAULT_MESH, DEFAULT_TARGET_TETS};
 pub use output::{
     create_dir, prepare_output_file, write_atomically, FrameOutput, OutputFormat, OutputUnits,
