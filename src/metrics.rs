@@ -224,11 +224,12 @@ pub fn short_run_warnings(records: &[RunRecord]) -> String {
             let frame_time = r.dt * f64::from(r.substeps);
             let _ = writeln!(
                 out,
-                "warning: {} on {} ran {} frames ({:.3} s) and ended before the body reached the \
-                 floor (at {t:.3} s, frame {}): its volume figures are those of a free fall, not \
-                 of the paper's drop",
+                "warning: {} on {} ({}) ran {} frames ({:.3} s) and ended before the body reached \
+                 the floor (at {t:.3} s, frame {}): its volume figures are those of a free fall, \
+                 not of the paper's drop",
                 r.method,
                 r.backend,
+                r.mesh,
                 r.frames_run,
                 f64::from(r.frames_run) * frame_time,
                 (t / frame_time).ceil()

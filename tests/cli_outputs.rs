@@ -57,7 +57,11 @@ fn records_have_a_time_axis_and_short_runs_are_flagged() {
     assert!(short.status.success(), "{}", stderr(&short));
     let table = String::from_utf8_lossy(&short.stdout);
     assert!(table.contains("ended before reaching the floor"), "{table}");
-    assert!(stderr(&short).contains("warning: volume on cpu ran 30 frames"));
+    let warning = stderr(&short);
+    assert!(
+        warning.contains("warning: volume on cpu (") && warning.contains(") ran 30 frames"),
+        "{warning}"
+    );
     let records: Vec<RunRecord> =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let r = &records[0];
