@@ -83,6 +83,26 @@ pub fn barrier(
     }
 }
 
+/// Makes every write of `from` available and visible to `to` (a global memory barrier, for
+/// many buffers at once).
+pub fn memory_barrier(ctx: &Context, cmd: vk::CommandBuffer, from: Access, to: Access) {
+    let barrier = [vk::MemoryBarrier::default()
+        .src_access_mask(from.access)
+        .dst_access_mask(to.access)];
+    // SAFETY: `cmd` is recording.
+    unsafe {
+        ctx.device().cmd_pipeline_barrier(
+            cmd,
+            from.stage,
+            to.stage,
+            vk::DependencyFlags::empty(),
+            &barrier,
+            &[],
+            &[],
+        );
+    }
+}
+
 /// A command buffer with its own pool and fence, recorded once and submitted any number of
 /// times. Dropping it waits for a pending submission.
 pub struct Recorded {

@@ -13,7 +13,7 @@ pub mod layout;
 pub mod spirv;
 pub mod timing;
 
-pub use buffer::Buffer;
+pub use buffer::{Buffer, Uploads};
 pub use context::{list_devices, Context, ContextOptions};
 pub use descriptors::BindingLayout;
 pub use device::{AtomicsPath, DeviceInfo, DeviceSelector};
