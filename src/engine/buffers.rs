@@ -10,7 +10,7 @@ use gpu_allocator::MemoryLocation;
 use super::plan::{BufferId, EnginePlan};
 use crate::backend::State;
 use crate::gpu::layout::{vec4, GpuGlobalObject, GpuSpring};
-use crate::gpu::{Buffer, Context};
+use crate::gpu::{Buffer, Context, Uploads};
 use crate::model::{ConstraintGroups, GlobalVolume, Model};
 use crate::params::{Method, SimParams};
 use crate::{Error, Result};
@@ -84,8 +84,10 @@ impl SimBuffers {
             .zip(mass)
             .map(|(&v, &m)| vec4(v, m))
             .collect();
-        self.positions.upload(bytes(&positions))?;
-        self.velocities.upload(bytes(&velocities))
+        let mut uploads = Uploads::default();
+        uploads.write(&self.positions, bytes(&positions))?;
+        uploads.write(&self.velocities, bytes(&velocities))?;
+        uploads.submit(self.positions.context())
     }
 
     /// Uploads `model` for `params` as `plan` says, with the method's constraints split into
@@ -133,49 +135,70 @@ impl SimBuffers {
         // `ConstraintCombine::node_factors` (push constant `combine`).
         let groups = groups.filter(|_| plan.has(BufferId::Degrees));
         let degrees = groups.map(|g| g.degree.iter().map(|&c| c as f32).collect::<Vec<f32>>());
-        let upload = |id: BufferId, data: &[u8]| Buffer::with_data(ctx, id.name(), data);
-        let optional = |id: BufferId, data: &dyn Fn() -> Vec<u8>| -> Result<Option<Buffer>> {
+        // Every initial upload goes into one batch: one staging buffer, one submit, one wait
+        // (after the struct below owns every destination buffer).
+        let mut up = Uploads::default();
+        let mut upload = |id: BufferId, data: &[u8]| up.with_data(ctx, id.name(), data);
+        let positions_buffer = upload(BufferId::Positions, bytes(&positions))?;
+        let velocities_buffer = upload(BufferId::Velocities, bytes(&velocities))?;
+        let forces_buffer = upload(BufferId::Forces, bytes(&forces))?;
+        let springs_buffer = upload(BufferId::Springs, bytes(&springs))?;
+        let tets_buffer = upload(BufferId::Tets, bytes(&model.tets))?;
+        let status_buffer = upload(BufferId::Status, bytes(&initial_status(speed_limit)))?;
+        let degrees = match degrees {
+            Some(w) => Some(upload(BufferId::Degrees, bytes(&w))?),
+            None => None,
+        };
+        let mut optional = |id: BufferId, data: &dyn Fn() -> Vec<u8>| -> Result<Option<Buffer>> {
             match plan.has(id) {
-                true => Ok(Some(upload(id, &data())?)),
+                true => Ok(Some(up.with_data(ctx, id.name(), &data())?)),
                 false => Ok(None),
             }
         };
-        let partials_size = plan.buffer(BufferId::Partials).map_or(0, |b| b.bytes);
-        let status = initial_status(speed_limit);
-        let buffers = SimBuffers {
-            positions: upload(BufferId::Positions, bytes(&positions))?,
-            velocities: upload(BufferId::Velocities, bytes(&velocities))?,
-            forces: upload(BufferId::Forces, bytes(&forces))?,
-            springs: upload(BufferId::Springs, bytes(&springs))?,
-            tets: upload(BufferId::Tets, bytes(&model.tets))?,
-            rest_volumes: optional(BufferId::RestVolumes, &|| {
-                bytes(&floats(&model.rest_volume)).to_vec()
+        let rest_volumes = optional(BufferId::RestVolumes, &|| {
+            bytes(&floats(&model.rest_volume)).to_vec()
+        })?;
+        let node_springs = match (
+            optional(BufferId::NodeSpringOffsets, &|| {
+                bytes(&model.node_springs.offsets).to_vec()
             })?,
-            constraint_sum: optional(BufferId::ConstraintSum, &|| vec![0u8; n * 16])?,
-            chebyshev_before: optional(BufferId::ChebyshevBefore, &|| vec![0u8; n * 16])?,
-            degrees: match degrees {
-                Some(w) => Some(upload(BufferId::Degrees, bytes(&w))?),
-                None => None,
-            },
-            gather: match groups.filter(|_| plan.gather) {
-                Some(g) => Some(gather_buffers(ctx, model, params, g)?),
-                None => None,
-            },
-            global: match global.filter(|_| plan.global.is_some()) {
-                Some(g) => Some(global_buffers(ctx, g)?),
-                None => None,
-            },
-            node_springs: match (
-                optional(BufferId::NodeSpringOffsets, &|| {
-                    bytes(&model.node_springs.offsets).to_vec()
-                })?,
-                optional(BufferId::NodeSpringItems, &|| {
-                    bytes(&model.node_springs.items).to_vec()
-                })?,
-            ) {
-                (Some(o), Some(i)) => Some((o, i)),
-                _ => None,
-            },
+            optional(BufferId::NodeSpringItems, &|| {
+                bytes(&model.node_springs.items).to_vec()
+            })?,
+        ) {
+            (Some(o), Some(i)) => Some((o, i)),
+            _ => None,
+        };
+        let mut zeroed = |id: BufferId| -> Result<Option<Buffer>> {
+            match plan.has(id) {
+                true => Ok(Some(up.zeroed(ctx, id.name(), (n * 16) as u64)?)),
+                false => Ok(None),
+            }
+        };
+        let constraint_sum = zeroed(BufferId::ConstraintSum)?;
+        let chebyshev_before = zeroed(BufferId::ChebyshevBefore)?;
+        let gather = match groups.filter(|_| plan.gather) {
+            Some(g) => Some(gather_buffers(ctx, &mut up, model, params, g)?),
+            None => None,
+        };
+        let global = match global.filter(|_| plan.global.is_some()) {
+            Some(g) => Some(global_buffers(ctx, &mut up, g)?),
+            None => None,
+        };
+        let partials_size = plan.buffer(BufferId::Partials).map_or(0, |b| b.bytes);
+        let buffers = SimBuffers {
+            positions: positions_buffer,
+            velocities: velocities_buffer,
+            forces: forces_buffer,
+            springs: springs_buffer,
+            tets: tets_buffer,
+            rest_volumes,
+            constraint_sum,
+            chebyshev_before,
+            degrees,
+            gather,
+            global,
+            node_springs,
             partials: Buffer::new(
                 ctx,
                 BufferId::Partials.name(),
@@ -191,10 +214,11 @@ impl SimBuffers {
                 )?),
                 false => None,
             },
-            status: upload(BufferId::Status, bytes(&status))?,
+            status: status_buffer,
             status_readback: Buffer::readback(ctx, "divergence status (readback)", 16)?,
         };
         buffers.check_against(plan)?;
+        up.submit(ctx)?;
         Ok(buffers)
     }
 
@@ -259,6 +283,7 @@ impl SimBuffers {
 /// CSR ([`ConstraintGroups::node_slots`]).
 fn gather_buffers(
     ctx: &Arc<Context>,
+    up: &mut Uploads,
     model: &Model,
     params: &SimParams,
     groups: &ConstraintGroups,
@@ -268,20 +293,28 @@ fn gather_buffers(
         Method::Volume => (groups.node_slots(&model.tets, n), 4),
         _ => (groups.node_slots(&model.springs, n), 2),
     };
-    let upload = |id: BufferId, data: &[u8]| Buffer::with_data(ctx, id.name(), data);
     Ok([
-        upload(BufferId::GroupMembers, bytes(&groups.members.items))?,
-        upload(
-            BufferId::Contributions,
-            &vec![0u8; 16 * corners * groups.members.items.len()],
+        up.with_data(
+            ctx,
+            BufferId::GroupMembers.name(),
+            bytes(&groups.members.items),
         )?,
-        upload(BufferId::NodeSlotOffsets, bytes(&slots.offsets))?,
-        upload(BufferId::NodeSlotItems, bytes(&slots.items))?,
+        up.zeroed(
+            ctx,
+            BufferId::Contributions.name(),
+            (16 * corners * groups.members.items.len()) as u64,
+        )?,
+        up.with_data(ctx, BufferId::NodeSlotOffsets.name(), bytes(&slots.offsets))?,
+        up.with_data(ctx, BufferId::NodeSlotItems.name(), bytes(&slots.items))?,
     ])
 }
 
 /// The global volume constraints' buffers ([`GlobalVolume`]).
-fn global_buffers(ctx: &Arc<Context>, global: &GlobalVolume) -> Result<[Buffer; 7]> {
+fn global_buffers(
+    ctx: &Arc<Context>,
+    up: &mut Uploads,
+    global: &GlobalVolume,
+) -> Result<[Buffer; 7]> {
     let objects: Vec<GpuGlobalObject> = global
         .objects
         .iter()
@@ -295,18 +328,23 @@ fn global_buffers(ctx: &Arc<Context>, global: &GlobalVolume) -> Result<[Buffer; 
         })
         .collect();
     let faces: Vec<[u32; 4]> = global.faces.iter().map(|f| [f[0], f[1], f[2], 0]).collect();
-    let upload = |id: BufferId, data: &[u8]| Buffer::with_data(ctx, id.name(), data);
+    let mut upload = |id: BufferId, data: &[u8]| up.with_data(ctx, id.name(), data);
     Ok([
         upload(BufferId::GlobalObjects, bytes(&objects))?,
         upload(BufferId::SurfaceNodes, bytes(&global.nodes))?,
         upload(BufferId::SurfaceFaces, bytes(&faces))?,
         upload(BufferId::NodeFaceOffsets, bytes(&global.node_faces.offsets))?,
         upload(BufferId::NodeFaceItems, bytes(&global.node_faces.items))?,
-        upload(
-            BufferId::SurfaceGradients,
-            &vec![0u8; 16 * global.nodes.len()],
+        up.zeroed(
+            ctx,
+            BufferId::SurfaceGradients.name(),
+            (16 * global.nodes.len()) as u64,
         )?,
-        upload(BufferId::GlobalState, &vec![0u8; 16 * global.objects.len()])?,
+        up.zeroed(
+            ctx,
+            BufferId::GlobalState.name(),
+            (16 * global.objects.len()) as u64,
+        )?,
     ])
 }
 

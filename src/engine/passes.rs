@@ -28,7 +28,7 @@ use super::buffers::SimBuffers;
 use super::plan::{volume_sum_pass, Access as Use, EnginePlan, PassPlan, Repeat};
 use crate::gpu::commands::{barrier, Access};
 use crate::gpu::layout::PushConstants;
-use crate::gpu::{AtomicsPath, Buffer, Context, Kernel, Timer};
+use crate::gpu::{AtomicsPath, BindingLayout, Buffer, Context, Kernel, Timer};
 use crate::{Error, Result};
 
 /// A kernel with its plan entry.
@@ -38,8 +38,9 @@ pub(crate) struct Pass {
     kernel: Kernel,
 }
 
-/// Every pass of the plan, bound to the simulation buffers, plus the on-demand
-/// `volume_sum`.
+/// Every pass of the plan plus the on-demand `volume_sum`, all on one binding layout and
+/// descriptor set (held by the kernels) that points every binding the passes use at its
+/// simulation buffer.
 pub(crate) struct Passes {
     /// In the plan's order.
     pub frame: Vec<Pass>,
@@ -53,24 +54,10 @@ impl Pass {
         plan: &PassPlan,
         atomics: AtomicsPath,
         wg: u32,
-        b: &SimBuffers,
+        binding: &Arc<BindingLayout>,
     ) -> Result<Self> {
         let key = plan.shader_key(atomics.name());
-        let bindings = plan
-            .bindings
-            .iter()
-            .map(|(id, _)| {
-                b.get(*id).map(|buf| (id.binding(), buf)).ok_or_else(|| {
-                    Error::Gpu(format!(
-                        "pass `{}` binds buffer `{}`, which the plan does not build",
-                        plan.name(),
-                        id.name()
-                    ))
-                })
-            })
-            .collect::<Result<Vec<_>>>()?;
-        let kernel =
-            Kernel::with_constants(ctx, plan.name(), &key, &bindings, wg, &plan.constants)?;
+        let kernel = Kernel::with_constants(ctx, plan.name(), &key, binding, wg, &plan.constants)?;
         kernel.check_elements(plan.elements)?;
         Ok(Pass {
             plan: plan.clone(),
@@ -98,12 +85,41 @@ impl Passes {
         b: &SimBuffers,
     ) -> Result<Self> {
         let wg = plan.workgroup_size;
+        let volume_sum_plan = volume_sum_pass(plan.counts);
+        // The union of every pass's bindings: one buffer per binding number, so one set
+        // serves all passes.
+        let mut bound: Vec<(u32, &Buffer)> = Vec::new();
+        for pass in plan.passes.iter().chain(std::iter::once(&volume_sum_plan)) {
+            for (id, _) in &pass.bindings {
+                let buffer = b.get(*id).ok_or_else(|| {
+                    Error::Gpu(format!(
+                        "pass `{}` binds buffer `{}`, which the plan does not build",
+                        pass.name(),
+                        id.name()
+                    ))
+                })?;
+                match bound.iter().find(|(n, _)| *n == id.binding()) {
+                    None => bound.push((id.binding(), buffer)),
+                    Some((_, other)) if other.raw == buffer.raw => {}
+                    Some((n, other)) => {
+                        return Err(Error::Gpu(format!(
+                            "binding {n} would hold both `{}` and `{}`",
+                            other.name, buffer.name
+                        )))
+                    }
+                }
+            }
+        }
+        bound.sort_by_key(|(n, _)| *n);
+        let numbers: Vec<u32> = bound.iter().map(|(n, _)| *n).collect();
+        let binding = Kernel::binding_layout(ctx, "simulation", &numbers)?;
+        binding.write(&bound);
         let frame = plan
             .passes
             .iter()
-            .map(|p| Pass::new(ctx, p, atomics, wg, b))
+            .map(|p| Pass::new(ctx, p, atomics, wg, &binding))
             .collect::<Result<Vec<_>>>()?;
-        let volume_sum = Pass::new(ctx, &volume_sum_pass(plan.counts), atomics, wg, b)?;
+        let volume_sum = Pass::new(ctx, &volume_sum_plan, atomics, wg, &binding)?;
         Ok(Passes { frame, volume_sum })
     }
 }

@@ -1,7 +1,10 @@
 //! Command buffers: a one-shot submit for uploads and readbacks, a reusable recorded
-//! command buffer with its fence (the frame, recorded once and replayed), and the one
-//! barrier helper every pass uses.
+//! command buffer with its own pool and fence (the frame, recorded once and replayed), and
+//! the barrier helpers every pass uses. Each [`Recorded`] owning its command pool means no
+//! pool is shared between owners, so no pool needs a lock (see `gpu::context`).
 
+use std::cell::Cell;
+use std::marker::PhantomData;
 use std::sync::Arc;
 
 use ash::vk;
@@ -80,45 +83,75 @@ pub fn barrier(
     }
 }
 
-/// A command buffer with its own fence, recorded once and submitted any number of times.
-/// Dropping it waits for a pending submission.
+/// Makes every write of `from` available and visible to `to` (a global memory barrier, for
+/// many buffers at once).
+pub fn memory_barrier(ctx: &Context, cmd: vk::CommandBuffer, from: Access, to: Access) {
+    let barrier = [vk::MemoryBarrier::default()
+        .src_access_mask(from.access)
+        .dst_access_mask(to.access)];
+    // SAFETY: `cmd` is recording.
+    unsafe {
+        ctx.device().cmd_pipeline_barrier(
+            cmd,
+            from.stage,
+            to.stage,
+            vk::DependencyFlags::empty(),
+            &barrier,
+            &[],
+            &[],
+        );
+    }
+}
+
+/// A command buffer with its own pool and fence, recorded once and submitted any number of
+/// times. Dropping it waits for a pending submission.
 pub struct Recorded {
     ctx: Arc<Context>,
-    /// The command buffer.
+    /// The command buffer (from `pool`; the pool must only be used through this owner).
     pub cmd: vk::CommandBuffer,
+    pool: vk::CommandPool,
     fence: vk::Fence,
     pending: bool,
+    /// `Send` but not `Sync`: recording into `cmd` (and `end`) needs its pool externally
+    /// synchronised, so a `Recorded` is used from one thread at a time.
+    _not_sync: PhantomData<Cell<()>>,
 }
 
 impl Recorded {
-    /// Allocates the command buffer and begins recording (`one_time`: submitted once).
+    /// Makes a pool with one command buffer and begins recording (`one_time`: submitted
+    /// once).
     pub fn begin(ctx: &Arc<Context>, name: &str, one_time: bool) -> Result<Self> {
         let device = ctx.device();
+        let pool_flags = match one_time {
+            true => vk::CommandPoolCreateFlags::TRANSIENT,
+            false => vk::CommandPoolCreateFlags::empty(),
+        };
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(ctx.queue_family()?)
+            .flags(pool_flags);
+        // SAFETY: valid device and create info.
+        let pool =
+            unsafe { device.create_command_pool(&pool_info, None) }.vk("vkCreateCommandPool")?;
+        // From here on, Drop frees whatever exists (null handles are skipped).
+        let mut recorded = Recorded {
+            ctx: ctx.clone(),
+            cmd: vk::CommandBuffer::null(),
+            pool,
+            fence: vk::Fence::null(),
+            pending: false,
+            _not_sync: PhantomData,
+        };
         let alloc = vk::CommandBufferAllocateInfo::default()
-            .command_pool(ctx.command_pool())
+            .command_pool(pool)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
-        // SAFETY: valid pool of this device.
-        let cmd =
+        // SAFETY: `pool` is this device's and used by this thread only (just made).
+        recorded.cmd =
             unsafe { device.allocate_command_buffers(&alloc) }.vk("vkAllocateCommandBuffers")?[0];
         // SAFETY: valid device.
-        let fence = match unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) } {
-            Ok(f) => f,
-            Err(e) => {
-                // SAFETY: the command buffer was never submitted.
-                unsafe { device.free_command_buffers(ctx.command_pool(), &[cmd]) };
-                return Err(crate::Error::Vulkan {
-                    call: "vkCreateFence",
-                    result: e,
-                });
-            }
-        };
-        let recorded = Recorded {
-            ctx: ctx.clone(),
-            cmd,
-            fence,
-            pending: false,
-        };
+        recorded.fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
+            .vk("vkCreateFence")?;
+        let (cmd, fence) = (recorded.cmd, recorded.fence);
         ctx.set_name(cmd, name);
         ctx.set_name(fence, name);
         let flags = if one_time {
@@ -126,7 +159,7 @@ impl Recorded {
         } else {
             vk::CommandBufferUsageFlags::empty()
         };
-        // SAFETY: a fresh command buffer from a resettable pool.
+        // SAFETY: a fresh command buffer, its pool owned by `recorded`.
         unsafe {
             device.begin_command_buffer(cmd, &vk::CommandBufferBeginInfo::default().flags(flags))
         }
@@ -146,14 +179,14 @@ impl Recorded {
         let ctx = &self.ctx;
         let cmds = [self.cmd];
         let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
-        // SAFETY: the buffer is executable and not pending (waited above); the fence is unsignalled.
+        // SAFETY: the buffer is executable and not pending (waited above); the fence is not
+        // pending, so it may be reset, and is then unsignalled; `self` (which owns both)
+        // waits for the fence before freeing them.
         unsafe {
             ctx.device()
                 .reset_fences(&[self.fence])
                 .vk("vkResetFences")?;
-            ctx.device()
-                .queue_submit(ctx.queue(), &submit, self.fence)
-                .vk("vkQueueSubmit")?;
+            ctx.submit(&submit, self.fence)?;
         }
         self.pending = true;
         Ok(())
@@ -177,19 +210,20 @@ impl Recorded {
 }
 
 impl Drop for Recorded {
-    /// Waits for a pending submission, then frees the command buffer and fence.
+    /// Waits for a pending submission, then frees the fence and the pool (with its command
+    /// buffer).
     fn drop(&mut self) {
         if self.wait().is_err() {
             // The device is lost; wait for whatever can still finish.
-            // SAFETY: valid device.
-            let _ = unsafe { self.ctx.device().device_wait_idle() };
+            let _ = self.ctx.wait_idle();
         }
-        // SAFETY: nothing is pending; both handles belong to this device.
+        // SAFETY: nothing is pending; the handles belong to this device and to `self` only;
+        // null handles (a failed `begin`) are skipped.
         unsafe {
-            self.ctx.device().destroy_fence(self.fence, None);
-            self.ctx
-                .device()
-                .free_command_buffers(self.ctx.command_pool(), &[self.cmd]);
+            if self.fence != vk::Fence::null() {
+                self.ctx.device().destroy_fence(self.fence, None);
+            }
+            self.ctx.device().destroy_command_pool(self.pool, None);
         }
     }
 }

@@ -1,10 +1,25 @@
-//! The Vulkan context: a headless instance (no surface), one device with one compute queue,
-//! the memory allocator and a command pool, plus the optional validation layer whose
-//! messages are recorded so that tests can assert there were none.
+//! The Vulkan context: a headless instance (no surface), one device with one compute queue
+//! and the memory allocator, plus the optional validation layer whose messages are recorded
+//! so that tests can assert there were none.
 //!
-//! Teardown order (Drop): command pool, allocator, device, debug messenger, instance. Every
-//! resource made from a context (buffers, kernels, command buffers, query pools) holds an
-//! `Arc<Context>` and frees itself on drop, so the context always goes last.
+//! Teardown order (Drop): allocator, device, debug messenger, instance. Every resource made
+//! from a context (buffers, kernels, command buffers, query pools) holds an `Arc<Context>`
+//! and frees itself on drop, so the context always goes last.
+//!
+//! # Threads
+//!
+//! `Context` is `Send + Sync` (an `Arc<Context>` is shared by backends and the renderer),
+//! and that is sound because everything Vulkan requires to be externally synchronised is
+//! either locked here or not shared:
+//!
+//! - the queue (`vkQueueSubmit`, `vkQueueWaitIdle`, `vkDeviceWaitIdle`) is only reachable
+//!   through [`Context::submit`] and [`Context::wait_idle`], which hold a mutex;
+//! - the allocator sits behind a mutex ([`Context::allocator`]);
+//! - there is no shared command pool: each command buffer
+//!   ([`crate::gpu::commands::Recorded`]) owns its pool, so allocating, recording and
+//!   freeing it synchronise with nothing but its owner.
+//!
+//! The compile-time assertion below keeps `Sync` a checked fact rather than an accident.
 
 use std::ffi::{c_void, CStr};
 use std::mem::ManuallyDrop;
@@ -76,12 +91,12 @@ struct Debug {
     messenger: vk::DebugUtilsMessengerEXT,
 }
 
-/// Instance, device, queue, allocator and command pool; see the module doc for teardown.
+/// Instance, device, queue and allocator; see the module doc for teardown and threads.
 pub struct Context {
     info: DeviceInfo,
     device: ash::Device,
-    queue: vk::Queue,
-    command_pool: vk::CommandPool,
+    /// Locked for every use: queue operations need external synchronisation.
+    queue: Mutex<vk::Queue>,
     allocator: ManuallyDrop<Mutex<Allocator>>,
     names: Option<ash::ext::debug_utils::Device>,
     debug: Option<Debug>,
@@ -89,6 +104,13 @@ pub struct Context {
     instance: ash::Instance,
     _entry: ash::Entry,
 }
+
+// `Context` is shared between threads by design (see the module doc); this fails to
+// compile if a field ever makes it `!Send` or `!Sync`.
+const _: fn() = || {
+    fn assert_send_sync<T: Send + Sync>() {}
+    assert_send_sync::<Context>();
+};
 
 fn load_entry() -> Result<ash::Entry> {
     // SAFETY: loading the system Vulkan loader; nothing else runs during the load.
@@ -236,21 +258,6 @@ impl Context {
         let device = unsafe { instance.create_device(pd, &create, None) }.vk("vkCreateDevice")?;
         // SAFETY: the family and index were requested above.
         let queue = unsafe { device.get_device_queue(family, 0) };
-        let pool_info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(family)
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        // SAFETY: valid device and create info.
-        let command_pool = match unsafe { device.create_command_pool(&pool_info, None) } {
-            Ok(pool) => pool,
-            Err(e) => {
-                // SAFETY: nothing else was made from the device.
-                unsafe { device.destroy_device(None) };
-                return Err(Error::Vulkan {
-                    call: "vkCreateCommandPool",
-                    result: e,
-                });
-            }
-        };
         let allocator = Allocator::new(&AllocatorCreateDesc {
             instance: instance.clone(),
             device: device.clone(),
@@ -262,11 +269,8 @@ impl Context {
         let allocator = match allocator {
             Ok(a) => a,
             Err(e) => {
-                // SAFETY: only the pool was made from the device.
-                unsafe {
-                    device.destroy_command_pool(command_pool, None);
-                    device.destroy_device(None);
-                }
+                // SAFETY: nothing was made from the device.
+                unsafe { device.destroy_device(None) };
                 return Err(Error::Gpu(format!("creating the memory allocator: {e}")));
             }
         };
@@ -275,8 +279,7 @@ impl Context {
         Ok(Context {
             info,
             device,
-            queue,
-            command_pool,
+            queue: Mutex::new(queue),
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             names,
             debug,
@@ -296,14 +299,39 @@ impl Context {
         &self.device
     }
 
-    /// The compute queue.
-    pub fn queue(&self) -> vk::Queue {
-        self.queue
+    /// The compute queue's family (command pools are made for it).
+    pub fn queue_family(&self) -> Result<u32> {
+        self.info
+            .compute_family
+            .ok_or_else(|| Error::Gpu(format!("device `{}` has no compute queue", self.info.name)))
     }
 
-    /// The pool every command buffer of this context comes from (resettable buffers).
-    pub fn command_pool(&self) -> vk::CommandPool {
-        self.command_pool
+    /// `vkQueueSubmit` of `submits` to the compute queue, signalling `fence`, under the
+    /// queue's lock.
+    ///
+    /// # Safety
+    ///
+    /// As for `vkQueueSubmit`: every command buffer is executable and not pending (or made
+    /// for simultaneous use), `fence` is unsignalled and not pending, and every handle
+    /// belongs to this device and stays alive until the fence signals.
+    pub unsafe fn submit(&self, submits: &[vk::SubmitInfo<'_>], fence: vk::Fence) -> Result<()> {
+        let queue = self.lock_queue()?;
+        // SAFETY: the queue is locked (external synchronisation); the rest is the caller's
+        // contract above.
+        unsafe { self.device.queue_submit(*queue, submits, fence) }.vk("vkQueueSubmit")
+    }
+
+    /// `vkDeviceWaitIdle` under the queue's lock (it synchronises with the queue).
+    pub fn wait_idle(&self) -> Result<()> {
+        let _queue = self.lock_queue()?;
+        // SAFETY: the only queue is locked, as vkDeviceWaitIdle requires.
+        unsafe { self.device.device_wait_idle() }.vk("vkDeviceWaitIdle")
+    }
+
+    fn lock_queue(&self) -> Result<MutexGuard<'_, vk::Queue>> {
+        self.queue
+            .lock()
+            .map_err(|_| Error::Gpu("the queue mutex is poisoned (an earlier panic)".into()))
     }
 
     /// The memory allocator.
@@ -365,7 +393,6 @@ impl Drop for Context {
         // (see the module doc); the order below is children before parents.
         unsafe {
             let _ = self.device.device_wait_idle();
-            self.device.destroy_command_pool(self.command_pool, None);
             ManuallyDrop::drop(&mut self.allocator);
             self.device.destroy_device(None);
             if let Some(debug) = self.debug.take() {

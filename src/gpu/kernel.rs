@@ -1,12 +1,12 @@
-//! A compute kernel: one pass's pipeline with its layouts and descriptor set, bound once to
-//! the buffers it uses. It knows its workgroup size (specialization constant 0), so callers
-//! dispatch element counts.
+//! A compute kernel: one pass's pipeline on a shared [`BindingLayout`] (one set layout,
+//! pipeline layout, pool and descriptor set for every kernel of a backend, since all passes
+//! use the one binding table of `gpu::layout::binding`). It knows its workgroup size
+//! (specialization constant 0), so callers dispatch element counts.
 
 use std::sync::Arc;
 
 use ash::vk;
 
-use super::buffer::Buffer;
 use super::context::Context;
 use super::descriptors::BindingLayout;
 use super::layout::PushConstants;
@@ -25,7 +25,7 @@ pub fn shader(key: &str) -> Result<&'static [u8]> {
         })
 }
 
-/// A compute pipeline bound to its buffers, freed on drop.
+/// A compute pipeline on a shared binding layout, freed on drop.
 pub struct Kernel {
     ctx: Arc<Context>,
     /// Pass name (as in the timing report).
@@ -34,21 +34,39 @@ pub struct Kernel {
     pub workgroup_size: u32,
     max_groups: u32,
     pipeline: vk::Pipeline,
-    /// Last, so that it is freed after the pipeline built on it.
-    binding: BindingLayout,
+    /// The shared layout and set; the Arc keeps it alive until after the pipeline (and
+    /// every other kernel built on it) is freed.
+    binding: Arc<BindingLayout>,
 }
 
 impl Kernel {
-    /// Builds the pass `name` from the shader `key`, with `bindings` as storage buffers of
-    /// set 0 and the [`PushConstants`] block.
+    /// Builds the pass `name` from the shader `key` on `binding` (set 0 of storage buffers
+    /// and the [`PushConstants`] block, shared with the other kernels).
     pub fn new(
         ctx: &Arc<Context>,
         name: &str,
         key: &str,
-        bindings: &[(u32, &Buffer)],
+        binding: &Arc<BindingLayout>,
         workgroup_size: u32,
     ) -> Result<Self> {
-        Self::with_constants(ctx, name, key, bindings, workgroup_size, &[])
+        Self::with_constants(ctx, name, key, binding, workgroup_size, &[])
+    }
+
+    /// The shared layout for compute kernels: a storage buffer at each of `bindings` and
+    /// the [`PushConstants`] block (write the buffers with [`BindingLayout::write`]).
+    pub fn binding_layout(
+        ctx: &Arc<Context>,
+        name: &str,
+        bindings: &[u32],
+    ) -> Result<Arc<BindingLayout>> {
+        BindingLayout::new(
+            ctx,
+            name,
+            bindings,
+            vk::ShaderStageFlags::COMPUTE,
+            std::mem::size_of::<PushConstants>() as u32,
+        )
+        .map(Arc::new)
     }
 
     /// [`Kernel::new`] with 32-bit specialisation constants `constants[k]` at constant id
@@ -57,24 +75,17 @@ impl Kernel {
         ctx: &Arc<Context>,
         name: &str,
         key: &str,
-        bindings: &[(u32, &Buffer)],
+        binding: &Arc<BindingLayout>,
         workgroup_size: u32,
         constants: &[u32],
     ) -> Result<Self> {
-        let binding = BindingLayout::with_buffers(
-            ctx,
-            name,
-            bindings,
-            vk::ShaderStageFlags::COMPUTE,
-            std::mem::size_of::<PushConstants>() as u32,
-        )?;
         let mut k = Kernel {
             ctx: ctx.clone(),
             name: name.to_string(),
             workgroup_size,
             max_groups: ctx.info().max_workgroup_count[0],
             pipeline: vk::Pipeline::null(),
-            binding,
+            binding: binding.clone(),
         };
         k.build(ctx, key, constants)?;
         Ok(k)
@@ -159,8 +170,8 @@ impl Kernel {
 }
 
 impl Drop for Kernel {
-    /// Frees the pipeline; the layouts and set go with `binding` after it. The GPU must be
-    /// done with the kernel (owners wait first).
+    /// Frees the pipeline; the shared layouts and set go with the last kernel's `binding`
+    /// after it. The GPU must be done with the kernel (owners wait first).
     fn drop(&mut self) {
         if self.pipeline != vk::Pipeline::null() {
             // SAFETY: the caller guarantees no pending use.

@@ -10,10 +10,13 @@ pub mod descriptors;
 pub mod device;
 pub mod kernel;
 pub mod layout;
-pub mod spirv;
+/// Test support only: the SPIR-V reader behind the shader-vs-host layout checks (not part of
+/// the library's API, not compiled outside `cargo test`).
+#[cfg(test)]
+pub(crate) mod spirv;
 pub mod timing;
 
-pub use buffer::Buffer;
+pub use buffer::{Buffer, Uploads};
 pub use context::{list_devices, Context, ContextOptions};
 pub use descriptors::BindingLayout;
 pub use device::{AtomicsPath, DeviceInfo, DeviceSelector};

@@ -1,6 +1,7 @@
-//! A minimal SPIR-V reader: just enough to check, in tests and at pipeline creation, that
-//! the compiled shaders agree with the host (struct offsets, array strides, bindings) and
-//! which capabilities a module declares.
+//! Test support: a minimal SPIR-V reader, just enough for the unit tests to check that the
+//! compiled shaders agree with the host (struct offsets, array strides, bindings; see
+//! `gpu/layout.rs` and `render/layout.rs`) and which capabilities a module declares. Only
+//! compiled under `cfg(test)`, so it is no part of the public API.
 
 use std::collections::HashMap;
 
@@ -167,10 +168,9 @@ impl Module {
     }
 }
 
-/// Test helper: checks that every member of the struct `block` in each shader of `keys`
+/// Checks that every member of the struct `block` in each shader of `keys`
 /// sits at the offset `rust` gives for that name (a member Rust lacks fails too), that each
 /// shader has the block, and returns how many members were checked.
-#[cfg(test)]
 pub(crate) fn assert_struct_offsets(keys: &[&str], block: &str, rust: &[(&str, usize)]) -> usize {
     let mut checked = 0;
     for key in keys {
