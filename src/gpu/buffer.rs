@@ -8,7 +8,7 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
 
-use super::commands::{self, Access};
+use super::commands::{self, Access, BufferHandle};
 use super::context::Context;
 use crate::error::{Error, Result, VkContext};
 
@@ -22,6 +22,12 @@ pub struct Buffer {
     pub size: u64,
     /// Debug name (also the allocation's name).
     pub name: String,
+}
+
+impl BufferHandle for Buffer {
+    fn handle(&self) -> vk::Buffer {
+        self.raw
+    }
 }
 
 impl Buffer {

@@ -9,7 +9,6 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::buffer::Buffer;
 use super::context::Context;
 use crate::error::{Result, VkContext};
 
@@ -47,12 +46,19 @@ impl Access {
     };
 }
 
+/// A Vulkan buffer handle a barrier can name (implemented by [`super::Buffer`]; commands do
+/// not depend on how buffers are made).
+pub trait BufferHandle {
+    /// The raw handle.
+    fn handle(&self) -> vk::Buffer;
+}
+
 /// Makes the writes of `from` to `buffers` available and visible to `to` (and orders all
 /// work of `from`'s stage before `to`'s stage, which also covers write-after-read).
-pub fn barrier(
+pub fn barrier<B: BufferHandle>(
     ctx: &Context,
     cmd: vk::CommandBuffer,
-    buffers: &[&Buffer],
+    buffers: &[&B],
     from: Access,
     to: Access,
 ) {
@@ -64,7 +70,7 @@ pub fn barrier(
                 .dst_access_mask(to.access)
                 .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
                 .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .buffer(b.raw)
+                .buffer(b.handle())
                 .offset(0)
                 .size(vk::WHOLE_SIZE)
         })
