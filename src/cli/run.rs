@@ -46,7 +46,7 @@ impl MethodChoice {
 pub struct RunArgs {
     /// A scene file (TOML, see `tetrasim::scene`): objects, colliders, solver and outputs.
     /// The mesh, physics and output flags below must not be given with it.
-    #[arg(long, conflicts_with_all = SCENE_CONFLICTS)]
+    #[arg(long, conflicts_with_all = scene_conflicts())]
     pub scene: Option<PathBuf>,
     /// Tet mesh (TetGen PREFIX, .vtk, .vtu, .msh, .mesh) or a surface file (.ply/.obj/.off/.stl).
     #[arg(long, default_value = DEFAULT_MESH)]
@@ -119,36 +119,35 @@ pub struct RunArgs {
     pub quiet: bool,
 }
 
-/// The flags a scene file replaces.
-const SCENE_CONFLICTS: [&str; 27] = [
-    "mesh",
-    "method",
-    "preset",
-    "frames",
-    "dt",
-    "substeps",
-    "iterations",
-    "omega",
-    "ks",
-    "kd",
-    "friction",
-    "gravity",
-    "combine",
-    "solver",
-    "groups",
-    "rho",
-    "global_volume",
-    "epsilon",
-    "node_mass",
-    "density",
-    "no_floor",
-    "fit_size",
-    "drop_height",
-    "json",
-    "out_dir",
-    "format",
-    "units",
-];
+/// The flags a scene file replaces: every flag of [`SolverOverrides`] and
+/// [`MaterialOverrides`], and the object, floor and output ones.
+fn scene_conflicts() -> Vec<clap::Id> {
+    use clap::Args as _;
+    let flags = |cmd: clap::Command| -> Vec<clap::Id> {
+        cmd.get_arguments().map(|a| a.get_id().clone()).collect()
+    };
+    let mut ids = flags(SolverOverrides::augment_args(clap::Command::new("solver")));
+    ids.extend(flags(MaterialOverrides::augment_args(clap::Command::new(
+        "material",
+    ))));
+    ids.extend(
+        [
+            "mesh",
+            "method",
+            "preset",
+            "friction",
+            "no_floor",
+            "fit_size",
+            "drop_height",
+            "json",
+            "out_dir",
+            "format",
+            "units",
+        ]
+        .map(clap::Id::from),
+    );
+    ids
+}
 
 impl RunArgs {
     /// The preset's parameters with every given flag applied.
@@ -362,3 +361,40 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
     }
 }
 
+#[cfg(test)]
+mod tests {
+    use clap::Parser as _;
+
+    use crate::cli::Cli;
+
+    fn parse(extra: &[&str]) -> Result<Cli, clap::Error> {
+        let mut args = vec!["tetrasim", "run", "--scene", "s.toml"];
+        args.extend(extra);
+        Cli::try_parse_from(args)
+    }
+
+    #[test]
+    fn a_scene_refuses_every_parameter_flag() {
+        assert!(parse(&[]).is_ok());
+        for flag in [
+            &["--dt", "0.1"][..],
+            &["--frames", "3"],
+            &["--global-volume"],
+            &["--epsilon", "0"],
+            &["--atomics", "ext"],
+            &["--ks", "1"],
+            &["--node-mass", "1"],
+            &["--friction", "0.5"],
+            &["--no-floor"],
+        ] {
+            let err = parse(flag)
+                .err()
+                .unwrap_or_else(|| panic!("{flag:?} accepted"));
+            assert_eq!(
+                err.kind(),
+                clap::error::ErrorKind::ArgumentConflict,
+                "{err}"
+            );
+        }
+    }
+}
