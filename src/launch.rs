@@ -76,7 +76,7 @@ pub fn stage(scene: &Scene) -> Result<Staged> {
     Ok(Staged {
         model: Model::concat(&models)?,
         params,
-        frames: scene.solver.frames,
+        frames: scene.frames(),
         label: labels.join("+"),
         notes,
     })

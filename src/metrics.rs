@@ -9,6 +9,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::backend::VolumeSample;
 use crate::error::{Error, Result};
+use crate::model::Model;
+use crate::params::{ConstraintCombine, SimParams, Solver};
 
 /// The paper's average volume percentages over all its models, for comparison:
 /// `(method, percent)`.
@@ -35,6 +37,59 @@ pub fn local_error_pct(sample: VolumeSample, rest: f64) -> f64 {
     100.0 * sample.local_error / rest
 }
 
+/// The parameters a [`RunRecord`] reports, as they acted in the run; built by
+/// [`RecordParams::of`] only.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RecordParams {
+    /// Time step [s].
+    pub dt: f64,
+    /// Time steps per frame.
+    pub substeps: u32,
+    /// Constraint iterations per time step.
+    pub iterations: u32,
+    /// Relaxation factor.
+    pub omega: f64,
+    /// Spring stiffness [N/m].
+    pub ks: f64,
+    /// Spring damping [N s/m].
+    pub kd: f64,
+    /// Floor friction.
+    pub friction: f64,
+    /// Constraint combination (`scaled`, `sum` or `average`).
+    pub combine: ConstraintCombine,
+    /// Constraint solver (`jacobi`, `gauss-seidel` or `chebyshev`; records older than the
+    /// field were `jacobi`).
+    #[serde(default = "jacobi")]
+    pub solver: Solver,
+    /// Colour groups solved in sequence per iteration (1 for `jacobi`).
+    #[serde(default = "one")]
+    pub groups: u32,
+    /// Whether a global volume constraint per object was solved too.
+    #[serde(default)]
+    pub global_volume: bool,
+}
+
+impl RecordParams {
+    /// What a run of `params` on `model` reports.
+    pub fn of(model: &Model, params: &SimParams) -> Self {
+        RecordParams {
+            dt: params.dt,
+            substeps: params.substeps,
+            iterations: params.iterations,
+            omega: params.omega,
+            ks: params.ks,
+            kd: params.kd,
+            friction: params.friction,
+            combine: params.combine,
+            solver: params.solver,
+            groups: model
+                .constraint_groups(params.method, params.solver, params.groups)
+                .map_or(1, |g| g.len() as u32),
+            global_volume: params.solves_global_volume(),
+        }
+    }
+}
+
 /// Everything recorded about one method's run; serialised as one JSON object. Never holds a
 /// NaN: a run that goes non-finite stops, keeps the frames before, and sets `diverged`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -55,32 +110,9 @@ pub struct RunRecord {
     pub frames: u32,
     /// Frames completed (less than `frames` when the run diverged).
     pub frames_run: u32,
-    /// Time step [s].
-    pub dt: f64,
-    /// Time steps per frame.
-    pub substeps: u32,
-    /// Constraint iterations per time step.
-    pub iterations: u32,
-    /// Relaxation factor.
-    pub omega: f64,
-    /// Spring stiffness [N/m].
-    pub ks: f64,
-    /// Spring damping [N s/m].
-    pub kd: f64,
-    /// Floor friction.
-    pub friction: f64,
-    /// Constraint combination (`scaled`, `sum` or `average`).
-    pub combine: String,
-    /// Constraint solver (`jacobi` or `gauss-seidel`; records older than the field were
-    /// `jacobi`).
-    #[serde(default = "jacobi")]
-    pub solver: String,
-    /// Colour groups solved in sequence per iteration (1 for `jacobi`).
-    #[serde(default = "one")]
-    pub groups: u32,
-    /// Whether a global volume constraint per object was solved too.
-    #[serde(default)]
-    pub global_volume: bool,
+    /// The parameters of the run (their keys sit at the top level of the JSON object).
+    #[serde(flatten)]
+    pub params: RecordParams,
     /// Simulated time at the end of each completed frame [s] (the time axis of the
     /// per-frame series; empty in records older than the field).
     #[serde(default)]
@@ -129,8 +161,8 @@ pub struct RunRecord {
     pub passes: Option<BTreeMap<String, f64>>,
 }
 
-fn jacobi() -> String {
-    "jacobi".into()
+fn jacobi() -> Solver {
+    Solver::Jacobi
 }
 
 fn one() -> u32 {
@@ -141,7 +173,7 @@ impl RunRecord {
     /// The contact time, when the run ended before it: its volume figures then measure a
     /// free fall, not the drop the paper's column is about.
     pub fn ends_before_contact(&self) -> Option<f64> {
-        let end = f64::from(self.frames_run) * self.dt * f64::from(self.substeps);
+        let end = f64::from(self.frames_run) * self.params.dt * f64::from(self.params.substeps);
         self.contact_time_s.filter(|&t| end < t)
     }
 
@@ -221,7 +253,7 @@ pub fn short_run_warnings(records: &[RunRecord]) -> String {
     let mut out = String::new();
     for r in records {
         if let Some(t) = r.ends_before_contact() {
-            let frame_time = r.dt * f64::from(r.substeps);
+            let frame_time = r.params.dt * f64::from(r.params.substeps);
             let _ = writeln!(
                 out,
                 "warning: {} on {} ({}) ran {} frames ({:.3} s) and ended before the body reached \
@@ -302,17 +334,19 @@ mod tests {
             springs: 19,
             frames: 4,
             frames_run: 0,
-            dt: 1e-3,
-            substeps: 1,
-            iterations: 10,
-            omega: 1.0,
-            ks: 5000.0,
-            kd: 15.0,
-            friction: 0.0,
-            combine: "scaled".into(),
-            solver: "gauss-seidel".into(),
-            groups: 8,
-            global_volume: false,
+            params: RecordParams {
+                dt: 1e-3,
+                substeps: 1,
+                iterations: 10,
+                omega: 1.0,
+                ks: 5000.0,
+                kd: 15.0,
+                friction: 0.0,
+                combine: ConstraintCombine::Scaled,
+                solver: Solver::GaussSeidel,
+                groups: 8,
+                global_volume: false,
+            },
             local_error_pct: pct.iter().map(|p| (100.0 - p) / 2.0).collect(),
             time_s: (1..=pct.len()).map(|f| 1e-3 * f as f64).collect(),
             contact_time_s: None,

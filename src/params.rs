@@ -1,5 +1,10 @@
 //! Solver parameters: one struct with documented units and defaults, shared by the CLI,
-//! scene files and every backend (the GPU push-constant block is derived from it).
+//! scene files and every backend (the GPU push-constant block is derived from it). What a
+//! user may set is listed once, in [`SolverOverrides`] and [`MaterialOverrides`].
+
+mod overrides;
+
+pub use overrides::{MaterialOverrides, SolverOverrides};
 
 use serde::{Deserialize, Serialize};
 

@@ -50,17 +50,20 @@ use serde::Deserialize;
 
 use crate::error::{Error, Result};
 use crate::params::{
-    default_groups, default_rho, AtomicsMode, ConstraintCombine, MassMode, Method, Placement,
-    SimParams, Solver as SolverKind, SEED_FRAMES,
+    MaterialOverrides, Method, Placement, SimParams, SolverOverrides, SEED_FRAMES,
 };
 
 /// A whole scene as read from a file (paths already resolved against the file's folder).
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
-    /// Solver settings shared by all objects.
+    /// The values `solver` and the objects' materials override: the `seed` preset's in a
+    /// file, the `--preset`'s in the scene `run`'s flags stand for.
+    #[serde(skip)]
+    pub base: SimParams,
+    /// `[solver]`: time stepping and solver settings shared by all objects.
     #[serde(default)]
-    pub solver: Solver,
+    pub solver: SolverOverrides,
     /// The simulated objects (at least one).
     #[serde(rename = "object", default)]
     pub objects: Vec<Object>,
@@ -70,61 +73,6 @@ pub struct Scene {
     /// What to write.
     #[serde(default)]
     pub output: Output,
-}
-
-/// `[solver]`: time stepping, shared by all objects.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct Solver {
-    /// Time step [s].
-    pub dt: f64,
-    /// Time steps per frame.
-    pub substeps: u32,
-    /// Constraint iterations per time step.
-    pub iterations: u32,
-    /// Relaxation of each iteration's combined constraint forces.
-    pub omega: f64,
-    /// Per-node combination of constraint forces.
-    pub combine: ConstraintCombine,
-    /// How each iteration sweeps the constraints.
-    pub solver: SolverKind,
-    /// Colour groups of the Gauss-Seidel solver (`None`: 8; refused with another solver).
-    pub groups: Option<u32>,
-    /// One global volume constraint per object (`None`: the solver's default).
-    pub global_volume: Option<bool>,
-    /// Spectral radius estimate of the Chebyshev solver (`None`: 0.95; refused with another
-    /// solver).
-    pub rho: Option<f64>,
-    /// Float-atomic path on the GPU.
-    pub atomics: AtomicsMode,
-    /// Skip a constraint whose denominator `A` is at or below this
-    /// ([`SimParams::constraint_epsilon`]).
-    pub epsilon: f64,
-    /// Gravity along -Y [m/s^2].
-    pub gravity: f64,
-    /// Frames to simulate.
-    pub frames: u32,
-}
-
-impl Default for Solver {
-    fn default() -> Self {
-        let p = SimParams::default();
-        Solver {
-            dt: p.dt,
-            substeps: p.substeps,
-            iterations: p.iterations,
-            omega: p.omega,
-            combine: p.combine,
-            solver: p.solver,
-            groups: None,
-            global_volume: p.global_volume,
-            rho: None,
-            atomics: p.atomics,
-            epsilon: p.constraint_epsilon,
-            gravity: p.gravity,
-            frames: SEED_FRAMES,
-        }
-    }
 }
 
 /// `[[object]]`: one tet mesh with its placement, material and pins.
@@ -149,9 +97,9 @@ pub struct Object {
     /// Initial velocity [m/s].
     #[serde(default)]
     pub velocity: [f64; 3],
-    /// Material.
+    /// `material`: spring constants and mass.
     #[serde(default)]
-    pub material: Material,
+    pub material: MaterialOverrides,
     /// Pinned nodes.
     #[serde(default)]
     pub pin: Pin,
@@ -159,32 +107,6 @@ pub struct Object {
 
 fn default_method() -> Method {
     Method::Volume
-}
-
-/// `material`: spring constants and mass.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct Material {
-    /// Spring stiffness [N/m].
-    pub ks: f64,
-    /// Spring damping [N s/m].
-    pub kd: f64,
-    /// Mass of every node [kg] (exclusive with `density`).
-    pub node_mass: Option<f64>,
-    /// Density [kg/m^3] for lumped masses (exclusive with `node_mass`).
-    pub density: Option<f64>,
-}
-
-impl Default for Material {
-    fn default() -> Self {
-        let p = SimParams::default();
-        Material {
-            ks: p.ks,
-            kd: p.kd,
-            node_mass: None,
-            density: None,
-        }
-    }
 }
 
 /// `pin`: nodes that never move, by index and/or inside an axis-aligned box (in placed
@@ -347,7 +269,7 @@ impl Scene {
         if self.objects.is_empty() {
             return Err(Error::param("object", "the scene has no [[object]]"));
         }
-        if self.solver.frames == 0 {
+        if self.frames() == 0 {
             return Err(Error::param("solver.frames", "must be at least 1"));
         }
         if self.output.every == Some(0) {
@@ -355,21 +277,15 @@ impl Scene {
         }
         self.output
             .check(|name| format!("output.{name}"), "output.dir")?;
-        let s = &self.solver;
-        for (key, given, solver) in [
-            ("solver.groups", s.groups.is_some(), SolverKind::GaussSeidel),
-            ("solver.rho", s.rho.is_some(), SolverKind::Chebyshev),
-        ] {
-            if given && s.solver != solver {
-                return Err(Error::param(
-                    key,
-                    format!(
-                        "acts only with solver = \"{}\"; the solver is {}",
-                        solver.name(),
-                        s.solver
-                    ),
-                ));
-            }
+        let solver = self.solver.solver.unwrap_or(self.base.solver);
+        if let Some((key, needs)) = self.solver.misplaced(solver) {
+            return Err(Error::param(
+                format!("solver.{key}"),
+                format!(
+                    "acts only with solver = \"{}\"; the solver is {solver}",
+                    needs.name()
+                ),
+            ));
         }
         for i in 0..self.objects.len() {
             let o = &self.objects[i];
@@ -406,39 +322,31 @@ impl Scene {
         Ok(())
     }
 
-    /// The solver parameters of object `index` (solver section + its material and method).
+    /// Frames to simulate (`solver.frames`, default the `seed` preset's).
+    pub fn frames(&self) -> u32 {
+        self.solver.frames.unwrap_or(SEED_FRAMES)
+    }
+
+    /// The solver parameters of object `index`: the base, its method and the floor, with
+    /// the `[solver]` table and its material applied.
     pub fn params_for(&self, index: usize) -> SimParams {
-        let s = &self.solver;
         let o = &self.objects[index];
-        let mut floors = self.colliders.iter().map(|c| match c {
-            Collider::Floor { friction } => *friction,
-        });
-        let floor = floors.next();
-        let mass = match (o.material.node_mass, o.material.density) {
-            (_, Some(density)) => MassMode::Density { density },
-            (Some(mass), None) => MassMode::PerNode { mass },
-            (None, None) => SimParams::default().mass,
-        };
-        SimParams {
+        let floor = self
+            .colliders
+            .iter()
+            .map(|c| match c {
+                Collider::Floor { friction } => *friction,
+            })
+            .next();
+        let mut params = SimParams {
             method: o.method,
-            dt: s.dt,
-            substeps: s.substeps,
-            iterations: s.iterations,
-            omega: s.omega,
-            ks: o.material.ks,
-            kd: o.material.kd,
-            gravity: s.gravity,
             floor: floor.is_some(),
             friction: floor.unwrap_or(0.0),
-            mass,
-            combine: s.combine,
-            solver: s.solver,
-            groups: s.groups.unwrap_or_else(default_groups),
-            global_volume: s.global_volume,
-            rho: s.rho.unwrap_or_else(default_rho),
-            constraint_epsilon: s.epsilon,
-            atomics: s.atomics,
-        }
+            ..self.base.clone()
+        };
+        self.solver.apply(&mut params);
+        o.material.apply(&mut params);
+        params
     }
 
     /// Placement of object `index`.
@@ -454,12 +362,11 @@ impl Scene {
 /// Where a [`SimParams`] key lives in a scene file.
 fn scene_key(object: usize, key: &str) -> String {
     match key {
-        "dt" | "substeps" | "iterations" | "omega" | "gravity" => format!("solver.{key}"),
         "constraint_epsilon" => "solver.epsilon".to_string(),
         "friction" => "collider.friction".to_string(),
-        "ks" | "kd" => format!("object[{object}].material.{key}"),
         "mass" => format!("object[{object}].material.node_mass"),
-        "density" => format!("object[{object}].material.density"),
+        key if SolverOverrides::has(key) => format!("solver.{key}"),
+        key if MaterialOverrides::has(key) => format!("object[{object}].material.{key}"),
         other => format!("object[{object}].{other}"),
     }
 }
@@ -476,6 +383,7 @@ fn line_of(text: &str, at: usize) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::params::MassMode;
 
     const MINIMAL: &str = "[[object]]\nmesh = \"meshes/sphere\"\n";
 
@@ -485,7 +393,7 @@ mod tests {
         let p = scene.params_for(0);
         assert_eq!((p.dt, p.iterations, p.ks, p.kd), (1e-3, 10, 5000.0, 15.0));
         assert!(!p.floor, "no collider means no floor");
-        assert_eq!(scene.solver.frames, 400);
+        assert_eq!(scene.frames(), 400);
         assert_eq!(
             scene.placement_for(0),
             Placement {
@@ -562,6 +470,18 @@ mod tests {
                 "solver.frames",
             ),
             ("[solver]\n", "object"),
+            (
+                "[solver]\ngroups = 0\n[[object]]\nmesh = \"a\"\n",
+                "solver.groups",
+            ),
+            (
+                "[solver]\nsolver = \"chebyshev\"\nrho = 1.5\n[[object]]\nmesh = \"a\"\n",
+                "solver.rho",
+            ),
+            (
+                "[[object]]\nmesh = \"a\"\nmaterial = { density = -1.0 }\n",
+                "object[0].material.density",
+            ),
         ] {
             let err = Scene::parse(text).unwrap_err().to_string();
             assert!(

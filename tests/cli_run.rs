@@ -59,7 +59,12 @@ fn run_writes_table_metrics_and_surfaces() {
     assert_eq!(records.len(), 3);
     for r in &records {
         assert_eq!(
-            (r.backend.as_str(), r.frames, r.volume_pct.len(), r.ks),
+            (
+                r.backend.as_str(),
+                r.frames,
+                r.volume_pct.len(),
+                r.params.ks
+            ),
             ("cpu-ref", 30, 30, 4000.0)
         );
         assert_eq!((r.nodes, r.tets), (mesh.nodes.len(), mesh.tets.len()));

@@ -70,7 +70,7 @@ fn refuse_run_only_flags(args: &RunArgs) -> crate::Result<()> {
         ("every", args.every.is_some()),
         ("format", args.format.is_some()),
         ("units", args.units.is_some()),
-        ("frames", args.frames.is_some()),
+        ("frames", args.solver.frames.is_some()),
         ("validation", args.validation),
         ("quiet", args.quiet),
     ];

@@ -8,12 +8,10 @@ use anyhow::Context as _;
 use crate::engine::EngineOptions;
 use crate::launch::stage;
 use crate::metrics::{pass_table, short_run_warnings, table, write_json};
-use crate::params::{
-    AtomicsMode, ConstraintCombine, MassMode, Method, SimParams, Solver as SolverKind,
-};
+use crate::params::{MaterialOverrides, Method, SimParams, Solver as SolverKind, SolverOverrides};
 use crate::preset::{Preset, PresetName};
 use crate::runner::{run_methods, OutputFormat, OutputUnits, RunOptions, DEFAULT_MESH};
-use crate::scene::{Collider, Material, Object, Output, Pin, Scene, Solver};
+use crate::scene::{Collider, Object, Output, Pin, Scene};
 
 /// `--method` values: one method or `all`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -48,7 +46,7 @@ impl MethodChoice {
 pub struct RunArgs {
     /// A scene file (TOML, see `tetrasim::scene`): objects, colliders, solver and outputs.
     /// The mesh, physics and output flags below must not be given with it.
-    #[arg(long, conflicts_with_all = SCENE_CONFLICTS)]
+    #[arg(long, conflicts_with_all = scene_conflicts())]
     pub scene: Option<PathBuf>,
     /// Tet mesh (TetGen PREFIX, .vtk, .vtu, .msh, .mesh) or a surface file (.ply/.obj/.off/.stl).
     #[arg(long, default_value = DEFAULT_MESH)]
@@ -68,9 +66,6 @@ pub struct RunArgs {
     /// (default: discrete > integrated > virtual > CPU).
     #[arg(long)]
     pub device: Option<String>,
-    /// Float atomics of the GPU scatter passes: auto, ext (atomicAdd on float) or cas.
-    #[arg(long, value_enum)]
-    pub atomics: Option<AtomicsMode>,
     /// GPU workgroup size (a power of two; default from the device limits, at most 1024).
     #[arg(long)]
     pub workgroup_size: Option<u32>,
@@ -80,61 +75,16 @@ pub struct RunArgs {
     /// Parameter preset; the flags below override its values.
     #[arg(long, value_enum, default_value = "seed")]
     pub preset: PresetName,
-    /// Frames to simulate.
-    #[arg(long)]
-    pub frames: Option<u32>,
-    /// Time step [s].
-    #[arg(long)]
-    pub dt: Option<f64>,
-    /// Time steps per frame.
-    #[arg(long)]
-    pub substeps: Option<u32>,
-    /// Constraint iterations per time step.
-    #[arg(long)]
-    pub iterations: Option<u32>,
-    /// Relaxation factor of the constraint forces.
-    #[arg(long)]
-    pub omega: Option<f64>,
-    /// Spring stiffness [N/m].
-    #[arg(long)]
-    pub ks: Option<f64>,
-    /// Spring damping [N s/m].
-    #[arg(long)]
-    pub kd: Option<f64>,
+    /// Time stepping and solver (a scene's `[solver]`; `--atomics` acts only with
+    /// `--backend vulkan`).
+    #[command(flatten)]
+    pub solver: SolverOverrides,
+    /// Spring constants and mass (a scene object's `material`).
+    #[command(flatten)]
+    pub material: MaterialOverrides,
     /// Fraction of tangential velocity removed on floor contact, in [0, 1].
     #[arg(long)]
     pub friction: Option<f64>,
-    /// Gravity along -Y [m/s^2].
-    #[arg(long)]
-    pub gravity: Option<f64>,
-    /// How constraint forces are combined: `scaled` (momentum-conserving, default), `sum`
-    /// (the paper's literal reading), `average` (first edition, drifts; for comparison).
-    #[arg(long, value_enum)]
-    pub combine: Option<ConstraintCombine>,
-    /// How each iteration sweeps the constraints: `gauss-seidel` (colour groups, default),
-    /// `jacobi` (the paper's method) or `chebyshev` (Jacobi with Chebyshev semi-iteration).
-    #[arg(long, value_enum)]
-    pub solver: Option<SolverKind>,
-    /// Colour groups of the Gauss-Seidel solver (default 8).
-    #[arg(long)]
-    pub groups: Option<u32>,
-    /// Spectral radius estimate of the Chebyshev solver, in (0, 1) (default 0.95).
-    #[arg(long)]
-    pub rho: Option<f64>,
-    /// One global volume constraint per object, solved after the local constraints in every
-    /// iteration: `true` (`--global-volume` alone) or `false`; default: on for
-    /// `gauss-seidel`, off for `jacobi` (the paper's method) and `chebyshev`.
-    #[arg(long, num_args = 0..=1, default_missing_value = "true", value_name = "BOOL")]
-    pub global_volume: Option<bool>,
-    /// Skip a constraint whose denominator A is at or below this.
-    #[arg(long)]
-    pub epsilon: Option<f64>,
-    /// Mass of every node [kg] (the preset: 1).
-    #[arg(long, conflicts_with = "density")]
-    pub node_mass: Option<f64>,
-    /// Lumped masses from this density [kg/m^3] instead of equal node masses.
-    #[arg(long)]
-    pub density: Option<f64>,
     /// Remove the floor (free fall).
     #[arg(long)]
     pub no_floor: bool,
@@ -169,111 +119,74 @@ pub struct RunArgs {
     pub quiet: bool,
 }
 
-/// The flags a scene file replaces.
-const SCENE_CONFLICTS: [&str; 27] = [
-    "mesh",
-    "method",
-    "preset",
-    "frames",
-    "dt",
-    "substeps",
-    "iterations",
-    "omega",
-    "ks",
-    "kd",
-    "friction",
-    "gravity",
-    "combine",
-    "solver",
-    "groups",
-    "rho",
-    "global_volume",
-    "epsilon",
-    "node_mass",
-    "density",
-    "no_floor",
-    "fit_size",
-    "drop_height",
-    "json",
-    "out_dir",
-    "format",
-    "units",
-];
+/// The flags a scene file replaces: every flag of [`SolverOverrides`] and
+/// [`MaterialOverrides`], and the object, floor and output ones.
+fn scene_conflicts() -> Vec<clap::Id> {
+    use clap::Args as _;
+    let flags = |cmd: clap::Command| -> Vec<clap::Id> {
+        cmd.get_arguments().map(|a| a.get_id().clone()).collect()
+    };
+    let mut ids = flags(SolverOverrides::augment_args(clap::Command::new("solver")));
+    ids.extend(flags(MaterialOverrides::augment_args(clap::Command::new(
+        "material",
+    ))));
+    ids.extend(
+        [
+            "mesh",
+            "method",
+            "preset",
+            "friction",
+            "no_floor",
+            "fit_size",
+            "drop_height",
+            "json",
+            "out_dir",
+            "format",
+            "units",
+        ]
+        .map(clap::Id::from),
+    );
+    ids
+}
 
 impl RunArgs {
-    /// The preset with every given flag applied.
-    pub fn preset(&self) -> Preset {
-        let mut p = Preset::named(self.preset);
-        let s = &mut p.params;
-        macro_rules! set {
-            ($($field:ident => $target:expr),*) => { $(if let Some(v) = self.$field { $target = v; })* };
-        }
-        set!(frames => p.frames, dt => s.dt, substeps => s.substeps, iterations => s.iterations,
-             omega => s.omega, ks => s.ks, kd => s.kd, friction => s.friction, gravity => s.gravity,
-             combine => s.combine, solver => s.solver, groups => s.groups, rho => s.rho, epsilon => s.constraint_epsilon, atomics => s.atomics);
-        if let Some(mass) = self.node_mass {
-            s.mass = MassMode::PerNode { mass };
-        }
-        if let Some(density) = self.density {
-            s.mass = MassMode::Density { density };
+    /// The preset's parameters with every given flag applied.
+    pub fn params(&self) -> SimParams {
+        let mut params = Preset::named(self.preset).params;
+        self.solver.apply(&mut params);
+        self.material.apply(&mut params);
+        if let Some(friction) = self.friction {
+            params.friction = friction;
         }
         if self.no_floor {
-            s.floor = false;
+            params.floor = false;
         }
-        if self.global_volume.is_some() {
-            s.global_volume = self.global_volume;
-        }
-        if let Some(size) = self.fit_size {
-            p.placement.fit_size = Some(size);
-        }
-        if let Some(height) = self.drop_height {
-            p.placement.drop_height = Some(height);
-        }
-        p
+        params
     }
 
     /// The one-object scene these flags stand for (method: the first of `--method`).
     pub fn scene(&self) -> Scene {
-        let p = self.preset();
-        let s = &p.params;
-        let (node_mass, density) = match s.mass {
-            MassMode::PerNode { mass } => (Some(mass), None),
-            MassMode::Density { density } => (None, Some(density)),
-        };
+        let preset = Preset::named(self.preset);
+        let params = self.params();
         Scene {
-            solver: Solver {
-                dt: s.dt,
-                substeps: s.substeps,
-                iterations: s.iterations,
-                omega: s.omega,
-                combine: s.combine,
-                solver: s.solver,
-                groups: self.groups,
-                global_volume: s.global_volume,
-                rho: self.rho,
-                atomics: s.atomics,
-                epsilon: s.constraint_epsilon,
-                gravity: s.gravity,
-                frames: p.frames,
+            base: preset.params,
+            solver: SolverOverrides {
+                frames: Some(self.solver.frames.unwrap_or(preset.frames)),
+                ..self.solver.clone()
             },
             objects: vec![Object {
                 mesh: self.mesh.clone(),
                 target_tets: self.target_tets,
                 method: self.method.methods()[0],
-                fit_size: p.placement.fit_size,
-                drop_height: p.placement.drop_height,
+                fit_size: self.fit_size.or(preset.placement.fit_size),
+                drop_height: self.drop_height.or(preset.placement.drop_height),
                 velocity: [0.0; 3],
-                material: Material {
-                    ks: s.ks,
-                    kd: s.kd,
-                    node_mass,
-                    density,
-                },
+                material: self.material.clone(),
                 pin: Pin::default(),
             }],
-            colliders: if s.floor {
+            colliders: if params.floor {
                 vec![Collider::Floor {
-                    friction: s.friction,
+                    friction: params.friction,
                 }]
             } else {
                 Vec::new()
@@ -293,22 +206,16 @@ impl RunArgs {
     /// Refuses solver flags the chosen solver does not use (`--groups` without
     /// Gauss-Seidel, `--rho` without Chebyshev) instead of ignoring them.
     fn check_solver_flags(&self, params: &SimParams) -> crate::Result<()> {
-        let refuse = |flag: &str, solver: &str| {
-            Err(crate::Error::param(
+        match self.solver.misplaced(params.solver) {
+            Some((flag, needs)) => Err(crate::Error::param(
                 flag,
                 format!(
-                    "acts only with --solver {solver}; the solver is {}",
+                    "acts only with --solver {needs}; the solver is {}",
                     params.solver
                 ),
-            ))
-        };
-        if self.groups.is_some() && params.solver != SolverKind::GaussSeidel {
-            return refuse("groups", "gauss-seidel");
+            )),
+            None => Ok(()),
         }
-        if self.rho.is_some() && params.solver != SolverKind::Chebyshev {
-            return refuse("rho", "chebyshev");
-        }
-        Ok(())
     }
 
     /// The scene to run (the file, or the flags' scene) and the methods to run it with.
@@ -322,13 +229,13 @@ impl RunArgs {
             None => {
                 // Flag values are checked first so that errors name the flag (`dt`), not
                 // the scene key (`solver.dt`).
-                let preset = self.preset();
-                preset.params.validate()?;
-                self.check_solver_flags(&preset.params)?;
-                if preset.frames == 0 {
+                let params = self.params();
+                params.validate()?;
+                self.check_solver_flags(&params)?;
+                let scene = self.scene();
+                if scene.frames() == 0 {
                     return Err(crate::Error::param("frames", "must be at least 1").into());
                 }
-                let scene = self.scene();
                 scene.output.check(|name| name.to_string(), "--out-dir")?;
                 scene.validate()?;
                 Ok((scene, self.method.methods()))
@@ -369,7 +276,7 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
     if backend != "vulkan" {
         let gpu_only = [
             ("device", args.device.is_some()),
-            ("atomics", args.atomics.is_some()),
+            ("atomics", args.solver.atomics.is_some()),
             ("workgroup-size", args.workgroup_size.is_some()),
             ("validation", args.validation),
         ];
@@ -451,5 +358,43 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
     match records.iter().find_map(|r| r.divergence.as_ref()) {
         Some(d) => Err(DivergedRun(d.clone()).into()),
         None => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser as _;
+
+    use crate::cli::Cli;
+
+    fn parse(extra: &[&str]) -> Result<Cli, clap::Error> {
+        let mut args = vec!["tetrasim", "run", "--scene", "s.toml"];
+        args.extend(extra);
+        Cli::try_parse_from(args)
+    }
+
+    #[test]
+    fn a_scene_refuses_every_parameter_flag() {
+        assert!(parse(&[]).is_ok());
+        for flag in [
+            &["--dt", "0.1"][..],
+            &["--frames", "3"],
+            &["--global-volume"],
+            &["--epsilon", "0"],
+            &["--atomics", "ext"],
+            &["--ks", "1"],
+            &["--node-mass", "1"],
+            &["--friction", "0.5"],
+            &["--no-floor"],
+        ] {
+            let err = parse(flag)
+                .err()
+                .unwrap_or_else(|| panic!("{flag:?} accepted"));
+            assert_eq!(
+                err.kind(),
+                clap::error::ErrorKind::ArgumentConflict,
+                "{err}"
+            );
+        }
     }
 }

@@ -22,7 +22,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use crate::engine::EngineOptions;
 use crate::error::Result;
 use crate::mesh::TetMesh;
-use crate::metrics::RunRecord;
+use crate::metrics::{RecordParams, RunRecord};
 use crate::model::{Model, ModelBuilder};
 use crate::params::{Method, Placement, SimParams};
 
@@ -157,19 +157,7 @@ pub(crate) fn new_record(
         springs: model.springs.len(),
         frames,
         frames_run: 0,
-        dt: params.dt,
-        substeps: params.substeps,
-        iterations: params.iterations,
-        omega: params.omega,
-        ks: params.ks,
-        kd: params.kd,
-        friction: params.friction,
-        combine: params.combine.name().to_string(),
-        solver: params.solver.name().to_string(),
-        groups: model
-            .constraint_groups(params.method, params.solver, params.groups)
-            .map_or(1, |g| g.len() as u32),
-        global_volume: params.solves_global_volume(),
+        params: RecordParams::of(model, params),
         time_s: Vec::with_capacity(frames as usize),
         contact_time_s: if params.floor {
             model.floor_contact_time(params.gravity)
