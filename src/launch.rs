@@ -26,22 +26,30 @@ pub struct Staged {
     pub notes: Vec<String>,
 }
 
-/// Loads every object of `scene` and combines them. Objects must share method and material
-/// (one [`SimParams`] drives the engine); a scene mixing them is an error naming the first
+/// Loads every object of `scene` and combines them. Objects may differ in material (each
+/// model carries its own, [`ModelBuilder::material`]) but must share everything else (one
+/// [`SimParams`] drives the engine); a scene mixing methods is an error naming the first
 /// object that differs (not supported yet).
 pub fn stage(scene: &Scene) -> Result<Staged> {
     let params = scene.params_for(0);
     for i in 1..scene.objects.len() {
         let other = scene.params_for(i);
-        if other != params {
+        let same_material = SimParams {
+            ks: params.ks,
+            kd: params.kd,
+            mass: params.mass,
+            youngs_modulus: params.youngs_modulus,
+            poisson_ratio: params.poisson_ratio,
+            damping: params.damping,
+            ..other.clone()
+        };
+        if same_material != params {
             return Err(Error::param(
                 format!("object[{i}]"),
                 format!(
-                    "has method {} and material ks {} kd {} mass {:?}, object[0] has {} / ks {} kd {} \
-                     mass {:?}: objects with different methods or materials in one scene are not \
-                     supported yet",
-                    other.method, other.ks, other.kd, other.mass, params.method, params.ks,
-                    params.kd, params.mass
+                    "has method {}, object[0] has {}: objects with different methods in one \
+                     scene are not supported yet",
+                    other.method, params.method
                 ),
             ));
         }
@@ -58,7 +66,7 @@ pub fn stage(scene: &Scene) -> Result<Staged> {
         })?;
         let mut builder = ModelBuilder::new(&loaded.mesh)
             .placement(scene.placement_for(i))
-            .mass(params.mass)
+            .material(&scene.params_for(i))
             .pinned(object.pin.nodes.iter().copied())
             .velocity(DVec3::from(object.velocity));
         if let Some(b) = object.pin.region {

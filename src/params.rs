@@ -140,6 +140,35 @@ impl std::fmt::Display for Solver {
     }
 }
 
+/// How the springs act (physics.md, "Compliant (implicit) springs").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum SpringKind {
+    /// The paper's explicit forces `ks (l - L) + kd (relative velocity)`, added before the
+    /// constraint iterations; stable only for `dt < ~2 sqrt(m / ks)`.
+    Explicit,
+    /// Each spring a compliant constraint `C = |x_i - x_j| - L` with compliance `1 / ks` and
+    /// first-order implicit damping `kd`, solved in the constraint iterations (before the
+    /// method's own constraints in each iteration): stable for any mass and stiffness.
+    Implicit,
+}
+
+impl SpringKind {
+    /// The name used on the command line, in scene files and in records.
+    pub fn name(self) -> &'static str {
+        match self {
+            SpringKind::Explicit => "explicit",
+            SpringKind::Implicit => "implicit",
+        }
+    }
+}
+
+impl std::fmt::Display for SpringKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// Which float-atomic path the Vulkan engine uses for scatter passes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
@@ -170,6 +199,24 @@ pub struct SimParams {
     pub ks: f64,
     /// Spring damping [N s/m].
     pub kd: f64,
+    /// Explicit spring forces (the paper) or compliant spring constraints.
+    #[serde(default = "default_springs")]
+    pub springs: SpringKind,
+    /// Young's modulus [Pa]: when given, every spring's stiffness comes from it (Van Gelder:
+    /// `k_e = E sum_(t at e) V0_t / L_e^2`) instead of `ks`, and its damping is `damping k_e`
+    /// instead of `kd` (physics.md, "Material in physical units").
+    #[serde(default)]
+    pub youngs_modulus: Option<f64>,
+    /// Poisson's ratio in `[0, 0.5]` (needs `youngs_modulus`): the volume constraints become
+    /// compliant, `alpha_t = V0_t / K` with the bulk modulus `K = E / (3 (1 - 2 nu))`;
+    /// `None` or 0.5 keeps them hard (incompressible), the paper's constraint.
+    #[serde(default)]
+    pub poisson_ratio: Option<f64>,
+    /// Stiffness-proportional (Rayleigh) damping time `beta` [s] of a material given by
+    /// `youngs_modulus`: each spring's damping is `beta k_e` [N s/m]. `None`: the paper's
+    /// ratio `kd / ks` of the `seed` preset, 3 ms.
+    #[serde(default)]
+    pub damping: Option<f64>,
     /// Gravity magnitude along -Y [m/s^2].
     pub gravity: f64,
     /// Whether the floor plane `y = 0` exists.
@@ -216,6 +263,10 @@ impl Default for SimParams {
             omega: 1.0,
             ks: 5000.0,
             kd: 15.0,
+            springs: default_springs(),
+            youngs_modulus: None,
+            poisson_ratio: None,
+            damping: None,
             gravity: 9.81,
             floor: true,
             friction: 0.0,
@@ -235,6 +286,13 @@ impl SimParams {
     /// Simulated time of one frame: `dt * substeps` [s].
     pub fn frame_time(&self) -> f64 {
         self.dt * f64::from(self.substeps)
+    }
+
+    /// Whether the time step solves constraints in iterations: a constraint method, or
+    /// implicit springs.
+    pub fn has_constraints(&self) -> bool {
+        matches!(self.method, Method::Distance | Method::Volume)
+            || self.springs == SpringKind::Implicit
     }
 
     /// Whether the global volume constraints are solved: asked for (by default with
@@ -304,6 +362,63 @@ impl SimParams {
             ));
         }
 
+        if let Some(e) = self.youngs_modulus {
+            positive_finite("youngs_modulus", e)?;
+        }
+        for (key, value) in [
+            ("poisson_ratio", self.poisson_ratio),
+            ("damping", self.damping),
+        ] {
+            if value.is_some() && self.youngs_modulus.is_none() {
+                return Err(Error::param(
+                    key,
+                    "describes a material given by its Young's modulus; give youngs_modulus \
+                     too (or use ks and kd)",
+                ));
+            }
+        }
+        if let Some(nu) = self.poisson_ratio {
+            if !(0.0..=0.5).contains(&nu) {
+                return Err(Error::param(
+                    "poisson_ratio",
+                    format!("must be in [0, 0.5], got {nu}"),
+                ));
+            }
+        }
+        if let Some(beta) = self.damping {
+            non_negative_finite("damping", beta)?;
+        }
+        if self.springs == SpringKind::Implicit {
+            match self.method {
+                Method::MssNode | Method::Distance => {
+                    return Err(Error::param(
+                        "springs",
+                        format!(
+                            "implicit springs act with the methods mss and volume; {} {}",
+                            self.method,
+                            if self.method == Method::Distance {
+                                "already holds every spring at its rest length"
+                            } else {
+                                "gathers explicit spring forces per node (use mss)"
+                            }
+                        ),
+                    ))
+                }
+                Method::Mss | Method::Volume => {}
+            }
+            if self.solver == Solver::Chebyshev {
+                return Err(Error::param(
+                    "springs",
+                    "implicit springs are solved by jacobi or gauss-seidel, not chebyshev",
+                ));
+            }
+            if self.youngs_modulus.is_none() && self.ks <= 0.0 {
+                return Err(Error::param(
+                    "ks",
+                    "implicit springs need a stiffness > 0 (compliance 1 / ks)",
+                ));
+            }
+        }
         non_negative_finite("constraint_epsilon", self.constraint_epsilon)?;
         match self.mass {
             MassMode::PerNode { mass } => positive_finite("mass", mass)?,
@@ -312,6 +427,14 @@ impl SimParams {
         Ok(())
     }
 }
+
+/// Default of [`SimParams::springs`]: the paper's explicit springs.
+pub fn default_springs() -> SpringKind {
+    SpringKind::Explicit
+}
+
+/// Default of [`SimParams::damping`] [s]: the `seed` preset's `kd / ks` (15 / 5000).
+pub const DEFAULT_DAMPING_TIME: f64 = 15.0 / 5000.0;
 
 /// Default of [`SimParams::solver`].
 pub fn default_solver() -> Solver {
@@ -377,8 +500,8 @@ pub struct Placement {
     /// Uniformly scale so the bounding box's largest side is this many metres
     /// (`None` keeps the mesh's own size).
     pub fit_size: Option<f64>,
-    /// Centre over the origin in X and Z, and put the lowest node this high above `y = 0`
-    /// (`None` keeps the mesh where it is).
+    /// Put the lowest node this high above `y = 0`, and, when the mesh is fitted, centre it
+    /// over the origin in X and Z (`None` keeps the mesh where it is).
     pub drop_height: Option<f64>,
 }
 

@@ -16,6 +16,7 @@
 //! rho = 0.95          # spectral radius estimate of chebyshev
 //! global_volume = true  # one global volume constraint per object (default: on for
 //!                       # gauss-seidel, off for jacobi and chebyshev)
+//! springs = "explicit"  # the paper's forces, or "implicit" (compliant constraints)
 //! atomics = "auto"    # or "ext", "cas"
 //! epsilon = 1e-20     # skip a constraint whose denominator A is at or below this
 //! gravity = 9.81      # m/s^2, along -Y
@@ -29,6 +30,8 @@
 //! drop_height = 0.1          # m, lowest node above y = 0 (omit to keep the position)
 //! velocity = [0.0, 0.0, 0.0] # m/s, initial
 //! material = { ks = 5000.0, kd = 15.0, node_mass = 1.0 }   # or density = 1000.0 (kg/m^3)
+//! # or a material in physical units, instead of ks and kd:
+//! # material = { youngs_modulus = 1e5, poisson_ratio = 0.45, density = 1000.0, damping = 0.003 }
 //! pin = { nodes = [0, 1], box = { min = [-1, 0, -1], max = [1, 0.12, 1] } }
 //!
 //! [[collider]]
@@ -300,10 +303,10 @@ impl Scene {
             if o.velocity.iter().any(|v| !v.is_finite()) {
                 return Err(Error::param(key("velocity"), "must be finite"));
             }
-            if o.material.node_mass.is_some() && o.material.density.is_some() {
+            if let Some((a, b)) = o.material.conflict() {
                 return Err(Error::param(
                     key("material"),
-                    "give node_mass or density, not both",
+                    format!("give {a} or {b}, not both"),
                 ));
             }
             if let Some(b) = o.pin.region {

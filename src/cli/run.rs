@@ -91,6 +91,10 @@ pub struct RunArgs {
     /// Scale the mesh so its bounding box's largest side is this long [m].
     #[arg(long)]
     pub fit_size: Option<f64>,
+    /// Keep the mesh's own size and position (real size, e.g. with --youngs and --density):
+    /// no scaling, and no lift unless --drop-height is given, which then only lifts it.
+    #[arg(long, conflicts_with = "fit_size")]
+    pub no_fit: bool,
     /// Height of the lowest node above the floor at the start [m].
     #[arg(long)]
     pub drop_height: Option<f64>,
@@ -138,6 +142,7 @@ fn scene_conflicts() -> Vec<clap::Id> {
             "friction",
             "no_floor",
             "fit_size",
+            "no_fit",
             "drop_height",
             "json",
             "out_dir",
@@ -178,8 +183,14 @@ impl RunArgs {
                 mesh: self.mesh.clone(),
                 target_tets: self.target_tets,
                 method: self.method.methods()[0],
-                fit_size: self.fit_size.or(preset.placement.fit_size),
-                drop_height: self.drop_height.or(preset.placement.drop_height),
+                fit_size: match self.no_fit {
+                    true => None,
+                    false => self.fit_size.or(preset.placement.fit_size),
+                },
+                drop_height: match self.no_fit {
+                    true => self.drop_height,
+                    false => self.drop_height.or(preset.placement.drop_height),
+                },
                 velocity: [0.0; 3],
                 material: self.material.clone(),
                 pin: Pin::default(),

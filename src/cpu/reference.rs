@@ -6,11 +6,12 @@ use glam::DVec3;
 use super::{check_state, diverged, Bad};
 use crate::backend::{Backend, State, VolumeSample};
 use crate::error::Result;
-use crate::model::{ConstraintGroups, GlobalObject, GlobalVolume, Model};
-use crate::params::{chebyshev_weights, Method, SimParams, Solver};
+use crate::model::{ConstraintKind, ElementMaterial, GlobalObject, GlobalVolume, Model, Sweep};
+use crate::params::{chebyshev_weights, Method, SimParams, Solver, SpringKind};
 use crate::physics::{
-    distance_constraint, face_volume, floor_solve, implicit_accumulate, implicit_lambda,
-    implicit_multiplier, integrate_node, spring_force, tet_volume, volume_constraint,
+    compliant_multiplier, distance_constraint, face_volume, floor_solve, implicit_accumulate,
+    implicit_multiplier, integrate_node, spring_constraint, spring_force, spring_softness,
+    tet_volume, volume_constraint, volume_softness,
 };
 
 /// The forces of steps 1 and 2 of one time step, per node [N]; their sum is the `F` that is
@@ -50,10 +51,13 @@ pub struct ReferenceBackend {
     speed_limit: f64,
     /// The likely cause printed on divergence.
     likely: String,
-    /// The constraints in the groups solved one after another (`None`: springs only).
-    groups: Option<ConstraintGroups>,
-    /// Per group, each node's `(a_scale, apply_weight)` from its degree within the group.
-    group_factors: Vec<Vec<(f64, f64)>>,
+    /// The material of every spring and tet.
+    material: ElementMaterial,
+    /// The constraint sweeps of an iteration, in order ([`Model::constraint_sweeps`]).
+    sweeps: Vec<Sweep>,
+    /// Per sweep and group, each node's `(a_scale, apply_weight)` from its degree within the
+    /// group.
+    group_factors: Vec<Vec<Vec<(f64, f64)>>>,
     /// The global volume constraints, when solved.
     global: Option<GlobalVolume>,
 }
@@ -62,18 +66,23 @@ impl ReferenceBackend {
     /// A solver at the model's initial positions and velocities. Fails on invalid parameters.
     pub fn new(model: &Model, params: &SimParams) -> Result<Self> {
         params.validate()?;
-        let groups = model.constraint_groups(params.method, params.solver, params.groups);
+        let sweeps = model.constraint_sweeps(params);
         let n = model.node_count();
-        let group_factors = groups.iter().flat_map(|groups| {
-            (0..groups.len()).map(move |g| {
-                groups
-                    .group_degree(g, n)
-                    .iter()
-                    .map(|&d| params.combine.node_factors(d))
+        let group_factors = sweeps
+            .iter()
+            .map(|sweep| {
+                (0..sweep.groups.len())
+                    .map(|g| {
+                        sweep
+                            .groups
+                            .group_degree(g, n)
+                            .iter()
+                            .map(|&d| params.combine.node_factors(d))
+                            .collect()
+                    })
                     .collect()
             })
-        });
-        let group_factors = group_factors.collect();
+            .collect();
         Ok(ReferenceBackend {
             model: model.clone(),
             params: params.clone(),
@@ -82,7 +91,8 @@ impl ReferenceBackend {
             frame: 0,
             speed_limit: crate::stability::speed_limit(model, params),
             likely: crate::stability::likely_cause(model, params),
-            groups,
+            material: model.element_material(params).into_owned(),
+            sweeps,
             group_factors,
             global: params
                 .solves_global_volume()
@@ -98,18 +108,20 @@ impl ReferenceBackend {
         Ok(())
     }
 
-    /// Steps 1 and 2 of a time step at the current state: gravity, springs (spring-centric
-    /// for every method but `mss-node`, which gathers per node), then `iterations` sweeps of
-    /// the method's constraints, group after group (one group for Jacobi and Chebyshev, the
-    /// colour groups for Gauss-Seidel; Chebyshev extrapolating each iteration's forces),
-    /// each group followed by the floor's solve, then the global volume constraints (when
-    /// solved) and the floor again; finally the floor's last solve.
+    /// Steps 1 and 2 of a time step at the current state: gravity, explicit springs
+    /// (spring-centric for every method but `mss-node`, which gathers per node), then
+    /// `iterations` times the sweeps ([`Model::constraint_sweeps`]: implicit springs, then
+    /// the method's constraints), each group after group (one group for Jacobi and
+    /// Chebyshev, the colour groups for Gauss-Seidel; Chebyshev extrapolating each
+    /// iteration's forces) and each group followed by the floor's solve, then the global
+    /// volume constraints (when solved) and the floor again; finally the floor's last solve.
     pub fn forces(&self) -> Forces {
         let n = self.model.node_count();
         let down = DVec3::new(0.0, -self.params.gravity, 0.0);
         let gravity: Vec<DVec3> = self.model.mass.iter().map(|&m| down * m).collect();
-        let springs = match self.params.method {
-            Method::MssNode => self.spring_forces_gather(),
+        let springs = match (self.params.springs, self.params.method) {
+            (SpringKind::Implicit, _) => vec![DVec3::ZERO; n],
+            (_, Method::MssNode) => self.spring_forces_gather(),
             _ => self.spring_forces_scatter(),
         };
         let mut total: Vec<DVec3> = (0..n).map(|i| gravity[i] + springs[i]).collect();
@@ -119,14 +131,15 @@ impl ReferenceBackend {
         let weights =
             (p.solver == Solver::Chebyshev).then(|| chebyshev_weights(p.rho, p.iterations));
         let (mut before_total, mut before_floor) = (total.clone(), floor.clone());
-        if let Some(groups) = &self.groups {
-            for iteration in 0..self.params.iterations as usize {
-                for (g, factors) in self.group_factors.iter().enumerate() {
+        for iteration in 0..self.params.iterations as usize {
+            for (sweep, sweep_factors) in self.sweeps.iter().zip(&self.group_factors) {
+                for (g, factors) in sweep_factors.iter().enumerate() {
                     let a_scale: Vec<f64> = factors.iter().map(|f| f.0).collect();
-                    let members = groups.group(g);
-                    let sum = match self.params.method {
-                        Method::Distance => self.distance_sweep(members, &total, &a_scale),
-                        _ => self.volume_sweep(members, &total, &a_scale),
+                    let members = sweep.groups.group(g);
+                    let sum = match sweep.kind {
+                        ConstraintKind::Spring => self.spring_sweep(members, &total, &a_scale),
+                        ConstraintKind::Distance => self.distance_sweep(members, &total, &a_scale),
+                        ConstraintKind::Volume => self.volume_sweep(members, &total, &a_scale),
                     };
                     let current = weights.as_ref().map(|_| (total.clone(), floor.clone()));
                     for i in 0..n {
@@ -144,15 +157,15 @@ impl ReferenceBackend {
                     }
                     self.floor_solve(&mut total, &mut floor);
                 }
-                if let Some(global) = &self.global {
-                    for object in &global.objects {
-                        let f = self.global_volume_forces(global, object, &total);
-                        for (&i, f) in global.nodes[object.node_first as usize..].iter().zip(f) {
-                            total[i as usize] += f;
-                        }
+            }
+            if let Some(global) = &self.global {
+                for object in &global.objects {
+                    let f = self.global_volume_forces(global, object, &total);
+                    for (&i, f) in global.nodes[object.node_first as usize..].iter().zip(f) {
+                        total[i as usize] += f;
                     }
-                    self.floor_solve(&mut total, &mut floor);
                 }
+                self.floor_solve(&mut total, &mut floor);
             }
         }
         self.floor_solve(&mut total, &mut floor);
@@ -246,18 +259,39 @@ impl ReferenceBackend {
             .collect()
     }
 
-    /// Force on node `i` of spring `s`, whose other end is `j`.
+    /// Explicit force on node `i` of spring `s`, whose other end is `j`.
     fn spring(&self, i: usize, j: usize, s: usize) -> DVec3 {
-        let p = &self.params;
         spring_force(
             self.x[i],
             self.x[j],
             self.v[i],
             self.v[j],
             self.model.rest_length[s],
-            p.ks,
-            p.kd,
+            self.material.spring_stiffness[s],
+            self.material.spring_damping[s],
         )
+    }
+
+    /// One Jacobi sweep of the implicit springs `members` against the force `f`: per-node
+    /// sums of `-lambda grad C` with the compliant multiplier of each spring's stiffness
+    /// and damping.
+    fn spring_sweep(&self, members: &[u32], f: &[DVec3], a_scale: &[f64]) -> Vec<DVec3> {
+        let mut sum = vec![DVec3::ZERO; self.model.node_count()];
+        let dt = self.params.dt;
+        for &s in members {
+            let s = s as usize;
+            let ids = self.model.springs[s].map(|i| i as usize);
+            let (c, grad) =
+                spring_constraint(self.x[ids[0]], self.x[ids[1]], self.model.rest_length[s]);
+            let damping = self.material.spring_damping[s];
+            let softness = spring_softness(self.material.spring_stiffness[s], damping, dt);
+            if let Some(lambda) = self.lambda(c, &grad, ids, f, a_scale, softness, damping) {
+                for k in 0..2 {
+                    sum[ids[k]] -= grad[k] * lambda;
+                }
+            }
+        }
+        sum
     }
 
     /// One Jacobi sweep of the distance constraints `members` against the force `f`:
@@ -269,7 +303,7 @@ impl ReferenceBackend {
             let ids = self.model.springs[s].map(|i| i as usize);
             let (c, grad) =
                 distance_constraint(self.x[ids[0]], self.x[ids[1]], self.model.rest_length[s]);
-            if let Some(lambda) = self.lambda(c, &grad, ids, f, a_scale) {
+            if let Some(lambda) = self.lambda(c, &grad, ids, f, a_scale, 0.0, 0.0) {
                 for k in 0..2 {
                     sum[ids[k]] -= grad[k] * lambda;
                 }
@@ -285,7 +319,8 @@ impl ReferenceBackend {
             let t = t as usize;
             let ids = self.model.tets[t].map(|i| i as usize);
             let (c, grad) = volume_constraint(ids.map(|i| self.x[i]), self.model.rest_volume[t]);
-            if let Some(lambda) = self.lambda(c, &grad, ids, f, a_scale) {
+            let softness = volume_softness(self.material.volume_compliance[t], self.params.dt);
+            if let Some(lambda) = self.lambda(c, &grad, ids, f, a_scale, softness, 0.0) {
                 for k in 0..4 {
                     sum[ids[k]] -= grad[k] * lambda;
                 }
@@ -294,6 +329,9 @@ impl ReferenceBackend {
         sum
     }
 
+    /// The multiplier of one constraint with value `c` and gradients `grad` on the nodes
+    /// `ids` against the force `f` ([`compliant_multiplier`]; softness 0: hard).
+    #[allow(clippy::too_many_arguments)]
     fn lambda<const K: usize>(
         &self,
         c: f64,
@@ -301,21 +339,19 @@ impl ReferenceBackend {
         ids: [usize; K],
         f: &[DVec3],
         a_scale: &[f64],
+        softness: f64,
+        damping: f64,
     ) -> Option<f64> {
-        let w = ids.map(|i| self.model.inv_mass[i]);
-        let s = ids.map(|i| a_scale[i]);
-        let v = ids.map(|i| self.v[i]);
-        let fk = ids.map(|i| f[i]);
-        implicit_lambda(
-            c,
-            grad,
-            &w,
-            &s,
-            &v,
-            &fk,
-            self.params.dt,
-            self.params.constraint_epsilon,
-        )
+        let p = &self.params;
+        let (mut a, mut b) = (0.0, 0.0);
+        for k in 0..K {
+            let i = ids[k];
+            let w = self.model.inv_mass[i];
+            implicit_accumulate(
+                &mut a, &mut b, grad[k], w, a_scale[i], self.v[i], f[i], p.dt,
+            );
+        }
+        compliant_multiplier(c, a, b, p.dt, softness, damping, p.constraint_epsilon)
     }
 
     /// One time step (physics.md steps 1-3). Returns the first node that is non-finite or

@@ -3,15 +3,19 @@
 
 mod global;
 mod groups;
+mod material;
 
 pub use global::{GlobalObject, GlobalVolume};
 pub use groups::{greedy_colours, ConstraintGroups};
+pub use material::{bulk_modulus, ElementMaterial};
+
+use std::borrow::Cow;
 
 use glam::DVec3;
 
 use crate::error::{Error, Result};
 use crate::mesh::{bounds_of, tet_signed_volume, topology, TetMesh};
-use crate::params::{MassMode, Placement};
+use crate::params::{MassMode, Method, Placement, SimParams, Solver, SpringKind};
 
 /// Compressed sparse rows: `items[offsets[i]..offsets[i + 1]]` belong to row `i`.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -81,6 +85,10 @@ pub struct Model {
     /// the mesh file's position (one entry per object). Outputs use it to write in the
     /// input's units and position.
     pub placements: Vec<Similarity>,
+    /// The material of each spring and tet, when the builder was given one (scenes and
+    /// `run` give every object its own); `None`: the solver's `ks`, `kd` and hard volume
+    /// constraints ([`Model::element_material`]).
+    pub material: Option<ElementMaterial>,
 }
 
 /// A uniform scale followed by a translation: `p -> scale * p + offset`.
@@ -170,6 +178,46 @@ impl Model {
         }
     }
 
+    /// The material of each spring and tet: the model's own, else the one `params` describe
+    /// ([`ElementMaterial::new`]).
+    pub fn element_material(&self, params: &SimParams) -> Cow<'_, ElementMaterial> {
+        match &self.material {
+            Some(m) => Cow::Borrowed(m),
+            None => Cow::Owned(ElementMaterial::new(self, params)),
+        }
+    }
+
+    /// The constraint sweeps of one iteration, in order: the implicit springs (when
+    /// `params.springs` asks for them), then the method's constraints (distance or volume),
+    /// each split into the groups `params.solver` solves in sequence. Empty for explicit
+    /// springs-only methods.
+    pub fn constraint_sweeps(&self, params: &SimParams) -> Vec<Sweep> {
+        let n = self.node_count();
+        let split = |kind: ConstraintKind| {
+            let groups = match (kind, params.solver) {
+                (ConstraintKind::Volume, Solver::GaussSeidel) => {
+                    ConstraintGroups::coloured(&self.tets, n, params.groups)
+                }
+                (ConstraintKind::Volume, _) => ConstraintGroups::single(&self.tets, n),
+                (_, Solver::GaussSeidel) => {
+                    ConstraintGroups::coloured(&self.springs, n, params.groups)
+                }
+                _ => ConstraintGroups::single(&self.springs, n),
+            };
+            Sweep { kind, groups }
+        };
+        let mut sweeps = Vec::new();
+        if params.springs == SpringKind::Implicit {
+            sweeps.push(split(ConstraintKind::Spring));
+        }
+        match params.method {
+            Method::Distance => sweeps.push(split(ConstraintKind::Distance)),
+            Method::Volume => sweeps.push(split(ConstraintKind::Volume)),
+            Method::Mss | Method::MssNode => {}
+        }
+        sweeps
+    }
+
     /// Sum of rest volumes [m^3].
     pub fn total_rest_volume(&self) -> f64 {
         self.rest_volume.iter().sum()
@@ -183,6 +231,26 @@ impl Model {
     }
 }
 
+/// The kind of a constraint solved in the iterations.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ConstraintKind {
+    /// An implicit spring: `C = |x_i - x_j| - L` with compliance `1 / k_e` and damping.
+    Spring,
+    /// The paper's distance constraint `C = |x_i - x_j|^2 - L^2`, hard.
+    Distance,
+    /// The volume constraint `C = V - V0`, hard or with the material's compliance.
+    Volume,
+}
+
+/// One kind of constraint in the groups solved one after another.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sweep {
+    /// What the constraints are (springs for `Spring` and `Distance`, tets for `Volume`).
+    pub kind: ConstraintKind,
+    /// The constraints (spring or tet indices) in their groups.
+    pub groups: ConstraintGroups,
+}
+
 /// Builds a [`Model`] from a tet mesh: placement, orientation, springs, masses, adjacency.
 #[derive(Debug, Clone)]
 pub struct ModelBuilder<'a> {
@@ -192,6 +260,7 @@ pub struct ModelBuilder<'a> {
     pinned: Vec<u32>,
     pin_boxes: Vec<(DVec3, DVec3)>,
     velocity: DVec3,
+    material: Option<SimParams>,
 }
 
 impl<'a> ModelBuilder<'a> {
@@ -204,7 +273,18 @@ impl<'a> ModelBuilder<'a> {
             pinned: Vec::new(),
             pin_boxes: Vec::new(),
             velocity: DVec3::ZERO,
+            material: None,
         }
+    }
+
+    /// Gives the model its own per-element material, the one `params` describe (their
+    /// `ks`, `kd` or Young's modulus, Poisson's ratio and damping; see
+    /// [`ElementMaterial::new`]), and the masses of `params.mass`. Without it the solver's
+    /// parameters decide.
+    pub fn material(mut self, params: &SimParams) -> Self {
+        self.mass = params.mass;
+        self.material = Some(params.clone());
+        self
     }
 
     /// Where to put the mesh.
@@ -345,7 +425,7 @@ impl<'a> ModelBuilder<'a> {
             mesh.faces.clone()
         };
 
-        Ok(Model {
+        let mut model = Model {
             positions,
             velocities,
             mass,
@@ -359,7 +439,12 @@ impl<'a> ModelBuilder<'a> {
             surface,
             objects: vec![0, n as u32],
             placements: vec![placement],
-        })
+            material: None,
+        };
+        model.material = self
+            .material
+            .map(|params| ElementMaterial::new(&model, &params));
+        Ok(model)
     }
 }
 
@@ -433,6 +518,15 @@ impl Model {
             out.objects
                 .extend(m.objects.iter().skip(1).map(|o| o + nodes));
             out.placements.extend_from_slice(&m.placements);
+            out.material = match (&out.material, &m.material) {
+                (None, None) => None,
+                (Some(a), Some(b)) => Some(ElementMaterial::concat(a, b)),
+                _ => {
+                    return Err(Error::Mesh(
+                        "models with and without their own material cannot be combined".into(),
+                    ))
+                }
+            };
         }
         Ok(out)
     }
@@ -453,8 +547,11 @@ fn place(nodes: &[DVec3], placement: Placement) -> Result<Similarity> {
     }
     let mut offset = DVec3::ZERO;
     if let Some(height) = placement.drop_height {
-        let centre = (lo + hi) * 0.5 * scale;
-        offset = DVec3::new(-centre.x, height - lo.y * scale, -centre.z);
+        offset.y = height - lo.y * scale;
+        if placement.fit_size.is_some() {
+            let centre = (lo + hi) * 0.5 * scale;
+            (offset.x, offset.z) = (-centre.x, -centre.z);
+        }
     }
     Ok(Similarity { scale, offset })
 }

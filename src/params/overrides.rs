@@ -8,7 +8,7 @@
 
 use serde::Deserialize;
 
-use super::{AtomicsMode, ConstraintCombine, MassMode, SimParams, Solver};
+use super::{AtomicsMode, ConstraintCombine, MassMode, SimParams, Solver, SpringKind};
 
 /// Time stepping and the constraint solver, shared by all objects: a scene's `[solver]`
 /// table and `run`'s solver flags. `None` keeps the base value (the preset's).
@@ -43,6 +43,11 @@ pub struct SolverOverrides {
     /// `gauss-seidel`, off for `jacobi` (the paper's method) and `chebyshev`.
     #[arg(long, num_args = 0..=1, default_missing_value = "true", value_name = "BOOL")]
     pub global_volume: Option<bool>,
+    /// Springs as the paper's explicit forces (`explicit`, default) or as compliant
+    /// constraints solved with the others (`implicit`: stable for any mass and stiffness;
+    /// methods mss and volume).
+    #[arg(long, value_enum)]
+    pub springs: Option<SpringKind>,
     /// Spectral radius estimate of the Chebyshev solver, in (0, 1) (default 0.95).
     #[arg(long)]
     pub rho: Option<f64>,
@@ -72,6 +77,7 @@ impl SolverOverrides {
         set(&mut params.groups, self.groups);
         set(&mut params.global_volume, self.global_volume.map(Some));
         set(&mut params.rho, self.rho);
+        set(&mut params.springs, self.springs);
         set(&mut params.atomics, self.atomics);
         set(&mut params.constraint_epsilon, self.epsilon);
         set(&mut params.gravity, self.gravity);
@@ -96,8 +102,8 @@ impl SolverOverrides {
     }
 }
 
-/// Spring constants and mass of an object: a scene object's `material` table and `run`'s
-/// material flags. `None` keeps the base value (the preset's).
+/// Spring constants or an elastic material, and mass, of an object: a scene object's
+/// `material` table and `run`'s material flags. `None` keeps the base value (the preset's).
 #[derive(Debug, Clone, Default, PartialEq, clap::Args, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialOverrides {
@@ -113,6 +119,19 @@ pub struct MaterialOverrides {
     /// Lumped masses from this density [kg/m^3] instead of equal node masses.
     #[arg(long)]
     pub density: Option<f64>,
+    /// Young's modulus [Pa]: spring stiffnesses from the material (Van Gelder) instead of
+    /// --ks; use with --density (scene key `youngs_modulus`).
+    #[arg(long = "youngs", value_name = "PA", conflicts_with_all = ["ks", "kd"])]
+    pub youngs_modulus: Option<f64>,
+    /// Poisson's ratio in [0, 0.5] of the --youngs material: compliant volume constraints
+    /// (bulk modulus E / (3 (1 - 2 nu))); default and 0.5: incompressible (scene key
+    /// `poisson_ratio`).
+    #[arg(long = "poisson", value_name = "NU", requires = "youngs_modulus")]
+    pub poisson_ratio: Option<f64>,
+    /// Damping time [s] of the --youngs material: each spring's damping is this times its
+    /// stiffness (default 0.003, the paper's kd / ks).
+    #[arg(long, value_name = "S", requires = "youngs_modulus")]
+    pub damping: Option<f64>,
 }
 
 impl MaterialOverrides {
@@ -121,11 +140,39 @@ impl MaterialOverrides {
         has_arg::<Self>(key)
     }
 
+    /// Two given values that exclude each other (the flags refuse them through clap, scenes
+    /// through this): a spring constant beside a Young's modulus, or two masses.
+    pub fn conflict(&self) -> Option<(&'static str, &'static str)> {
+        let e = self.youngs_modulus.is_some();
+        [
+            (
+                "node_mass",
+                self.node_mass.is_some(),
+                "density",
+                self.density.is_some(),
+            ),
+            ("youngs_modulus", e, "ks", self.ks.is_some()),
+            ("youngs_modulus", e, "kd", self.kd.is_some()),
+        ]
+        .into_iter()
+        .find(|&(_, a, _, b)| a && b)
+        .map(|(a, _, b, _)| (a, b))
+    }
+
     /// Writes every given value onto `params` (`density` wins over `node_mass`; the flags
-    /// and scenes refuse both).
+    /// and scenes refuse both). A Young's modulus replaces the base's: its Poisson's ratio
+    /// and damping are the ones given here, or the defaults.
     pub fn apply(&self, params: &mut SimParams) {
         set(&mut params.ks, self.ks);
         set(&mut params.kd, self.kd);
+        if self.youngs_modulus.is_some() {
+            params.youngs_modulus = self.youngs_modulus;
+            params.poisson_ratio = self.poisson_ratio;
+            params.damping = self.damping;
+        } else {
+            set(&mut params.poisson_ratio, self.poisson_ratio.map(Some));
+            set(&mut params.damping, self.damping.map(Some));
+        }
         set(
             &mut params.mass,
             self.node_mass.map(|mass| MassMode::PerNode { mass }),

@@ -19,6 +19,21 @@ pub fn distance_constraint<V: Vector>(xi: V, xj: V, rest: V::Real) -> (V::Real, 
     (d.dot(d) - rest * rest, [d * two, d * -two])
 }
 
+/// An implicit spring's constraint (physics.md, "Compliant (implicit) springs"): the spring
+/// `(i, j)` with rest length `rest` [m] gives `C = |x_i - x_j| - L` [m] and the gradients
+/// `[n, -n]` with `n = (x_i - x_j) / |x_i - x_j|` (zero for a spring of zero length, which is
+/// then skipped, as its `A` is 0).
+#[inline]
+pub fn spring_constraint<V: Vector>(xi: V, xj: V, rest: V::Real) -> (V::Real, [V; 2]) {
+    let d = xi - xj;
+    let l = d.length();
+    if l <= V::Real::ZERO {
+        return (-rest, [V::ZERO, V::ZERO]);
+    }
+    let n = d * (V::Real::ONE / l);
+    (l - rest, [n, V::ZERO - n])
+}
+
 /// Volume constraint of the tetrahedron `p` with rest volume `rest` [m^3]: returns
 /// `C = V(p) - V0` [m^3] and the gradients `grad_k C` [m^2] for the four nodes.
 #[inline]
@@ -88,14 +103,54 @@ pub fn implicit_accumulate<V: Vector>(
 
 /// The multiplier from a constraint's value `c` and its accumulated `A` and sum part of `B`
 /// ([`implicit_accumulate`]): `(c / dt^2 + b) / a`, `None` when `a <= epsilon` or not
-/// finite.
+/// finite. The hard constraint: [`compliant_multiplier`] with softness 0.
 #[inline]
 pub fn implicit_multiplier<R: Real>(c: R, a: R, b: R, dt: R, epsilon: R) -> Option<R> {
+    compliant_multiplier(c, a, b, dt, R::ZERO, R::ZERO, epsilon)
+}
+
+/// The multiplier of a compliant, damped constraint (physics.md, "Compliant (implicit)
+/// springs"): the force `-lambda grad C` with `lambda = k C(t + dt) + kd dC/dt(t + dt)`, both
+/// to first order in the step's new velocities, is
+///
+/// ```text
+/// lambda = (B - kd s C / dt) / (A + s),   B = C / dt^2 + b
+/// ```
+///
+/// with the softness `s` of [`spring_softness`] or [`volume_softness`] and the damping `kd`
+/// (0 for a volume constraint). `s = 0` is the hard constraint, `B / A`. `None` (skip) when
+/// `a <= epsilon` or `a` is not finite, as for [`implicit_multiplier`].
+#[inline]
+pub fn compliant_multiplier<R: Real>(
+    c: R,
+    a: R,
+    b: R,
+    dt: R,
+    softness: R,
+    damping: R,
+    epsilon: R,
+) -> Option<R> {
     if a > epsilon && a.is_finite() {
-        Some((c / (dt * dt) + b) / a)
+        Some((c / (dt * dt) + b - damping * softness * c / dt) / (a + softness))
     } else {
         None
     }
+}
+
+/// The softness `s = 1 / (k dt^2 + kd dt)` [1/kg] of a spring of stiffness `k` [N/m] and
+/// damping `kd` [N s/m] solved as a compliant constraint (compliance `1 / k`); infinite, and
+/// the spring skipped by a non-finite multiplier, only when both are 0 (refused by the
+/// parameters).
+#[inline]
+pub fn spring_softness<R: Real>(stiffness: R, damping: R, dt: R) -> R {
+    R::ONE / (stiffness * dt * dt + damping * dt)
+}
+
+/// The softness `s = alpha / dt^2` of a volume constraint of compliance `alpha` [m^3/Pa]
+/// (0: hard).
+#[inline]
+pub fn volume_softness<R: Real>(compliance: R, dt: R) -> R {
+    compliance / (dt * dt)
 }
 
 /// One boundary face's share of the volume a closed surface encloses, measured from the
@@ -177,6 +232,52 @@ mod tests {
         for k in 0..4 {
             assert!(grad[k].distance(want[k]) < 1e-12, "node {k}");
         }
+    }
+
+    #[test]
+    fn spring_constraint_gradient_matches_finite_differences() {
+        let (xi, xj) = (DVec3::new(0.3, -0.2, 0.5), DVec3::new(1.0, 0.4, -0.1));
+        let (c0, grad) = spring_constraint(xi, xj, 0.7);
+        assert!((c0 - (xi.distance(xj) - 0.7)).abs() < 1e-15);
+        let h = 1e-7;
+        for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
+            let (c1, _) = spring_constraint(xi + axis * h, xj, 0.7);
+            assert!(((c1 - c0) / h - grad[0].dot(axis)).abs() < 1e-6);
+            let (c2, _) = spring_constraint(xi, xj + axis * h, 0.7);
+            assert!(((c2 - c0) / h - grad[1].dot(axis)).abs() < 1e-6);
+        }
+    }
+
+    /// One spring between a pinned node and a free one, at rest: the compliant multiplier
+    /// is the backward-Euler force `k C(t + dt) + kd dC/dt(t + dt)` (checked by computing the
+    /// new state), from a very soft spring to a stiff one, which tends to the hard
+    /// constraint.
+    #[test]
+    fn compliant_multiplier_is_the_implicit_spring_force() {
+        let (m, dt, rest) = (2.0, 1e-2, 1.0);
+        let xi = DVec3::new(1.3, 0.0, 0.0);
+        let vi = DVec3::new(0.5, 0.0, 0.0);
+        let (c, grad) = spring_constraint(xi, DVec3::ZERO, rest);
+        let lambda_for = |k: f64, kd: f64| {
+            let (mut a, mut b) = (0.0, 0.0);
+            implicit_accumulate(&mut a, &mut b, grad[0], 1.0 / m, 1.0, vi, DVec3::ZERO, dt);
+            let s = spring_softness(k, kd, dt);
+            compliant_multiplier(c, a, b, dt, s, kd, 0.0).unwrap()
+        };
+        for (k, kd) in [(1e-3, 0.0), (100.0, 0.0), (100.0, 3.0), (1e9, 0.0)] {
+            let lambda = lambda_for(k, kd);
+            let v1 = vi + grad[0] * (-lambda / m * dt);
+            let x1 = xi + v1 * dt;
+            let implicit = k * (x1.length() - rest) + kd * v1.x;
+            // First order: exact for motion along the spring up to the length's curvature
+            // (none here, the motion is along the spring).
+            assert!(
+                (lambda - implicit).abs() < 1e-9 * implicit.abs().max(1.0),
+                "k {k} kd {kd}: {lambda} vs {implicit}"
+            );
+        }
+        let hard = implicit_multiplier(c, 0.5, vi.x / dt, dt, 0.0).unwrap();
+        assert!((lambda_for(1e12, 0.0) - hard).abs() < 1e-6 * hard);
     }
 
     #[test]

@@ -29,8 +29,9 @@ mod real;
 mod spring;
 
 pub use constraint::{
-    distance_constraint, face_volume, implicit_accumulate, implicit_lambda, implicit_multiplier,
-    tet_volume, volume_constraint,
+    compliant_multiplier, distance_constraint, face_volume, implicit_accumulate, implicit_lambda,
+    implicit_multiplier, spring_constraint, spring_softness, tet_volume, volume_constraint,
+    volume_softness,
 };
 pub use integrate::{floor_force, floor_friction, floor_solve, integrate_node, symplectic_euler};
 pub use real::{Real, Vector};
