@@ -14,7 +14,7 @@ mod gpu_support;
 use glam::DVec3;
 use tetrasim::cpu::ReferenceBackend;
 use tetrasim::mesh::grid::grid_tets;
-use tetrasim::params::{ConstraintCombine, MassMode, Method, Placement, Solver};
+use tetrasim::params::{ConstraintCombine, MassMode, Method, Placement, Solver, SpringKind};
 use tetrasim::{Backend, Model, ModelBuilder, SimParams};
 
 const FRAMES: u32 = 60;
@@ -41,6 +41,7 @@ fn cases() -> Vec<(&'static str, Model, SimParams)> {
         ..SimParams::default()
     };
     let density = MassMode::Density { density: 1000.0 };
+    let dense = builder(&mesh).mass(density).build().unwrap();
     vec![
         (
             "omega 1.5",
@@ -154,7 +155,80 @@ fn cases() -> Vec<(&'static str, Model, SimParams)> {
                 ..base(Method::Volume)
             },
         ),
+        (
+            "implicit springs, mss, jacobi, deformed",
+            gpu_support::jittered(&dense, 0.01, 0.3, 29),
+            SimParams {
+                springs: SpringKind::Implicit,
+                solver: Solver::Jacobi,
+                ..real(Method::Mss)
+            },
+        ),
+        (
+            "implicit springs, volume, gauss-seidel, deformed",
+            gpu_support::jittered(&dense, 0.01, 0.3, 31),
+            SimParams {
+                springs: SpringKind::Implicit,
+                ..real(Method::Volume)
+            },
+        ),
+        (
+            "young's modulus, nu 0.45, implicit springs, jacobi",
+            gpu_support::jittered(&dense, 0.01, 0.3, 37),
+            SimParams {
+                springs: SpringKind::Implicit,
+                solver: Solver::Jacobi,
+                ..elastic(Method::Volume, 0.45)
+            },
+        ),
+        (
+            "young's modulus, nu 0.3, explicit springs",
+            gpu_support::jittered(&dense, 0.01, 0.3, 41),
+            elastic(Method::Volume, 0.3),
+        ),
+        ("two objects, two materials", two_materials(&mesh), {
+            SimParams {
+                springs: SpringKind::Implicit,
+                ..real(Method::Volume)
+            }
+        }),
     ]
+}
+
+/// Density masses (1000 kg/m^3) with the paper's springs.
+fn real(method: Method) -> SimParams {
+    SimParams {
+        method,
+        mass: MassMode::Density { density: 1000.0 },
+        ..SimParams::default()
+    }
+}
+
+/// A rubber-like material: E 1 MPa, Poisson's ratio `nu`, 1000 kg/m^3.
+fn elastic(method: Method, nu: f64) -> SimParams {
+    SimParams {
+        youngs_modulus: Some(1e6),
+        poisson_ratio: Some(nu),
+        damping: Some(1e-3),
+        ..real(method)
+    }
+}
+
+/// The ball twice, each object with its own material (the model carries them): a soft one
+/// with compliant volumes, a stiff one with the paper's springs.
+fn two_materials(mesh: &tetrasim::TetMesh) -> Model {
+    let soft = SimParams {
+        youngs_modulus: Some(2e5),
+        poisson_ratio: Some(0.4),
+        ..real(Method::Volume)
+    };
+    let a = builder(mesh).material(&soft).build().unwrap();
+    let b = builder(mesh)
+        .material(&real(Method::Volume))
+        .build()
+        .unwrap();
+    let b = gpu_support::jittered(&b, 0.01, 0.3, 43);
+    Model::concat(&[a, b]).unwrap()
 }
 
 #[test]
