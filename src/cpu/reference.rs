@@ -26,6 +26,12 @@ pub struct Forces {
     pub constraints: Vec<DVec3>,
     /// The floor's normal force (along +Y, `>= 0`; zero without a floor).
     pub floor: Vec<f64>,
+    /// Per spring, the multiplier of its implicit spring after the step's iterations (the
+    /// force is `-lambda grad C`); zeros with explicit springs.
+    pub spring_multipliers: Vec<f64>,
+    /// Per tet, the multiplier of its compliant volume constraint after the iterations
+    /// (zero for hard ones).
+    pub volume_multipliers: Vec<f64>,
 }
 
 impl Forces {
@@ -124,6 +130,9 @@ impl ReferenceBackend {
             (_, Method::MssNode) => self.spring_forces_gather(),
             _ => self.spring_forces_scatter(),
         };
+        // The compliant constraints' multipliers found so far in this step.
+        let mut spring_lambda = vec![0.0; self.model.springs.len()];
+        let mut volume_lambda = vec![0.0; self.model.tets.len()];
         let mut total: Vec<DVec3> = (0..n).map(|i| gravity[i] + springs[i]).collect();
         let mut floor = vec![0.0; n];
         // Chebyshev: the weights, and the total and floor forces two iterations back.
@@ -137,9 +146,13 @@ impl ReferenceBackend {
                     let a_scale: Vec<f64> = factors.iter().map(|f| f.0).collect();
                     let members = sweep.groups.group(g);
                     let sum = match sweep.kind {
-                        ConstraintKind::Spring => self.spring_sweep(members, &total, &a_scale),
+                        ConstraintKind::Spring => {
+                            self.spring_sweep(members, &total, &a_scale, &mut spring_lambda)
+                        }
                         ConstraintKind::Distance => self.distance_sweep(members, &total, &a_scale),
-                        ConstraintKind::Volume => self.volume_sweep(members, &total, &a_scale),
+                        ConstraintKind::Volume => {
+                            self.volume_sweep(members, &total, &a_scale, &mut volume_lambda)
+                        }
                     };
                     let current = weights.as_ref().map(|_| (total.clone(), floor.clone()));
                     for i in 0..n {
@@ -177,6 +190,8 @@ impl ReferenceBackend {
             springs,
             constraints,
             floor,
+            spring_multipliers: spring_lambda,
+            volume_multipliers: volume_lambda,
         }
     }
 
@@ -273,9 +288,16 @@ impl ReferenceBackend {
     }
 
     /// One Jacobi sweep of the implicit springs `members` against the force `f`: per-node
-    /// sums of `-lambda grad C` with the compliant multiplier of each spring's stiffness
-    /// and damping.
-    fn spring_sweep(&self, members: &[u32], f: &[DVec3], a_scale: &[f64]) -> Vec<DVec3> {
+    /// sums of `-delta grad C`, `delta` the compliant multiplier's increment for each
+    /// spring's stiffness, damping and multiplier so far (`lambda`, which grows by
+    /// `omega delta`).
+    fn spring_sweep(
+        &self,
+        members: &[u32],
+        f: &[DVec3],
+        a_scale: &[f64],
+        lambda: &mut [f64],
+    ) -> Vec<DVec3> {
         let mut sum = vec![DVec3::ZERO; self.model.node_count()];
         let dt = self.params.dt;
         for &s in members {
@@ -285,9 +307,11 @@ impl ReferenceBackend {
                 spring_constraint(self.x[ids[0]], self.x[ids[1]], self.model.rest_length[s]);
             let damping = self.material.spring_damping[s];
             let softness = spring_softness(self.material.spring_stiffness[s], damping, dt);
-            if let Some(lambda) = self.lambda(c, &grad, ids, f, a_scale, softness, damping) {
+            let so_far = softness * lambda[s];
+            if let Some(delta) = self.lambda(c, &grad, ids, f, a_scale, so_far, softness, damping) {
+                lambda[s] += self.params.omega * delta;
                 for k in 0..2 {
-                    sum[ids[k]] -= grad[k] * lambda;
+                    sum[ids[k]] -= grad[k] * delta;
                 }
             }
         }
@@ -303,7 +327,7 @@ impl ReferenceBackend {
             let ids = self.model.springs[s].map(|i| i as usize);
             let (c, grad) =
                 distance_constraint(self.x[ids[0]], self.x[ids[1]], self.model.rest_length[s]);
-            if let Some(lambda) = self.lambda(c, &grad, ids, f, a_scale, 0.0, 0.0) {
+            if let Some(lambda) = self.lambda(c, &grad, ids, f, a_scale, 0.0, 0.0, 0.0) {
                 for k in 0..2 {
                     sum[ids[k]] -= grad[k] * lambda;
                 }
@@ -312,25 +336,37 @@ impl ReferenceBackend {
         sum
     }
 
-    /// One Jacobi sweep of the volume constraints `members` against the force `f`.
-    fn volume_sweep(&self, members: &[u32], f: &[DVec3], a_scale: &[f64]) -> Vec<DVec3> {
+    /// One Jacobi sweep of the volume constraints `members` against the force `f`; a
+    /// compliant one solves for its multiplier's increment, like [`Self::spring_sweep`].
+    fn volume_sweep(
+        &self,
+        members: &[u32],
+        f: &[DVec3],
+        a_scale: &[f64],
+        lambda: &mut [f64],
+    ) -> Vec<DVec3> {
         let mut sum = vec![DVec3::ZERO; self.model.node_count()];
         for &t in members {
             let t = t as usize;
             let ids = self.model.tets[t].map(|i| i as usize);
             let (c, grad) = volume_constraint(ids.map(|i| self.x[i]), self.model.rest_volume[t]);
             let softness = volume_softness(self.material.volume_compliance[t], self.params.dt);
-            if let Some(lambda) = self.lambda(c, &grad, ids, f, a_scale, softness, 0.0) {
+            let so_far = softness * lambda[t];
+            if let Some(delta) = self.lambda(c, &grad, ids, f, a_scale, so_far, softness, 0.0) {
+                if softness > 0.0 {
+                    lambda[t] += self.params.omega * delta;
+                }
                 for k in 0..4 {
-                    sum[ids[k]] -= grad[k] * lambda;
+                    sum[ids[k]] -= grad[k] * delta;
                 }
             }
         }
         sum
     }
 
-    /// The multiplier of one constraint with value `c` and gradients `grad` on the nodes
-    /// `ids` against the force `f` ([`compliant_multiplier`]; softness 0: hard).
+    /// The multiplier (increment) of one constraint with value `c` and gradients `grad` on
+    /// the nodes `ids` against the force `f` ([`compliant_multiplier`]; softness 0: hard),
+    /// `so_far` = softness times the multiplier found so far (subtracted from `B`).
     #[allow(clippy::too_many_arguments)]
     fn lambda<const K: usize>(
         &self,
@@ -339,6 +375,7 @@ impl ReferenceBackend {
         ids: [usize; K],
         f: &[DVec3],
         a_scale: &[f64],
+        so_far: f64,
         softness: f64,
         damping: f64,
     ) -> Option<f64> {
@@ -351,7 +388,15 @@ impl ReferenceBackend {
                 &mut a, &mut b, grad[k], w, a_scale[i], self.v[i], f[i], p.dt,
             );
         }
-        compliant_multiplier(c, a, b, p.dt, softness, damping, p.constraint_epsilon)
+        compliant_multiplier(
+            c,
+            a,
+            b - so_far,
+            p.dt,
+            softness,
+            damping,
+            p.constraint_epsilon,
+        )
     }
 
     /// One time step (physics.md steps 1-3). Returns the first node that is non-finite or
