@@ -5,7 +5,7 @@
 mod gpu_support;
 
 use tetrasim::gpu::AtomicsPath;
-use tetrasim::params::{AtomicsMode, Method, SimParams};
+use tetrasim::params::{AtomicsMode, Method, SimParams, Solver, SpringKind};
 use tetrasim::Backend;
 
 /// Largest position difference allowed between the paths after the run, as a fraction of
@@ -20,10 +20,20 @@ fn ext_and_cas_paths_agree_for_every_scatter_method() {
     }
     let model = gpu_support::box_model([6, 4, 4], 0.1);
     let diag = model.bounds_diagonal();
-    for method in [Method::Mss, Method::Distance, Method::Volume] {
+    // The default solver's methods, and Jacobi sweeps of implicit springs and volumes (the
+    // spring_constraint and volume passes on the atomic path).
+    let cases = [
+        (Method::Mss, SpringKind::Explicit, Solver::GaussSeidel),
+        (Method::Distance, SpringKind::Explicit, Solver::GaussSeidel),
+        (Method::Volume, SpringKind::Explicit, Solver::GaussSeidel),
+        (Method::Volume, SpringKind::Implicit, Solver::Jacobi),
+    ];
+    for (method, springs, solver) in cases {
         let run = |atomics| {
             let params = SimParams {
                 method,
+                springs,
+                solver,
                 atomics,
                 ..SimParams::default()
             };
@@ -55,7 +65,7 @@ fn ext_and_cas_paths_agree_for_every_scatter_method() {
             .map(|(a, b)| a.distance(*b))
             .fold(0.0, f64::max);
         println!(
-            "{method}: largest ext/cas difference {:.3e} of the diagonal",
+            "{method} ({springs} springs, {solver}): largest ext/cas difference {:.3e} of the diagonal",
             worst / diag
         );
         assert!(

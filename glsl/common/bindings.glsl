@@ -33,7 +33,10 @@
 // Gather path (Gauss-Seidel by colour groups, no atomics): per constraint, its index, in
 // group order (groups are contiguous ranges); per constraint corner, in the same order,
 // vec4 -lambda grad_k C; per group and node, the CSR of the node's slots in that group
-// (offsets: groups * N + 1; items: indices into the contributions).
+// (offsets: groups * N + 1; items: indices into the contributions). With several sweeps per
+// iteration (implicit springs, then the method's constraints) each buffer holds the sweeps
+// one after another: members and contributions from pc.member_first and pc.slot_first, the
+// groups (degrees, slot rows) numbered over all sweeps.
 #define B_GROUP_MEMBERS 12
 #define B_CONTRIBUTIONS 13
 #define B_NODE_SLOT_OFFSETS 14
@@ -53,18 +56,24 @@
 #define B_GLOBAL_STATE 22
 // Per node, vec4: the force two Chebyshev iterations back (w: its floor force).
 #define B_CHEBYSHEV_BEFORE 23
+// Per spring: its damping kd_e [N s/m] (its stiffness is Spring.stiffness; the spring force
+// and spring_constraint passes read both, the distance pass neither).
+#define B_SPRING_DAMPING 24
+// Per tet: the compliance alpha_t of its volume constraint [m^3/Pa], 0 = hard (method volume).
+#define B_VOLUME_COMPLIANCE 25
 
 // Values of pc.combine (src/gpu/layout.rs, `combine`).
 #define COMBINE_SCALED 0u
 #define COMBINE_SUM 1u
 #define COMBINE_AVERAGE 2u
 
-// One spring: its two nodes and rest length [m] (16 bytes, one 128-bit load).
+// One spring: its two nodes, rest length [m] and stiffness k_e [N/m] (16 bytes, one 128-bit
+// load; its damping is in SpringDamping).
 struct Spring {
     uint a;
     uint b;
     float rest;
-    float pad;
+    float stiffness;
 };
 
 // Partial result of one volume_sum workgroup.
@@ -91,8 +100,8 @@ struct GlobalObject {
 layout(push_constant, std430) uniform PushConstants {
     float dt;        // time step [s]
     float omega;     // relaxation of the averaged constraint forces
-    float ks;        // spring stiffness [N/m]
-    float kd;        // spring damping [N s/m]
+    uint member_first; // the sweep's first position in Members (gather path)
+    uint slot_first;   // the sweep's first slot in Contributions (gather path)
     float gravity;   // gravity magnitude along -Y [m/s^2]
     float friction;  // tangential velocity fraction removed on floor contact
     uint floor_on;   // 1 when the floor y = 0 exists
@@ -101,8 +110,9 @@ layout(push_constant, std430) uniform PushConstants {
     uint tet_count;
     float epsilon;   // constraints with A <= epsilon are skipped (constraint_epsilon)
     uint combine;    // COMBINE_SCALED, COMBINE_SUM or COMBINE_AVERAGE
-    uint group;       // constraint group being solved (0 for Jacobi)
-    uint group_first; // its first position in the group-ordered constraints (gather path)
+    uint group;       // constraint group being solved, counted over every sweep of an
+                      // iteration (selects the degrees and slot rows)
+    uint group_first; // its first position in its sweep's group-ordered constraints (gather)
     uint group_count; // its constraint count (gather path)
     float chebyshev_weight; // the iteration's Chebyshev weight (solver chebyshev; else 1)
 } pc;

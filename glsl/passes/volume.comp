@@ -1,6 +1,7 @@
 #version 460
 // Pass `volume`: one Jacobi sweep of the implicit volume constraint over one constraint
-// group (physics.md), one invocation per tet. Reads x(t), v(t) and the step's current F.
+// group (physics.md), one invocation per tet. Reads x(t), v(t) and the step's current F;
+// hard, or compliant with the tet's compliance alpha_t (volume_softness, no damping).
 // Variants `ext`/`cas` (the paper's Jacobi, one group): add -lambda grad_k C to the four
 // nodes' constraint sums with float atomics. Variant `gather` (Gauss-Seidel by colour
 // groups, no atomics): solve group pc.group's tets and write -lambda grad_k C into the
@@ -19,6 +20,7 @@ layout(std430, set = 0, binding = B_VELOCITIES) readonly restrict buffer Velocit
 layout(std430, set = 0, binding = B_FORCES) readonly restrict buffer Forces { vec4 forces[]; };
 layout(std430, set = 0, binding = B_TETS) readonly restrict buffer Tets { uvec4 tets[]; };
 layout(std430, set = 0, binding = B_REST_VOLUMES) readonly restrict buffer RestVolumes { float rest_volumes[]; };
+layout(std430, set = 0, binding = B_VOLUME_COMPLIANCE) readonly restrict buffer VolumeCompliance { float volume_compliance[]; };
 layout(std430, set = 0, binding = B_CONSTRAINT_DEGREE) readonly restrict buffer Degrees { float degrees[]; };
 
 void main() {
@@ -37,7 +39,8 @@ void main() {
         uint node = tet[k];
         implicit_accumulate(a, b, g[k], p[k].w, combine_a_scale(pc.combine, degrees[group_node(node)]), velocities[node].xyz, forces[node].xyz, pc.dt);
     }
-    float lambda = implicit_multiplier(c, a, b, pc.dt, pc.epsilon);
+    float softness = volume_softness(volume_compliance[t], pc.dt);
+    float lambda = compliant_multiplier(c, a, b, pc.dt, softness, 0.0, pc.epsilon);
     for (uint k = 0u; k < 4u; ++k) {
         constraint_output(position, 4u, k, tet[k], -lambda * g[k], lambda != 0.0);
     }

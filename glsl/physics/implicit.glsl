@@ -1,7 +1,8 @@
 // Implicit constraint multiplier (physics.md Eqs. 13-17 and "Momentum-conserving scaling"),
 // mirroring src/physics:
 //   A = sum_k s_k w_k |grad_k C|^2,  B = C / dt^2 + sum_k grad_k C . (v_k / dt + w_k F_k),
-//   lambda = B / A; the force on node k is -lambda grad_k C. The constraint is skipped
+//   lambda = B / A (hard) or (B - kd s C / dt) / (A + s) (compliant, softness s, damping kd);
+//   the force on node k is -lambda grad_k C. The constraint is skipped
 //   (lambda = 0) when A <= epsilon or A is not finite, as src/physics/constraint.rs does.
 #ifndef PHYSICS_IMPLICIT_GLSL
 #define PHYSICS_IMPLICIT_GLSL
@@ -22,13 +23,33 @@ void implicit_accumulate(inout float a, inout float b, vec3 grad, float w, float
     b += dot(grad, v / dt + w * f);
 }
 
-// lambda from the constraint value and the accumulated A and B sums (0, i.e. skip, where
-// Rust's implicit_multiplier returns None).
-float implicit_multiplier(float c, float a, float b, float dt, float epsilon) {
+// The multiplier of a compliant, damped constraint (compliant_multiplier in
+// src/physics/constraint.rs): lambda = (C / dt^2 + b - damping s C / dt) / (A + s) with the
+// softness s of spring_softness or volume_softness (0: hard); 0 (skip) where Rust returns
+// None (A <= epsilon or not finite).
+float compliant_multiplier(float c, float a, float b, float dt, float softness, float damping, float epsilon) {
     if (!(a > epsilon) || isinf(a)) {
         return 0.0;
     }
-    return (c / (dt * dt) + b) / a;
+    return (c / (dt * dt) + b - damping * softness * c / dt) / (a + softness);
+}
+
+// lambda of a hard constraint from its value and the accumulated A and B sums
+// (implicit_multiplier: compliant_multiplier with softness 0).
+float implicit_multiplier(float c, float a, float b, float dt, float epsilon) {
+    return compliant_multiplier(c, a, b, dt, 0.0, 0.0, epsilon);
+}
+
+// Softness 1 / (k dt^2 + kd dt) [1/kg] of a spring of stiffness k and damping kd solved as
+// a compliant constraint (spring_softness).
+float spring_softness(float stiffness, float damping, float dt) {
+    return 1.0 / (stiffness * dt * dt + damping * dt);
+}
+
+// Softness alpha / dt^2 of a volume constraint of compliance alpha [m^3/Pa] (0: hard;
+// volume_softness).
+float volume_softness(float compliance, float dt) {
+    return compliance / (dt * dt);
 }
 
 #endif

@@ -11,8 +11,8 @@ use super::plan::{BufferId, EnginePlan};
 use crate::backend::State;
 use crate::gpu::layout::{vec4, GpuGlobalObject, GpuSpring};
 use crate::gpu::{Buffer, Context, Uploads};
-use crate::model::{ConstraintGroups, GlobalVolume, Model};
-use crate::params::{Method, SimParams};
+use crate::model::{ConstraintKind, GlobalVolume, Model, Sweep};
+use crate::params::SimParams;
 use crate::{Error, Result};
 
 /// Device-local state and rest data, plus the host-visible copy of the volume partials.
@@ -23,19 +23,23 @@ pub(crate) struct SimBuffers {
     pub velocities: Buffer,
     /// vec4 per node: the step's force F [N] (starts as m g).
     pub forces: Buffer,
-    /// One [`GpuSpring`] per spring.
+    /// One [`GpuSpring`] per spring (with its stiffness).
     pub springs: Buffer,
+    /// float per spring: its damping [N s/m].
+    pub spring_damping: Buffer,
     /// uvec4 per tet.
     pub tets: Buffer,
     /// float per tet: rest volume [m^3] (`volume` only).
     pub rest_volumes: Option<Buffer>,
+    /// float per tet: volume compliance [m^3/Pa] (`volume` only).
+    pub volume_compliance: Option<Buffer>,
     /// vec4 per node: one iteration's constraint sums (`distance`, `volume`).
     pub constraint_sum: Option<Buffer>,
-    /// float per group and node: its constraint count `d_k` within the group (`distance`,
-    /// `volume`).
+    /// float per group (of every sweep) and node: its constraint count `d_k` within the
+    /// group (constraint iterations).
     pub degrees: Option<Buffer>,
     /// The gather path's buffers: group members, contributions, node-slot offsets and
-    /// items (Gauss-Seidel).
+    /// items (Gauss-Seidel), every sweep's one after another.
     pub gather: Option<[Buffer; 4]>,
     /// vec4 per node: the force two Chebyshev iterations back (solver `chebyshev`).
     pub chebyshev_before: Option<Buffer>,
@@ -90,18 +94,20 @@ impl SimBuffers {
         uploads.submit(self.positions.context())
     }
 
-    /// Uploads `model` for `params` as `plan` says, with the method's constraints split into
-    /// `groups` (the groups the plan was made for); `speed_limit` [m/s] goes into `status`.
+    /// Uploads `model` for `params` as `plan` says, with the constraint `sweeps` (the ones
+    /// the plan was made for) and the model's per-element material
+    /// ([`Model::element_material`]); `speed_limit` [m/s] goes into `status`.
     pub fn new(
         ctx: &Arc<Context>,
         model: &Model,
         params: &SimParams,
         plan: &EnginePlan,
-        groups: Option<&ConstraintGroups>,
+        sweeps: &[Sweep],
         global: Option<&GlobalVolume>,
         speed_limit: f32,
     ) -> Result<Self> {
         let n = model.node_count();
+        let material = model.element_material(params);
         let positions: Vec<[f32; 4]> = model
             .positions
             .iter()
@@ -123,18 +129,23 @@ impl SimBuffers {
             .springs
             .iter()
             .zip(&model.rest_length)
-            .map(|(s, &l)| GpuSpring {
+            .zip(&material.spring_stiffness)
+            .map(|((s, &l), &k)| GpuSpring {
                 a: s[0],
                 b: s[1],
                 rest: l as f32,
-                pad: 0.0,
+                stiffness: k as f32,
             })
             .collect();
-        // Per group and node: its constraint count d_k within the group as a float; the
-        // shaders turn it into the A scale and apply weight of
+        // Per group (of every sweep, in order) and node: its constraint count d_k within
+        // the group as a float; the shaders turn it into the A scale and apply weight of
         // `ConstraintCombine::node_factors` (push constant `combine`).
-        let groups = groups.filter(|_| plan.has(BufferId::Degrees));
-        let degrees = groups.map(|g| g.degree.iter().map(|&c| c as f32).collect::<Vec<f32>>());
+        let degrees = plan.has(BufferId::Degrees).then(|| {
+            sweeps
+                .iter()
+                .flat_map(|w| w.groups.degree.iter().map(|&c| c as f32))
+                .collect::<Vec<f32>>()
+        });
         // Every initial upload goes into one batch: one staging buffer, one submit, one wait
         // (after the struct below owns every destination buffer).
         let mut up = Uploads::default();
@@ -143,6 +154,10 @@ impl SimBuffers {
         let velocities_buffer = upload(BufferId::Velocities, bytes(&velocities))?;
         let forces_buffer = upload(BufferId::Forces, bytes(&forces))?;
         let springs_buffer = upload(BufferId::Springs, bytes(&springs))?;
+        let spring_damping = upload(
+            BufferId::SpringDamping,
+            bytes(&floats(&material.spring_damping)),
+        )?;
         let tets_buffer = upload(BufferId::Tets, bytes(&model.tets))?;
         let status_buffer = upload(BufferId::Status, bytes(&initial_status(speed_limit)))?;
         let degrees = match degrees {
@@ -157,6 +172,9 @@ impl SimBuffers {
         };
         let rest_volumes = optional(BufferId::RestVolumes, &|| {
             bytes(&floats(&model.rest_volume)).to_vec()
+        })?;
+        let volume_compliance = optional(BufferId::VolumeCompliance, &|| {
+            bytes(&floats(&material.volume_compliance)).to_vec()
         })?;
         let node_springs = match (
             optional(BufferId::NodeSpringOffsets, &|| {
@@ -177,9 +195,9 @@ impl SimBuffers {
         };
         let constraint_sum = zeroed(BufferId::ConstraintSum)?;
         let chebyshev_before = zeroed(BufferId::ChebyshevBefore)?;
-        let gather = match groups.filter(|_| plan.gather) {
-            Some(g) => Some(gather_buffers(ctx, &mut up, model, params, g)?),
-            None => None,
+        let gather = match plan.gather {
+            true => Some(gather_buffers(ctx, &mut up, model, sweeps)?),
+            false => None,
         };
         let global = match global.filter(|_| plan.global.is_some()) {
             Some(g) => Some(global_buffers(ctx, &mut up, g)?),
@@ -191,8 +209,10 @@ impl SimBuffers {
             velocities: velocities_buffer,
             forces: forces_buffer,
             springs: springs_buffer,
+            spring_damping,
             tets: tets_buffer,
             rest_volumes,
+            volume_compliance,
             constraint_sum,
             chebyshev_before,
             degrees,
@@ -229,8 +249,10 @@ impl SimBuffers {
             BufferId::Velocities => Some(&self.velocities),
             BufferId::Forces => Some(&self.forces),
             BufferId::Springs => Some(&self.springs),
+            BufferId::SpringDamping => Some(&self.spring_damping),
             BufferId::Tets => Some(&self.tets),
             BufferId::RestVolumes => self.rest_volumes.as_ref(),
+            BufferId::VolumeCompliance => self.volume_compliance.as_ref(),
             BufferId::ConstraintSum => self.constraint_sum.as_ref(),
             BufferId::Degrees => self.degrees.as_ref(),
             BufferId::NodeSpringOffsets => self.node_springs.as_ref().map(|b| &b.0),
@@ -278,34 +300,45 @@ impl SimBuffers {
     }
 }
 
-/// The gather path's buffers for `groups` of the method's constraints: members in group
-/// order, zeroed contributions (a vec4 per constraint corner), and the per-group node-slot
-/// CSR ([`ConstraintGroups::node_slots`]).
+/// The gather path's buffers for the constraint `sweeps`, each holding the sweeps one
+/// after another: members in group order, zeroed contributions (a vec4 per constraint
+/// corner), and the per-group node-slot CSR ([`crate::model::ConstraintGroups::node_slots`];
+/// rows numbered over all sweeps' groups, items pointing into the whole contributions
+/// buffer). The shaders find a sweep's part from the plan's
+/// [`super::plan::EnginePlan::sweep_offsets`].
 fn gather_buffers(
     ctx: &Arc<Context>,
     up: &mut Uploads,
     model: &Model,
-    params: &SimParams,
-    groups: &ConstraintGroups,
+    sweeps: &[Sweep],
 ) -> Result<[Buffer; 4]> {
     let n = model.node_count();
-    let (slots, corners) = match params.method {
-        Method::Volume => (groups.node_slots(&model.tets, n), 4),
-        _ => (groups.node_slots(&model.springs, n), 2),
-    };
+    let mut members: Vec<u32> = Vec::new();
+    let mut offsets: Vec<u32> = vec![0];
+    let mut items: Vec<u32> = Vec::new();
+    let mut slot_first = 0u32;
+    for sweep in sweeps {
+        let (slots, corners) = match sweep.kind {
+            ConstraintKind::Volume => (sweep.groups.node_slots(&model.tets, n), 4),
+            ConstraintKind::Spring | ConstraintKind::Distance => {
+                (sweep.groups.node_slots(&model.springs, n), 2)
+            }
+        };
+        let item_first = items.len() as u32;
+        offsets.extend(slots.offsets[1..].iter().map(|&o| item_first + o));
+        items.extend(slots.items.iter().map(|&i| slot_first + i));
+        members.extend_from_slice(&sweep.groups.members.items);
+        slot_first += corners * sweep.groups.members.items.len() as u32;
+    }
     Ok([
-        up.with_data(
-            ctx,
-            BufferId::GroupMembers.name(),
-            bytes(&groups.members.items),
-        )?,
+        up.with_data(ctx, BufferId::GroupMembers.name(), bytes(&members))?,
         up.zeroed(
             ctx,
             BufferId::Contributions.name(),
-            (16 * corners * groups.members.items.len()) as u64,
+            16 * u64::from(slot_first),
         )?,
-        up.with_data(ctx, BufferId::NodeSlotOffsets.name(), bytes(&slots.offsets))?,
-        up.with_data(ctx, BufferId::NodeSlotItems.name(), bytes(&slots.items))?,
+        up.with_data(ctx, BufferId::NodeSlotOffsets.name(), bytes(&offsets))?,
+        up.with_data(ctx, BufferId::NodeSlotItems.name(), bytes(&items))?,
     ])
 }
 
@@ -349,13 +382,15 @@ fn global_buffers(
 }
 
 /// Every buffer kind.
-const ALL_BUFFERS: [BufferId; 24] = [
+const ALL_BUFFERS: [BufferId; 26] = [
     BufferId::Positions,
     BufferId::Velocities,
     BufferId::Forces,
     BufferId::Springs,
+    BufferId::SpringDamping,
     BufferId::Tets,
     BufferId::RestVolumes,
+    BufferId::VolumeCompliance,
     BufferId::ConstraintSum,
     BufferId::Degrees,
     BufferId::NodeSpringOffsets,

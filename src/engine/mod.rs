@@ -22,23 +22,20 @@ use crate::gpu::layout::{PushConstants, VolumePartial};
 use crate::gpu::{
     AtomicsPath, Buffer, Context, ContextOptions, DeviceInfo, DeviceSelector, PassTime, Timer,
 };
-use crate::model::{ConstraintGroups, GlobalVolume, Model};
+use crate::model::{GlobalVolume, Model, Sweep};
 use crate::params::SimParams;
 use buffers::SimBuffers;
 use passes::{Passes, Recorder};
-use plan::{EnginePlan, GlobalCounts, PlanCounts};
+use plan::{EnginePlan, GlobalCounts, PlanCounts, SweepPlan};
 
-/// The model's constraint groups and global volume constraints under `params` (what the
+/// The model's constraint sweeps and global volume constraints under `params` (what the
 /// plan and the buffers are built from).
-fn constraint_data(
-    model: &Model,
-    params: &SimParams,
-) -> (Option<ConstraintGroups>, Option<GlobalVolume>) {
-    let groups = model.constraint_groups(params.method, params.solver, params.groups);
+fn constraint_data(model: &Model, params: &SimParams) -> (Vec<Sweep>, Option<GlobalVolume>) {
+    let sweeps = model.constraint_sweeps(params);
     let global = params
         .solves_global_volume()
         .then(|| GlobalVolume::new(model));
-    (groups, global)
+    (sweeps, global)
 }
 
 /// GPU choices that are not physics: which device, validation, workgroup size.
@@ -121,25 +118,18 @@ impl VulkanBackend {
         params: &SimParams,
         options: &EngineOptions,
     ) -> Result<EnginePlan> {
-        let (groups, global) = constraint_data(model, params);
-        Self::plan_with(
-            info,
-            model,
-            params,
-            options,
-            groups.as_ref(),
-            global.as_ref(),
-        )
+        let (sweeps, global) = constraint_data(model, params);
+        Self::plan_with(info, model, params, options, &sweeps, global.as_ref())
     }
 
-    /// [`Self::plan_for`] with the model's constraint groups and global volume constraints
+    /// [`Self::plan_for`] with the model's constraint sweeps and global volume constraints
     /// already computed.
     fn plan_with(
         info: &DeviceInfo,
         model: &Model,
         params: &SimParams,
         options: &EngineOptions,
-        groups: Option<&ConstraintGroups>,
+        sweeps: &[Sweep],
         global: Option<&GlobalVolume>,
     ) -> Result<EnginePlan> {
         let wg = options
@@ -151,7 +141,7 @@ impl VulkanBackend {
             params,
             wg,
             !options.volume_on_demand,
-            &groups.map(ConstraintGroups::sizes).unwrap_or_default(),
+            &sweeps.iter().map(SweepPlan::of).collect::<Vec<_>>(),
             global.map(GlobalCounts::of),
         ))
     }
@@ -166,15 +156,8 @@ impl VulkanBackend {
         params.validate()?;
         let info = ctx.info();
         let atomics = info.atomics_path(params.atomics)?;
-        let (groups, global) = constraint_data(model, params);
-        let plan = Self::plan_with(
-            info,
-            model,
-            params,
-            options,
-            groups.as_ref(),
-            global.as_ref(),
-        )?;
+        let (sweeps, global) = constraint_data(model, params);
+        let plan = Self::plan_with(info, model, params, options, &sweeps, global.as_ref())?;
         let wg = plan.workgroup_size;
         let counts = plan.counts;
         let speed_limit = crate::stability::speed_limit(model, params) as f32;
@@ -183,7 +166,7 @@ impl VulkanBackend {
             model,
             params,
             &plan,
-            groups.as_ref(),
+            &sweeps,
             global.as_ref(),
             speed_limit,
         )?;

@@ -15,6 +15,9 @@ pub enum PassKind {
     SpringGather,
     /// Global volume constraint: `C`, `A` and the surface gradients, once per step.
     GlobalVolumePrepare,
+    /// Implicit (compliant) spring constraints of a group (`springs = implicit`; before the
+    /// method's constraints in each iteration).
+    SpringConstraint,
     /// Distance constraints of a group.
     Distance,
     /// Volume constraints of a group.
@@ -33,10 +36,11 @@ pub enum PassKind {
 
 impl PassKind {
     /// Every pass, in execution order.
-    pub const ALL: [PassKind; 10] = [
+    pub const ALL: [PassKind; 11] = [
         PassKind::SpringScatter,
         PassKind::SpringGather,
         PassKind::GlobalVolumePrepare,
+        PassKind::SpringConstraint,
         PassKind::Distance,
         PassKind::Volume,
         PassKind::ConstraintApply,
@@ -52,6 +56,7 @@ impl PassKind {
             PassKind::SpringScatter => "spring_scatter",
             PassKind::SpringGather => "spring_gather",
             PassKind::GlobalVolumePrepare => "global_volume_prepare",
+            PassKind::SpringConstraint => "spring_constraint",
             PassKind::Distance => "distance",
             PassKind::Volume => "volume",
             PassKind::ConstraintApply => "constraint_apply",
@@ -68,6 +73,7 @@ impl PassKind {
             PassKind::SpringScatter => file::PASSES_SPRING_SCATTER_COMP,
             PassKind::SpringGather => file::PASSES_SPRING_GATHER_COMP,
             PassKind::GlobalVolumePrepare => file::PASSES_GLOBAL_VOLUME_PREPARE_COMP,
+            PassKind::SpringConstraint => file::PASSES_SPRING_CONSTRAINT_COMP,
             PassKind::Distance => file::PASSES_DISTANCE_COMP,
             PassKind::Volume => file::PASSES_VOLUME_COMP,
             PassKind::ConstraintApply => file::PASSES_CONSTRAINT_APPLY_COMP,

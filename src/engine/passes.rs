@@ -2,12 +2,14 @@
 //!
 //! ```text
 //! for each substep:
-//!     spring_scatter | spring_gather        F = m g + spring forces
+//!     (spring_scatter | spring_gather)      F += explicit spring forces (F = m g before;
+//!                                           no spring force pass with implicit springs)
 //!     (global_volume_prepare)               C_g, A and the surface gradients at x(t)
-//!     iterations x groups x                 (one group for Jacobi, the colour groups
-//!                                           for Gauss-Seidel)
-//!        (distance | volume,                the group's constraint forces from x(t),
-//!                                           v(t), F: atomic sums, or per-constraint slots
+//!     iterations x sweeps x groups x        (implicit springs, then the method's
+//!                                           constraints; one group for Jacobi, the colour
+//!                                           groups for Gauss-Seidel)
+//!        (spring_constraint | distance      the group's constraint forces from x(t),
+//!         | volume,                         v(t), F: atomic sums, or per-constraint slots
 //!         constraint_apply)                 F += omega * weight * (sum | gathered slots);
 //!                                           then the floor's solve
 //!     (global_volume)                       per iteration, after the groups (one
@@ -161,9 +163,11 @@ impl Recorder<'_> {
     }
 
     /// One time step: the plan's substep passes, the iteration passes `iterations` times,
-    /// each time once per constraint group (the group's index and range in the push
-    /// constants; a per-group pass dispatches only the group's constraints) and then the
-    /// passes that end an iteration (the global volume constraints).
+    /// each time sweep after sweep ([`EnginePlan::sweeps`]) and group after group: the
+    /// sweep's constraint pass, then the passes of no sweep (constraint_apply), with the
+    /// group's index (over all sweeps), its range within the sweep and the sweep's offsets
+    /// in the push constants (a per-group pass dispatches only the group's constraints);
+    /// then the passes that end an iteration (the global volume constraints).
     fn record_step(&mut self, plan: &EnginePlan, p: &Passes, b: &SimBuffers) -> Result<()> {
         let steps: Vec<&Pass> = p
             .frame
@@ -181,25 +185,40 @@ impl Recorder<'_> {
                     .iter()
                     .position(|q| q.plan.repeat != Repeat::IterationEnd)
                     .map_or(steps.len(), |e| end + e);
+                let shared: Vec<&Pass> = steps[k..end]
+                    .iter()
+                    .copied()
+                    .filter(|q| q.plan.sweep.is_none())
+                    .collect();
                 for iteration in 0..plan.iterations as usize {
-                    let mut first = 0;
                     let chebyshev_weight = plan.chebyshev.get(iteration).copied().unwrap_or(1.0);
-                    for (g, &count) in plan.groups.iter().enumerate() {
-                        let push = PushConstants {
-                            group: g as u32,
-                            group_first: first,
-                            group_count: count,
-                            chebyshev_weight,
-                            ..*self.push
-                        };
-                        for q in &steps[k..end] {
-                            let elements = match q.plan.per_group {
-                                true => count,
-                                false => q.plan.elements,
+                    for (index, sweep) in plan.sweeps.iter().enumerate() {
+                        let at = plan.sweep_offsets(index);
+                        let own: Vec<&Pass> = steps[k..end]
+                            .iter()
+                            .copied()
+                            .filter(|q| q.plan.sweep == Some(index))
+                            .collect();
+                        let mut first = 0;
+                        for (g, &count) in sweep.groups.iter().enumerate() {
+                            let push = PushConstants {
+                                group: at.group + g as u32,
+                                group_first: first,
+                                group_count: count,
+                                member_first: at.member,
+                                slot_first: at.slot,
+                                chebyshev_weight,
+                                ..*self.push
                             };
-                            self.dispatch(q, b, &push, elements)?;
+                            for q in own.iter().chain(&shared) {
+                                let elements = match q.plan.per_group {
+                                    true => count,
+                                    false => q.plan.elements,
+                                };
+                                self.dispatch(q, b, &push, elements)?;
+                            }
+                            first += count;
                         }
-                        first += count;
                     }
                     for q in &steps[end..after_end] {
                         self.pass(q, b)?;

@@ -5,10 +5,12 @@
 //! buffer's size against the plan, so `tetrasim plan` (which prints this without a GPU)
 //! cannot drift from the engine.
 //!
-//! What a scene does not use is not built: no degrees without `distance`/`volume`, atomic
-//! constraint sums only for Jacobi and the gather path's buffers (group members,
-//! contributions, node-slot CSR) only for Gauss-Seidel, no node-spring adjacency without
-//! `mss-node` or the gather path, no floor test in `integrate` without a floor
+//! What a scene does not use is not built: no degrees without constraint iterations
+//! (`distance`, `volume` or implicit springs), atomic constraint sums only for Jacobi and the
+//! gather path's buffers (group members, contributions, node-slot CSR) only for
+//! Gauss-Seidel, no spring force pass with implicit springs, no node-spring adjacency
+//! without `mss-node` or the gather path of explicit springs, no volume compliances
+//! without `volume`, no floor test in `integrate` without a floor
 //! (specialisation constant 1), and no `volume_sum` pass or partials copy in the frame
 //! without per-frame metrics. The `check` pass (divergence) and its 16-byte status copy are
 //! always there, and so are the rest volumes (the local volume error needs them).
@@ -17,7 +19,8 @@ use std::fmt::Write as _;
 
 use super::pass_kind::PassKind;
 use crate::gpu::layout::binding;
-use crate::params::{chebyshev_weights, Method, SimParams, Solver};
+use crate::model::{ConstraintKind, Sweep};
+use crate::params::{chebyshev_weights, Method, SimParams, Solver, SpringKind};
 
 /// A GPU buffer of the simulation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -28,29 +31,33 @@ pub enum BufferId {
     Velocities,
     /// vec4 per node: the step's force.
     Forces,
-    /// 16 bytes per spring.
+    /// 16 bytes per spring: nodes, rest length, stiffness.
     Springs,
+    /// float per spring: damping.
+    SpringDamping,
     /// uvec4 per tet.
     Tets,
     /// float per tet: rest volume (volume constraints, local volume error).
     RestVolumes,
+    /// float per tet: volume compliance (`volume`).
+    VolumeCompliance,
     /// vec4 per node (`distance`, `volume` with Jacobi: the atomic sums).
     ConstraintSum,
-    /// float per group and node (`distance`, `volume`).
+    /// float per group (of every sweep) and node (constraint iterations).
     Degrees,
-    /// N + 1 u32 (`mss-node`, gather path).
+    /// N + 1 u32 (`mss-node`, gather path of explicit springs).
     NodeSpringOffsets,
-    /// 2 S u32 (`mss-node`, gather path).
+    /// 2 S u32 (`mss-node`, gather path of explicit springs).
     NodeSpringItems,
     /// 16 bytes per volume_sum workgroup.
     Partials,
     /// 16 bytes: divergence flags, first bad node, speed limit.
     Status,
-    /// u32 per constraint, in group order (gather path).
+    /// u32 per constraint of every sweep, in sweep and group order (gather path).
     GroupMembers,
-    /// vec4 per constraint corner, in group order (gather path).
+    /// vec4 per constraint corner, in sweep and group order (gather path).
     Contributions,
-    /// `groups * N + 1` u32 (gather path).
+    /// `groups * N + 1` u32, groups of every sweep (gather path).
     NodeSlotOffsets,
     /// u32 per constraint corner (gather path).
     NodeSlotItems,
@@ -80,8 +87,10 @@ impl BufferId {
             BufferId::Velocities => "velocities",
             BufferId::Forces => "forces",
             BufferId::Springs => "springs",
+            BufferId::SpringDamping => "spring damping",
             BufferId::Tets => "tets",
             BufferId::RestVolumes => "rest volumes",
+            BufferId::VolumeCompliance => "volume compliance",
             BufferId::ConstraintSum => "constraint sums",
             BufferId::Degrees => "constraint degrees",
             BufferId::NodeSpringOffsets => "node-spring offsets",
@@ -110,8 +119,10 @@ impl BufferId {
             BufferId::Velocities => binding::VELOCITIES,
             BufferId::Forces => binding::FORCES,
             BufferId::Springs => binding::SPRINGS,
+            BufferId::SpringDamping => binding::SPRING_DAMPING,
             BufferId::Tets => binding::TETS,
             BufferId::RestVolumes => binding::REST_VOLUMES,
+            BufferId::VolumeCompliance => binding::VOLUME_COMPLIANCE,
             BufferId::ConstraintSum => binding::CONSTRAINT_SUM,
             BufferId::Degrees => binding::CONSTRAINT_DEGREE,
             BufferId::NodeSpringOffsets => binding::NODE_SPRING_OFFSETS,
@@ -150,8 +161,9 @@ pub enum Access {
 pub enum Repeat {
     /// Once per time step.
     Substep,
-    /// `iterations` times per time step and, within an iteration, once per constraint group
-    /// (consecutive such passes repeat together).
+    /// `iterations` times per time step and, within an iteration, once per constraint group:
+    /// a pass of one sweep ([`PassPlan::sweep`]) for each of that sweep's groups, followed
+    /// each time by the passes of no sweep (consecutive such passes repeat together).
     Iteration,
     /// Once per iteration, after its constraint groups (the global volume constraints).
     IterationEnd,
@@ -195,6 +207,10 @@ pub struct PassPlan {
     pub elements: u32,
     /// Whether each dispatch covers only the current group's constraints.
     pub per_group: bool,
+    /// The sweep ([`EnginePlan::sweeps`]) whose constraints the pass solves, for the
+    /// constraint passes; `None` for the others (an [`Repeat::Iteration`] pass of no sweep
+    /// follows every group of every sweep).
+    pub sweep: Option<usize>,
     /// Bound buffers and how the pass uses them.
     pub bindings: Vec<(BufferId, Access)>,
     /// How often it runs.
@@ -290,19 +306,78 @@ impl GlobalCounts {
     }
 }
 
+/// One constraint sweep of an iteration ([`Model::constraint_sweeps`](crate::model::Model::constraint_sweeps)):
+/// its kind and the sizes of its groups.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SweepPlan {
+    /// What the constraints are.
+    pub kind: ConstraintKind,
+    /// Constraints per group, solved one group after another.
+    pub groups: Vec<u32>,
+}
+
+impl SweepPlan {
+    /// The kind and group sizes of `sweep`.
+    pub fn of(sweep: &Sweep) -> Self {
+        SweepPlan {
+            kind: sweep.kind,
+            groups: sweep.groups.sizes(),
+        }
+    }
+
+    /// The pass that solves it.
+    pub fn pass(&self) -> PassKind {
+        match self.kind {
+            ConstraintKind::Spring => PassKind::SpringConstraint,
+            ConstraintKind::Distance => PassKind::Distance,
+            ConstraintKind::Volume => PassKind::Volume,
+        }
+    }
+
+    /// Nodes per constraint (contribution slots per constraint on the gather path).
+    pub fn corners(&self) -> u64 {
+        match self.kind {
+            ConstraintKind::Volume => 4,
+            ConstraintKind::Spring | ConstraintKind::Distance => 2,
+        }
+    }
+
+    /// Constraints of all its groups.
+    pub fn constraints(&self) -> u64 {
+        self.groups.iter().map(|&g| u64::from(g)).sum()
+    }
+}
+
+/// Where one sweep's data starts in the buffers that hold every sweep one after another.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct SweepOffsets {
+    /// Its first group, counted over all sweeps (degrees, slot rows).
+    pub group: u32,
+    /// Its first position in the group members.
+    pub member: u32,
+    /// Its first slot in the contributions.
+    pub slot: u32,
+}
+
 /// Everything the engine builds and does per frame.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EnginePlan {
     /// Method.
     pub method: Method,
+    /// Explicit spring forces or implicit spring constraints.
+    pub springs: SpringKind,
     /// Element counts.
     pub counts: PlanCounts,
     /// Time steps per frame.
     pub substeps: u32,
     /// Constraint iterations per time step.
     pub iterations: u32,
-    /// Constraints per group, solved one group after another in each iteration (one group
-    /// for Jacobi; empty for the springs-only methods).
+    /// The constraint sweeps of an iteration, in order (implicit springs, then the method's
+    /// constraints; empty without constraint iterations).
+    pub sweeps: Vec<SweepPlan>,
+    /// Constraints per group of every sweep, sweep after sweep, solved one group after
+    /// another in each iteration (one group per sweep for Jacobi; empty without constraint
+    /// iterations). A group's index here numbers its degrees and slot rows.
     pub groups: Vec<u32>,
     /// Whether constraint forces are gathered per node (no float atomics: Gauss-Seidel).
     pub gather: bool,
@@ -336,7 +411,11 @@ impl EnginePlan {
         workgroup_size: u32,
         metrics: bool,
     ) -> crate::Result<Self> {
-        let groups = model.constraint_groups(params.method, params.solver, params.groups);
+        let sweeps: Vec<SweepPlan> = model
+            .constraint_sweeps(params)
+            .iter()
+            .map(SweepPlan::of)
+            .collect();
         let global = params
             .solves_global_volume()
             .then(|| GlobalCounts::of(&crate::model::GlobalVolume::new(model)));
@@ -345,22 +424,21 @@ impl EnginePlan {
             params,
             workgroup_size,
             metrics,
-            &groups.map(|g| g.sizes()).unwrap_or_default(),
+            &sweeps,
             global,
         ))
     }
 
     /// The plan for a model of `counts` under `params`, with `workgroup_size` invocations per
-    /// group, per-frame volume `metrics` or not, the constraints split into groups of
-    /// `groups` constraints each ([`crate::model::Model::constraint_groups`]; ignored by
-    /// the springs-only methods) and the `global` volume constraints' sizes when
-    /// `params.global_volume` asks for them.
+    /// group, per-frame volume `metrics` or not, the constraint `sweeps` of an iteration
+    /// ([`crate::model::Model::constraint_sweeps`] under `params`) and the `global` volume
+    /// constraints' sizes when `params.global_volume` asks for them.
     pub fn new(
         counts: PlanCounts,
         params: &SimParams,
         workgroup_size: u32,
         metrics: bool,
-        groups: &[u32],
+        sweeps: &[SweepPlan],
         global: Option<GlobalCounts>,
     ) -> Self {
         use Access::{Read, ReadWrite, Write};
@@ -371,7 +449,8 @@ impl EnginePlan {
             u64::from(counts.tets),
         );
         let method = params.method;
-        let constrained = matches!(method, Method::Distance | Method::Volume);
+        let sweeps = sweeps.to_vec();
+        let constrained = !sweeps.is_empty();
         let gather = constrained && params.solver == Solver::GaussSeidel;
         let chebyshev: Vec<f32> = match constrained && params.solver == Solver::Chebyshev {
             true => chebyshev_weights(params.rho, params.iterations)
@@ -380,35 +459,33 @@ impl EnginePlan {
                 .collect(),
             false => Vec::new(),
         };
-        let groups = if constrained {
-            groups.to_vec()
-        } else {
-            Vec::new()
-        };
+        let groups: Vec<u32> = sweeps.iter().flat_map(|w| w.groups.clone()).collect();
         let k = groups.len().max(1) as u64;
-        // Constraints and the slots (corners) of each.
-        let (constraints, corners) = match method {
-            Method::Volume => (t, 4),
-            _ => (s, 2),
-        };
+        // Constraints and their slots (corners), of every sweep.
+        let constraints: u64 = sweeps.iter().map(SweepPlan::constraints).sum();
+        let slots: u64 = sweeps.iter().map(|w| w.corners() * w.constraints()).sum();
         let workgroups = u64::from(counts.tets.div_ceil(workgroup_size.max(1)));
         let mut buffers = vec![
             (Positions, 16 * n, 0),
             (Velocities, 16 * n, 0),
             (Forces, 16 * n, 0),
             (Springs, 16 * s, 0),
+            (SpringDamping, 4 * s, 0),
             (Tets, 16 * t, 0),
         ];
         // Rest volumes: the volume constraints' and the local volume error's.
         buffers.push((RestVolumes, 4 * t, 0));
+        if method == Method::Volume {
+            buffers.push((VolumeCompliance, 4 * t, 0));
+        }
         if constrained {
             buffers.push((Degrees, 4 * k * n, 0));
             match gather {
                 true => {
                     buffers.push((GroupMembers, 4 * constraints, 0));
-                    buffers.push((Contributions, 16 * corners * constraints, 0));
+                    buffers.push((Contributions, 16 * slots, 0));
                     buffers.push((NodeSlotOffsets, 4 * (k * n + 1), 0));
-                    buffers.push((NodeSlotItems, 4 * corners * constraints, 0));
+                    buffers.push((NodeSlotItems, 4 * slots, 0));
                 }
                 false => buffers.push((ConstraintSum, 16 * n, 0)),
             }
@@ -428,9 +505,11 @@ impl EnginePlan {
             buffers.push((SurfaceGradients, 16 * nodes, 0));
             buffers.push((GlobalState, 16 * objects, 0));
         }
-        // Spring forces are gathered per node for mss-node, and on the gather path so
-        // that nothing in its step uses float atomics.
-        let spring_gather = method == Method::MssNode || gather;
+        // Explicit spring forces are gathered per node for mss-node, and on the gather path
+        // so that nothing in its step uses float atomics; implicit springs have no force
+        // pass (F starts as m g, which `integrate` and the initial upload leave).
+        let spring_forces = params.springs == SpringKind::Explicit;
+        let spring_gather = spring_forces && (method == Method::MssNode || gather);
         if spring_gather {
             buffers.push((NodeSpringOffsets, 4 * (n + 1), 0));
             buffers.push((NodeSpringItems, 4 * 2 * s, 0));
@@ -459,37 +538,43 @@ impl EnginePlan {
             constants: Vec::new(),
             elements,
             per_group: false,
+            sweep: None,
             bindings,
             repeat,
         };
-        let mut passes = vec![match spring_gather {
-            true => pass(
-                PassKind::SpringGather,
-                Variant::Plain,
-                counts.nodes,
-                vec![
-                    (Positions, Read),
-                    (Velocities, Read),
-                    (Springs, Read),
-                    (NodeSpringOffsets, Read),
-                    (NodeSpringItems, Read),
-                    (Forces, Write),
-                ],
-                Repeat::Substep,
-            ),
-            false => pass(
-                PassKind::SpringScatter,
-                Variant::Atomics,
-                counts.springs,
-                vec![
-                    (Positions, Read),
-                    (Velocities, Read),
-                    (Springs, Read),
-                    (Forces, ReadWrite),
-                ],
-                Repeat::Substep,
-            ),
-        }];
+        let mut passes = Vec::new();
+        if spring_forces {
+            passes.push(match spring_gather {
+                true => pass(
+                    PassKind::SpringGather,
+                    Variant::Plain,
+                    counts.nodes,
+                    vec![
+                        (Positions, Read),
+                        (Velocities, Read),
+                        (Springs, Read),
+                        (SpringDamping, Read),
+                        (NodeSpringOffsets, Read),
+                        (NodeSpringItems, Read),
+                        (Forces, ReadWrite),
+                    ],
+                    Repeat::Substep,
+                ),
+                false => pass(
+                    PassKind::SpringScatter,
+                    Variant::Atomics,
+                    counts.springs,
+                    vec![
+                        (Positions, Read),
+                        (Velocities, Read),
+                        (Springs, Read),
+                        (SpringDamping, Read),
+                        (Forces, ReadWrite),
+                    ],
+                    Repeat::Substep,
+                ),
+            });
+        }
         if let Some(g) = global {
             passes.push(pass(
                 PassKind::GlobalVolumePrepare,
@@ -516,38 +601,26 @@ impl EnginePlan {
                 ),
                 false => (Variant::Atomics, vec![(ConstraintSum, ReadWrite)]),
             };
-            let mut solve = match method {
-                Method::Volume => pass(
-                    PassKind::Volume,
-                    variant,
-                    counts.tets,
-                    vec![
-                        (Positions, Read),
-                        (Velocities, Read),
-                        (Forces, Read),
-                        (Tets, Read),
-                        (RestVolumes, Read),
-                        (Degrees, Read),
-                    ],
-                    Repeat::Iteration,
-                ),
-                _ => pass(
-                    PassKind::Distance,
-                    variant,
-                    counts.springs,
-                    vec![
-                        (Positions, Read),
-                        (Velocities, Read),
-                        (Forces, Read),
-                        (Springs, Read),
-                        (Degrees, Read),
-                    ],
-                    Repeat::Iteration,
-                ),
-            };
-            solve.bindings.extend(output);
-            solve.per_group = gather;
-            passes.push(solve);
+            for (index, sweep) in sweeps.iter().enumerate() {
+                let (elements, element_data) = match sweep.kind {
+                    ConstraintKind::Volume => (
+                        counts.tets,
+                        vec![(Tets, Read), (RestVolumes, Read), (VolumeCompliance, Read)],
+                    ),
+                    ConstraintKind::Spring => {
+                        (counts.springs, vec![(Springs, Read), (SpringDamping, Read)])
+                    }
+                    ConstraintKind::Distance => (counts.springs, vec![(Springs, Read)]),
+                };
+                let mut bindings = vec![(Positions, Read), (Velocities, Read), (Forces, Read)];
+                bindings.extend(element_data);
+                bindings.push((Degrees, Read));
+                bindings.extend(output.iter().copied());
+                let mut solve = pass(sweep.pass(), variant, elements, bindings, Repeat::Iteration);
+                solve.per_group = gather;
+                solve.sweep = Some(index);
+                passes.push(solve);
+            }
             let (variant, input) = match gather {
                 true => (
                     Variant::Named("gather"),
@@ -623,9 +696,11 @@ impl EnginePlan {
         }
         EnginePlan {
             method,
+            springs: params.springs,
             counts,
             substeps: params.substeps,
             iterations: params.iterations,
+            sweeps,
             groups,
             gather,
             global,
@@ -661,15 +736,37 @@ impl EnginePlan {
     pub fn runs_per_frame(&self, pass: &PassPlan) -> u32 {
         match pass.repeat {
             Repeat::Substep => self.substeps,
-            Repeat::Iteration => self.substeps * self.iterations * self.group_count(),
+            Repeat::Iteration => self.substeps * self.iterations * self.groups_of(pass),
             Repeat::IterationEnd => self.substeps * self.iterations,
             Repeat::Frame => 1,
         }
     }
 
-    /// Constraint groups solved one after another per iteration (at least 1).
+    /// Constraint groups solved one after another per iteration, over all sweeps (at
+    /// least 1).
     pub fn group_count(&self) -> u32 {
         self.groups.len().max(1) as u32
+    }
+
+    /// The groups a per-iteration pass runs for in one iteration: its sweep's, or every
+    /// sweep's for a pass of no sweep (at least 1).
+    fn groups_of(&self, pass: &PassPlan) -> u32 {
+        match pass.sweep.and_then(|s| self.sweeps.get(s)) {
+            Some(sweep) => sweep.groups.len().max(1) as u32,
+            None => self.group_count(),
+        }
+    }
+
+    /// Where sweep `index`'s groups, members and slots start in the buffers that hold every
+    /// sweep one after another (degrees, group members, contributions, node-slot CSR).
+    pub fn sweep_offsets(&self, index: usize) -> SweepOffsets {
+        let mut at = SweepOffsets::default();
+        for sweep in &self.sweeps[..index.min(self.sweeps.len())] {
+            at.group += sweep.groups.len() as u32;
+            at.member += sweep.constraints() as u32;
+            at.slot += (sweep.corners() * sweep.constraints()) as u32;
+        }
+        at
     }
 
     /// Dispatches of one frame (the timestamp count).
@@ -702,10 +799,12 @@ impl EnginePlan {
 
     /// Bytes `pass` moves per run, estimated as every bound buffer streamed once per read
     /// and once per write (gathers through indices make the real traffic larger). A pass run
-    /// once per constraint group streams only its group's share of the per-constraint
-    /// buffers (and of the per-group degrees and slot offsets).
+    /// once per constraint group streams only its group's share of its sweep's element
+    /// buffers and of the buffers that hold every sweep's groups (degrees, members,
+    /// contributions, slots).
     pub fn pass_bytes(&self, pass: &PassPlan) -> u64 {
-        let groups = u64::from(self.group_count());
+        let all_groups = u64::from(self.group_count());
+        let sweep_groups = u64::from(self.groups_of(pass));
         pass.bindings
             .iter()
             .map(|(id, access)| {
@@ -715,13 +814,18 @@ impl EnginePlan {
                         Repeat::Iteration,
                         BufferId::Tets
                         | BufferId::RestVolumes
+                        | BufferId::VolumeCompliance
                         | BufferId::Springs
-                        | BufferId::Degrees
+                        | BufferId::SpringDamping,
+                    ) => size / sweep_groups,
+                    (
+                        Repeat::Iteration,
+                        BufferId::Degrees
                         | BufferId::GroupMembers
                         | BufferId::Contributions
                         | BufferId::NodeSlotOffsets
                         | BufferId::NodeSlotItems,
-                    ) => size / groups,
+                    ) => size / all_groups,
                     _ => size,
                 };
                 match access {
@@ -746,9 +850,14 @@ impl EnginePlan {
     pub fn render(&self) -> String {
         let mut out = String::new();
         let c = self.counts;
+        let springs = match self.springs {
+            SpringKind::Explicit => "",
+            SpringKind::Implicit => " with implicit springs",
+        };
         let _ = writeln!(
             out,
-            "method {}: {} nodes, {} springs, {} tets; {} substeps x {} iterations, workgroup {}",
+            "method {}{springs}: {} nodes, {} springs, {} tets; {} substeps x {} iterations, \
+             workgroup {}",
             self.method,
             c.nodes,
             c.springs,
@@ -823,28 +932,54 @@ impl EnginePlan {
         out
     }
 
-    /// `10 x (a, b)`, `10 x 8 groups x (a, b)` with several constraint groups, and
-    /// `10 x (8 groups x (a, b), c)` with passes after the groups.
-    fn iteration_label(&self, passes: &[String], after: &[String]) -> String {
-        let grouped = match self.groups.len() {
-            0 | 1 => passes.join(", "),
-            k => format!("{k} groups x ({})", passes.join(", ")),
-        };
-        match (after.is_empty(), self.groups.len()) {
-            (true, 0 | 1) => format!("{} x ({grouped})", self.iterations),
-            (true, _) => format!("{} x {grouped}", self.iterations),
-            (false, _) => format!("{} x ({grouped}, {})", self.iterations, after.join(", ")),
+    /// `10 x (a, b)`, `10 x 8 groups x (a, b)` with several constraint groups,
+    /// `10 x (8 groups x (a, b), c)` with passes after the groups, and one such part per
+    /// sweep, `10 x (8 groups x (s, b), 8 groups x (a, b), c)`: each sweep's pass followed
+    /// by the passes of no sweep.
+    fn iteration_label(&self, passes: &[&PassPlan], after: &[String]) -> String {
+        let shared: Vec<String> = passes
+            .iter()
+            .filter(|p| p.sweep.is_none())
+            .map(|p| p.label())
+            .collect();
+        let parts: Vec<(usize, String)> = self
+            .sweeps
+            .iter()
+            .enumerate()
+            .map(|(index, sweep)| {
+                let mut labels: Vec<String> = passes
+                    .iter()
+                    .filter(|p| p.sweep == Some(index))
+                    .map(|p| p.label())
+                    .collect();
+                labels.extend(shared.iter().cloned());
+                let text = match sweep.groups.len() {
+                    0 | 1 => labels.join(", "),
+                    k => format!("{k} groups x ({})", labels.join(", ")),
+                };
+                (sweep.groups.len(), text)
+            })
+            .collect();
+        let it = self.iterations;
+        match (parts.as_slice(), after.is_empty()) {
+            ([(0 | 1, part)], true) => format!("{it} x ({part})"),
+            ([(_, part)], true) => format!("{it} x {part}"),
+            _ => {
+                let mut items: Vec<String> = parts.into_iter().map(|(_, text)| text).collect();
+                items.extend(after.iter().cloned());
+                format!("{it} x ({})", items.join(", "))
+            }
         }
     }
 
     /// Labels of one time step's passes (the iteration group written `N x (a, b)`).
     fn step_list(&self) -> Vec<String> {
         let mut out = Vec::new();
-        let mut group: Vec<String> = Vec::new();
+        let mut group: Vec<&PassPlan> = Vec::new();
         let mut after: Vec<String> = Vec::new();
         for p in self.passes.iter().filter(|p| p.repeat != Repeat::Frame) {
             match p.repeat {
-                Repeat::Iteration => group.push(p.label()),
+                Repeat::Iteration => group.push(p),
                 Repeat::IterationEnd => after.push(p.label()),
                 _ => {
                     if !group.is_empty() {
@@ -868,6 +1003,7 @@ pub fn volume_sum_pass(counts: PlanCounts) -> PassPlan {
         constants: Vec::new(),
         elements: counts.tets,
         per_group: false,
+        sweep: None,
         bindings: vec![
             (BufferId::Positions, Access::Read),
             (BufferId::Tets, Access::Read),
@@ -875,5 +1011,100 @@ pub fn volume_sum_pass(counts: PlanCounts) -> PassPlan {
             (BufferId::Partials, Access::Write),
         ],
         repeat: Repeat::Frame,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const COUNTS: PlanCounts = PlanCounts {
+        nodes: 10,
+        springs: 30,
+        tets: 12,
+    };
+
+    fn plan(params: &SimParams, sweeps: &[SweepPlan]) -> EnginePlan {
+        EnginePlan::new(COUNTS, params, 64, false, sweeps, None)
+    }
+
+    #[test]
+    fn implicit_springs_sweep_before_the_volumes_and_share_the_gather_buffers() {
+        let params = SimParams {
+            springs: SpringKind::Implicit,
+            global_volume: Some(false),
+            ..SimParams::default()
+        };
+        let sweeps = [
+            SweepPlan {
+                kind: ConstraintKind::Spring,
+                groups: vec![20, 10],
+            },
+            SweepPlan {
+                kind: ConstraintKind::Volume,
+                groups: vec![5, 4, 3],
+            },
+        ];
+        let p = plan(&params, &sweeps);
+        assert_eq!(
+            p.pass_list(),
+            [
+                "10 x (2 groups x (spring_constraint#gather, constraint_apply#gather[floor]), \
+                 3 groups x (volume#gather, constraint_apply#gather[floor]))",
+                "integrate[floor]",
+                "check",
+            ]
+        );
+        assert!(!p.runs(PassKind::SpringGather) && !p.runs(PassKind::SpringScatter));
+        assert!(!p.has(BufferId::NodeSpringOffsets));
+        let (n, s, t) = (10, 30, 12);
+        for (id, bytes) in [
+            (BufferId::Degrees, 4 * 5 * n),
+            (BufferId::GroupMembers, 4 * (s + t)),
+            (BufferId::Contributions, 16 * (2 * s + 4 * t)),
+            (BufferId::NodeSlotOffsets, 4 * (5 * n + 1)),
+            (BufferId::NodeSlotItems, 4 * (2 * s + 4 * t)),
+            (BufferId::SpringDamping, 4 * s),
+            (BufferId::VolumeCompliance, 4 * t),
+        ] {
+            assert_eq!(p.buffer(id).map(|b| b.bytes), Some(bytes), "{id:?}");
+        }
+        assert_eq!(p.sweep_offsets(0), SweepOffsets::default());
+        assert_eq!(
+            p.sweep_offsets(1),
+            SweepOffsets {
+                group: 2,
+                member: 30,
+                slot: 60
+            }
+        );
+        // Per iteration: 2 spring groups and 3 volume groups, each with its apply.
+        assert_eq!(p.dispatches_per_frame(), 10 * 2 * 5 + 2);
+    }
+
+    #[test]
+    fn implicit_springs_alone_are_a_jacobi_sweep_without_a_force_pass() {
+        let params = SimParams {
+            method: Method::Mss,
+            springs: SpringKind::Implicit,
+            solver: Solver::Jacobi,
+            ..SimParams::default()
+        };
+        let sweeps = [SweepPlan {
+            kind: ConstraintKind::Spring,
+            groups: vec![30],
+        }];
+        let p = plan(&params, &sweeps);
+        assert_eq!(
+            p.pass_list(),
+            [
+                "10 x (spring_constraint, constraint_apply#sums[floor])",
+                "integrate[floor]",
+                "check"
+            ]
+        );
+        assert_eq!(p.buffer(BufferId::Degrees).map(|b| b.bytes), Some(40));
+        assert!(p.has(BufferId::ConstraintSum) && !p.has(BufferId::VolumeCompliance));
+        assert!(p.render().starts_with("method mss with implicit springs:"));
     }
 }

@@ -57,6 +57,10 @@ pub mod binding {
     pub const GLOBAL_STATE: u32 = 22;
     /// vec4 per node: the force two Chebyshev iterations back.
     pub const CHEBYSHEV_BEFORE: u32 = 23;
+    /// float per spring: its damping [N s/m] (its stiffness is [`super::GpuSpring::stiffness`]).
+    pub const SPRING_DAMPING: u32 = 24;
+    /// float per tet: the compliance of its volume constraint [m^3/Pa] (method `volume`).
+    pub const VOLUME_COMPLIANCE: u32 = 25;
 }
 
 /// The push-constant block of every pass (`PushConstants` in bindings.glsl), 64 bytes.
@@ -67,10 +71,11 @@ pub struct PushConstants {
     pub dt: f32,
     /// Relaxation of the combined constraint forces.
     pub omega: f32,
-    /// Spring stiffness [N/m].
-    pub ks: f32,
-    /// Spring damping [N s/m].
-    pub kd: f32,
+    /// The current sweep's first position in the group members (gather path; each spring
+    /// has its own stiffness and damping in the buffers, so none is pushed).
+    pub member_first: u32,
+    /// The current sweep's first slot in the contributions (gather path).
+    pub slot_first: u32,
     /// Gravity magnitude along -Y [m/s^2].
     pub gravity: f32,
     /// Fraction of tangential velocity removed on floor contact.
@@ -88,9 +93,10 @@ pub struct PushConstants {
     /// How constraint forces are combined: [`combine::SCALED`], [`combine::SUM`] or
     /// [`combine::AVERAGE`] (`ConstraintCombine`).
     pub combine: u32,
-    /// The constraint group being solved (0 for Jacobi); selects the degrees and slots.
+    /// The constraint group being solved, counted over all sweeps of an iteration (one
+    /// group per sweep for Jacobi); selects the degrees and slots.
     pub group: u32,
-    /// First position of the group in the group-ordered constraints (gather path).
+    /// First position of the group in its sweep's group-ordered constraints (gather path).
     pub group_first: u32,
     /// Constraints in the group (gather path).
     pub group_count: u32,
@@ -114,8 +120,8 @@ impl PushConstants {
         PushConstants {
             dt: params.dt as f32,
             omega: params.omega as f32,
-            ks: params.ks as f32,
-            kd: params.kd as f32,
+            member_first: 0,
+            slot_first: 0,
             gravity: params.gravity as f32,
             friction: params.friction as f32,
             floor_on: u32::from(params.floor),
@@ -136,7 +142,10 @@ impl PushConstants {
     }
 }
 
-/// One spring (`Spring` in bindings.glsl): node indices and rest length [m], 16 bytes.
+/// One spring (`Spring` in bindings.glsl): node indices, rest length [m] and stiffness
+/// [N/m], 16 bytes (one 128-bit load). The stiffness fills what was padding; the damping,
+/// which the `distance` pass never reads, is a float buffer of its own
+/// ([`binding::SPRING_DAMPING`]) rather than growing every spring to 32 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct GpuSpring {
@@ -146,8 +155,8 @@ pub struct GpuSpring {
     pub b: u32,
     /// Rest length [m].
     pub rest: f32,
-    /// Padding to 16 bytes.
-    pub pad: f32,
+    /// Stiffness `k_e` [N/m] ([`crate::model::ElementMaterial::spring_stiffness`]).
+    pub stiffness: f32,
 }
 
 /// One object's global volume constraint (`GlobalObject` in bindings.glsl), 32 bytes.
@@ -217,8 +226,8 @@ mod tests {
         let rust = [
             ("dt", offset_of!(PushConstants, dt)),
             ("omega", offset_of!(PushConstants, omega)),
-            ("ks", offset_of!(PushConstants, ks)),
-            ("kd", offset_of!(PushConstants, kd)),
+            ("member_first", offset_of!(PushConstants, member_first)),
+            ("slot_first", offset_of!(PushConstants, slot_first)),
             ("gravity", offset_of!(PushConstants, gravity)),
             ("friction", offset_of!(PushConstants, friction)),
             ("floor_on", offset_of!(PushConstants, floor_on)),
@@ -262,6 +271,14 @@ mod tests {
         assert_eq!(
             springs.get("rest"),
             Some(&(offset_of!(GpuSpring, rest) as u32))
+        );
+        let scatter: HashMap<_, _> = module("passes/spring_scatter.comp#cas")
+            .struct_offsets("Spring")
+            .into_iter()
+            .collect();
+        assert_eq!(
+            scatter.get("stiffness"),
+            Some(&(offset_of!(GpuSpring, stiffness) as u32))
         );
         let partials: HashMap<_, _> = module("passes/volume_sum.comp")
             .struct_offsets("VolumePartial")
@@ -341,6 +358,8 @@ mod tests {
             ("SurfaceGradients", binding::SURFACE_GRADIENTS),
             ("GlobalState", binding::GLOBAL_STATE),
             ("ChebyshevBefore", binding::CHEBYSHEV_BEFORE),
+            ("SpringDamping", binding::SPRING_DAMPING),
+            ("VolumeCompliance", binding::VOLUME_COMPLIANCE),
         ]
         .into_iter()
         .collect();

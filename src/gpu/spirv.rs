@@ -206,9 +206,10 @@ mod tests {
             );
             variants += usize::from(key.contains('#'));
         }
-        // spring_scatter, distance, volume: ext + cas each; distance, volume: gather;
-        // constraint_apply: sums, gather, chebyshev.
-        assert_eq!(variants, 11);
+        // spring_scatter, spring_constraint, distance, volume: ext + cas each;
+        // spring_constraint, distance, volume: gather; constraint_apply: sums, gather,
+        // chebyshev.
+        assert_eq!(variants, 14);
     }
 
     #[test]
