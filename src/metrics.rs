@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use crate::backend::VolumeSample;
 use crate::error::{Error, Result};
 use crate::model::Model;
-use crate::params::{ConstraintCombine, SimParams, Solver};
+use crate::params::{ConstraintCombine, SimParams, Solver, SpringKind};
 
 /// The paper's average volume percentages over all its models, for comparison:
 /// `(method, percent)`.
@@ -67,6 +67,18 @@ pub struct RecordParams {
     /// Whether a global volume constraint per object was solved too.
     #[serde(default)]
     pub global_volume: bool,
+    /// Explicit springs (the paper) or implicit (compliant constraints).
+    #[serde(default = "crate::params::default_springs")]
+    pub springs: SpringKind,
+    /// Young's modulus [Pa] of the material, when the springs come from one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub youngs_modulus: Option<f64>,
+    /// Poisson's ratio of that material (absent: incompressible).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub poisson_ratio: Option<f64>,
+    /// Its damping time [s].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<f64>,
 }
 
 impl RecordParams {
@@ -83,9 +95,20 @@ impl RecordParams {
             combine: params.combine,
             solver: params.solver,
             groups: model
-                .constraint_groups(params.method, params.solver, params.groups)
-                .map_or(1, |g| g.len() as u32),
+                .constraint_sweeps(params)
+                .iter()
+                .map(|sweep| sweep.groups.len() as u32)
+                .max()
+                .unwrap_or(1),
             global_volume: params.solves_global_volume(),
+            springs: params.springs,
+            youngs_modulus: params.youngs_modulus,
+            poisson_ratio: params.poisson_ratio,
+            damping: params.youngs_modulus.map(|_| {
+                params
+                    .damping
+                    .unwrap_or(crate::params::DEFAULT_DAMPING_TIME)
+            }),
         }
     }
 }
@@ -346,6 +369,10 @@ mod tests {
                 solver: Solver::GaussSeidel,
                 groups: 8,
                 global_volume: false,
+                springs: SpringKind::Explicit,
+                youngs_modulus: None,
+                poisson_ratio: None,
+                damping: None,
             },
             local_error_pct: pct.iter().map(|p| (100.0 - p) / 2.0).collect(),
             time_s: (1..=pct.len()).map(|f| 1e-3 * f as f64).collect(),

@@ -1,5 +1,6 @@
 //! The stable-step estimate brackets the measured edge for springs, and `tetrasim
-//! stability` writes its maps and tables.
+//! stability` writes its maps and tables, implicit springs included (stable on the whole
+//! map, where explicit ones blow up).
 
 mod common;
 
@@ -60,17 +61,17 @@ fn stability_command_writes_maps_csv_json_and_the_edge() {
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );
-    for method in ["mss", "distance", "volume"] {
+    for method in ["mss", "distance", "volume", "mss-implicit", "volume-implicit"] {
         let png = std::fs::read(out.join(format!("stability_{method}.png"))).unwrap();
         assert_eq!(&png[1..4], b"PNG", "{method}");
         assert!(stdout.contains(&format!("{method}: max |volume - 100| %")));
     }
     let csv = std::fs::read_to_string(out.join("stability.csv")).unwrap();
-    assert_eq!(csv.lines().count(), 1 + 3 * 5 * 4);
+    assert_eq!(csv.lines().count(), 1 + 5 * 5 * 4);
     let json: Vec<serde_json::Value> =
         serde_json::from_str(&std::fs::read_to_string(out.join("stability.json")).unwrap())
             .unwrap();
-    assert_eq!(json.len(), 60);
+    assert_eq!(json.len(), 100);
     let find = |method: &str, dt: f64, ks: f64| {
         json.iter()
             .find(|c| c["method"] == method && c["dt"] == dt && c["ks"] == ks)
@@ -79,6 +80,11 @@ fn stability_command_writes_maps_csv_json_and_the_edge() {
     // Stiff springs at a large step blow up; soft ones at a small step do not.
     assert_eq!(find("mss", 1e-2, 5e5)["diverged"], true);
     assert_eq!(find("mss", 1e-4, 500.0)["diverged"], false);
+    // Implicit springs do not, anywhere on the map, and have no explicit step bound.
+    for c in json.iter().filter(|c| c["method"] == "mss-implicit") {
+        assert_eq!(c["diverged"], false, "{c}");
+    }
+    assert_eq!(find("mss-implicit", 1e-2, 5e5)["dt_estimate"], serde_json::Value::Null);
     // The volume constraint keeps the volume within 1 % at the paper's step.
     let v = find("volume", 1e-3, 5000.0);
     assert_eq!(v["diverged"], false);

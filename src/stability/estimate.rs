@@ -23,7 +23,7 @@
 //! of `tetrasim stability` show by how much).
 
 use crate::model::Model;
-use crate::params::SimParams;
+use crate::params::{SimParams, SpringKind};
 
 /// The stable-step estimate of a model with its parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -45,12 +45,16 @@ impl StepEstimate {
 
     /// One line for a warning or a divergence report.
     pub fn describe(&self, params: &SimParams) -> String {
-        if self.dt_max.is_finite() {
+        let springs = match params.youngs_modulus {
+            Some(e) => format!("springs from E {e:e} Pa"),
+            None => format!("ks {} N/m, kd {} N s/m", params.ks, params.kd),
+        };
+        if params.springs == SpringKind::Implicit {
+            format!("implicit springs ({springs}) do not limit the step")
+        } else if self.dt_max.is_finite() {
             format!(
-                "stable dt estimate {:.3e} s for ks {} N/m, kd {} N s/m (dt is {:.3e} s, {:.2}x the estimate)",
+                "stable dt estimate {:.3e} s for {springs} (dt is {:.3e} s, {:.2}x the estimate)",
                 self.dt_max,
-                params.ks,
-                params.kd,
                 params.dt,
                 params.dt / self.dt_max
             )
@@ -60,16 +64,17 @@ impl StepEstimate {
     }
 }
 
-/// Gershgorin bound on `lambda_max(M^-1 K)` for stiffness `ks` [N/m] over the model's free
-/// nodes, and the row that attains it.
-pub fn gershgorin_lambda(model: &Model, ks: f64) -> (f64, Option<u32>) {
+/// Gershgorin bound on `lambda_max(M^-1 K)` for the spring stiffnesses `ks` [N/m] (one per
+/// spring, or one for all) over the model's free nodes, and the row that attains it.
+pub fn gershgorin_lambda(model: &Model, ks: &[f64]) -> (f64, Option<u32>) {
     let mut rows = vec![0.0f64; model.node_count()];
-    for s in &model.springs {
+    for (n, s) in model.springs.iter().enumerate() {
+        let k = ks[n.min(ks.len() - 1)];
         let [i, j] = s.map(|a| a as usize);
         let (wi, wj) = (model.inv_mass[i], model.inv_mass[j]);
         let cross = (wi * wj).sqrt();
-        rows[i] += ks * (wi + cross);
-        rows[j] += ks * (wj + cross);
+        rows[i] += k * (wi + cross);
+        rows[j] += k * (wj + cross);
     }
     let mut best = (0.0, None);
     for (i, &r) in rows.iter().enumerate() {
@@ -91,15 +96,29 @@ pub fn dt_for(lambda: f64, beta: f64) -> f64 {
     (4.0 / lambda) / (root + beta)
 }
 
-/// The stable-step estimate of `model` under `params` (springs: `ks`, `kd`; masses and pins
-/// from the model).
+/// The stable-step estimate of `model` under `params` (each spring's stiffness and damping
+/// from [`Model::element_material`]; masses and pins from the model). Implicit springs have
+/// no explicit bound: `dt_max` is infinite.
 pub fn estimate(model: &Model, params: &SimParams) -> StepEstimate {
-    let (lambda_max, node) = gershgorin_lambda(model, params.ks);
-    let beta = if params.ks > 0.0 {
-        params.kd / params.ks
-    } else {
-        0.0
-    };
+    if params.springs == SpringKind::Implicit {
+        return StepEstimate {
+            lambda_max: 0.0,
+            dt_max: f64::INFINITY,
+            node: None,
+        };
+    }
+    let material = model.element_material(params);
+    let (lambda_max, node) = gershgorin_lambda(model, &material.spring_stiffness);
+    // The smallest damping ratio kd / k of any spring (the same for every spring of one
+    // material): the least damped mode bounds the step.
+    let beta = material
+        .spring_stiffness
+        .iter()
+        .zip(&material.spring_damping)
+        .filter(|(&k, _)| k > 0.0)
+        .map(|(&k, &kd)| kd / k)
+        .fold(f64::INFINITY, f64::min);
+    let beta = if beta.is_finite() { beta } else { 0.0 };
     StepEstimate {
         lambda_max,
         dt_max: dt_for(lambda_max, beta),
@@ -148,7 +167,7 @@ mod tests {
                 .build()
                 .unwrap();
             model.springs = vec![[0, 1]];
-            gershgorin_lambda(&model, 100.0)
+            gershgorin_lambda(&model, &[100.0])
         };
         assert_eq!(lambda, 200.0);
         assert_eq!(node, Some(0));
@@ -192,5 +211,22 @@ mod tests {
         let h = estimate(&heavy, &params);
         assert!((free.lambda_max / h.lambda_max - 10.0).abs() < 1e-9);
         assert!(h.dt_max > 3.0 * free.dt_max);
+        // Implicit springs: no bound; a stiffer material: a smaller step.
+        let implicit = SimParams {
+            springs: SpringKind::Implicit,
+            ..params.clone()
+        };
+        assert!(estimate(&model, &implicit).dt_max.is_infinite());
+        let soft = SimParams {
+            youngs_modulus: Some(1e4),
+            ..params.clone()
+        };
+        let stiff = SimParams {
+            youngs_modulus: Some(1e6),
+            ..params
+        };
+        let (soft, stiff) = (estimate(&model, &soft), estimate(&model, &stiff));
+        assert!((stiff.lambda_max / soft.lambda_max - 100.0).abs() < 1e-9);
+        assert!(stiff.dt_max < soft.dt_max);
     }
 }

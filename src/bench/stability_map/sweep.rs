@@ -8,14 +8,16 @@ use serde::Serialize;
 
 use crate::error::Result;
 use crate::model::Model;
-use crate::params::{Method, SimParams};
+use crate::params::{Method, SimParams, SpringKind};
 use crate::runner::{run, RunOptions};
 
 /// What to sweep.
 #[derive(Debug, Clone)]
 pub struct SweepConfig {
-    /// Methods, one map each.
+    /// Methods, one map each per spring kind.
     pub methods: Vec<Method>,
+    /// Spring kinds (explicit, the paper's; implicit, with `mss` and `volume` only).
+    pub springs: Vec<SpringKind>,
     /// Time steps [s], ascending.
     pub dts: Vec<f64>,
     /// Spring stiffnesses [N/m], ascending.
@@ -47,6 +49,7 @@ impl SweepConfig {
         };
         SweepConfig {
             methods: vec![Method::Mss, Method::Distance, Method::Volume],
+            springs: vec![SpringKind::Explicit, SpringKind::Implicit],
             dts,
             kss,
             duration,
@@ -56,10 +59,32 @@ impl SweepConfig {
     }
 }
 
+impl SweepConfig {
+    /// The maps: every method with every spring kind it takes, named `METHOD` (explicit
+    /// springs) or `METHOD-implicit`.
+    pub fn maps(&self) -> Vec<(Method, SpringKind, String)> {
+        let mut maps = Vec::new();
+        for &springs in &self.springs {
+            for &method in &self.methods {
+                let takes = springs == SpringKind::Explicit
+                    || matches!(method, Method::Mss | Method::Volume);
+                if takes {
+                    let name = match springs {
+                        SpringKind::Explicit => method.name().to_string(),
+                        SpringKind::Implicit => format!("{method}-implicit"),
+                    };
+                    maps.push((method, springs, name));
+                }
+            }
+        }
+        maps
+    }
+}
+
 /// One cell's result.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Cell {
-    /// Method name.
+    /// Map name: the method, `-implicit` with implicit springs.
     pub method: String,
     /// Time step [s].
     pub dt: f64,
@@ -84,11 +109,12 @@ pub fn sweep(
     mut progress: impl FnMut(&Cell),
 ) -> Result<Vec<Cell>> {
     let mut cells = Vec::new();
-    for &method in &config.methods {
+    for (method, springs, name) in config.maps() {
         for &ks in &config.kss {
             for &dt in &config.dts {
                 let params = SimParams {
                     method,
+                    springs,
                     ks,
                     dt,
                     substeps: 1,
@@ -110,7 +136,7 @@ pub fn sweep(
                     .map(|v| (v - 100.0).abs())
                     .fold(0.0, f64::max);
                 let cell = Cell {
-                    method: method.name().to_string(),
+                    method: name.clone(),
                     dt,
                     ks,
                     steps: r.frames_run,
