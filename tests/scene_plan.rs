@@ -145,13 +145,13 @@ fn springs_only_and_volume_with_floor_plan_differently() {
             "volume_sum"
         ]
     );
-    // The Jacobi volume scene adds constraint sums (16 B/node), degrees (4 B/node) and the
-    // volume compliances (4 B/tet), and copies the partials (16 B per workgroup) every
+    // The Jacobi volume scene adds constraint sums (16 B/node), degrees (4 B/node), the
+    // volume compliances and the volume multipliers (4 B/tet each), and copies the partials (16 B per workgroup) every
     // frame; both have the rest volumes and the spring damping.
     let (n, t) = (27u64, 48u64);
     assert_eq!(
         volume.device_bytes() - springs.device_bytes(),
-        16 * n + 4 * n + 4 * t
+        16 * n + 4 * n + 4 * t + 4 * t
     );
     assert_eq!(
         (springs.readback_bytes(), volume.readback_bytes()),

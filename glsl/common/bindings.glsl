@@ -61,6 +61,12 @@
 #define B_SPRING_DAMPING 24
 // Per tet: the compliance alpha_t of its volume constraint [m^3/Pa], 0 = hard (method volume).
 #define B_VOLUME_COMPLIANCE 25
+// Compliant constraints' multipliers lambda accumulated over the step's iterations so far
+// (XPBD-style: B - s lambda; each read and written only by the invocation that solves its
+// constraint, treated as 0 in iteration 0, so nothing resets them): per spring (implicit
+// springs) and per tet (method volume; hard tets leave theirs unused).
+#define B_SPRING_MULTIPLIERS 26
+#define B_VOLUME_MULTIPLIERS 27
 
 // Values of pc.combine (src/gpu/layout.rs, `combine`).
 #define COMBINE_SCALED 0u
@@ -115,6 +121,7 @@ layout(push_constant, std430) uniform PushConstants {
     uint group_first; // its first position in its sweep's group-ordered constraints (gather)
     uint group_count; // its constraint count (gather path)
     float chebyshev_weight; // the iteration's Chebyshev weight (solver chebyshev; else 1)
+    uint iteration;   // the constraint iteration within the step (0: multipliers start at 0)
 } pc;
 
 // Index of node i's per-group data (degrees, slot rows) in the current group.

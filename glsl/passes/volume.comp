@@ -1,7 +1,9 @@
 #version 460
 // Pass `volume`: one Jacobi sweep of the implicit volume constraint over one constraint
 // group (physics.md), one invocation per tet. Reads x(t), v(t) and the step's current F;
-// hard, or compliant with the tet's compliance alpha_t (volume_softness, no damping).
+// hard, or compliant with the tet's compliance alpha_t (volume_softness, no damping; then
+// lambda is the increment of the tet's multiplier so far in the step, B - s lambda, kept in
+// VolumeMultipliers, 0 in iteration 0, growing by omega lambda).
 // Variants `ext`/`cas` (the paper's Jacobi, one group): add -lambda grad_k C to the four
 // nodes' constraint sums with float atomics. Variant `gather` (Gauss-Seidel by colour
 // groups, no atomics): solve group pc.group's tets and write -lambda grad_k C into the
@@ -22,6 +24,7 @@ layout(std430, set = 0, binding = B_TETS) readonly restrict buffer Tets { uvec4 
 layout(std430, set = 0, binding = B_REST_VOLUMES) readonly restrict buffer RestVolumes { float rest_volumes[]; };
 layout(std430, set = 0, binding = B_VOLUME_COMPLIANCE) readonly restrict buffer VolumeCompliance { float volume_compliance[]; };
 layout(std430, set = 0, binding = B_CONSTRAINT_DEGREE) readonly restrict buffer Degrees { float degrees[]; };
+layout(std430, set = 0, binding = B_VOLUME_MULTIPLIERS) restrict buffer VolumeMultipliers { float volume_multipliers[]; };
 
 void main() {
     uint position;
@@ -40,7 +43,14 @@ void main() {
         implicit_accumulate(a, b, g[k], p[k].w, combine_a_scale(pc.combine, degrees[group_node(node)]), velocities[node].xyz, forces[node].xyz, pc.dt);
     }
     float softness = volume_softness(volume_compliance[t], pc.dt);
-    float lambda = compliant_multiplier(c, a, b, pc.dt, softness, 0.0, pc.epsilon);
+    float so_far = 0.0;
+    if (softness > 0.0) {
+        so_far = multiplier_so_far(volume_multipliers[t], pc.iteration);
+    }
+    float lambda = compliant_multiplier(c, a, b - softness * so_far, pc.dt, softness, 0.0, pc.epsilon);
+    if (softness > 0.0) {
+        volume_multipliers[t] = so_far + pc.omega * lambda;
+    }
     for (uint k = 0u; k < 4u; ++k) {
         constraint_output(position, 4u, k, tet[k], -lambda * g[k], lambda != 0.0);
     }

@@ -34,6 +34,12 @@ float compliant_multiplier(float c, float a, float b, float dt, float softness, 
     return (c / (dt * dt) + b - damping * softness * c / dt) / (a + softness);
 }
 
+// The multiplier accumulated so far in this step by a compliant constraint whose stored
+// value is `stored` (iteration 0 starts the step: whatever is stored is the last step's).
+float multiplier_so_far(float stored, uint iteration) {
+    return iteration == 0u ? 0.0 : stored;
+}
+
 // lambda of a hard constraint from its value and the accumulated A and B sums
 // (implicit_multiplier: compliant_multiplier with softness 0).
 float implicit_multiplier(float c, float a, float b, float dt, float epsilon) {

@@ -33,6 +33,10 @@ pub(crate) struct SimBuffers {
     pub rest_volumes: Option<Buffer>,
     /// float per tet: volume compliance [m^3/Pa] (`volume` only).
     pub volume_compliance: Option<Buffer>,
+    /// float per spring: the implicit springs' multipliers so far in the step.
+    pub spring_multipliers: Option<Buffer>,
+    /// float per tet: the compliant volume constraints' multipliers so far in the step.
+    pub volume_multipliers: Option<Buffer>,
     /// vec4 per node: one iteration's constraint sums (`distance`, `volume`).
     pub constraint_sum: Option<Buffer>,
     /// float per group (of every sweep) and node: its constraint count `d_k` within the
@@ -195,6 +199,20 @@ impl SimBuffers {
         };
         let constraint_sum = zeroed(BufferId::ConstraintSum)?;
         let chebyshev_before = zeroed(BufferId::ChebyshevBefore)?;
+        // The multipliers need no initial values (iteration 0 writes before any read);
+        // zeroed all the same.
+        let mut zeroed_floats = |id: BufferId, count: usize| -> Result<Option<Buffer>> {
+            match plan.has(id) {
+                true => Ok(Some(up.zeroed(
+                    ctx,
+                    id.name(),
+                    (4 * count).max(4) as u64,
+                )?)),
+                false => Ok(None),
+            }
+        };
+        let spring_multipliers = zeroed_floats(BufferId::SpringMultipliers, model.springs.len())?;
+        let volume_multipliers = zeroed_floats(BufferId::VolumeMultipliers, model.tets.len())?;
         let gather = match plan.gather {
             true => Some(gather_buffers(ctx, &mut up, model, sweeps)?),
             false => None,
@@ -213,6 +231,8 @@ impl SimBuffers {
             tets: tets_buffer,
             rest_volumes,
             volume_compliance,
+            spring_multipliers,
+            volume_multipliers,
             constraint_sum,
             chebyshev_before,
             degrees,
@@ -253,6 +273,8 @@ impl SimBuffers {
             BufferId::Tets => Some(&self.tets),
             BufferId::RestVolumes => self.rest_volumes.as_ref(),
             BufferId::VolumeCompliance => self.volume_compliance.as_ref(),
+            BufferId::SpringMultipliers => self.spring_multipliers.as_ref(),
+            BufferId::VolumeMultipliers => self.volume_multipliers.as_ref(),
             BufferId::ConstraintSum => self.constraint_sum.as_ref(),
             BufferId::Degrees => self.degrees.as_ref(),
             BufferId::NodeSpringOffsets => self.node_springs.as_ref().map(|b| &b.0),
@@ -382,7 +404,7 @@ fn global_buffers(
 }
 
 /// Every buffer kind.
-const ALL_BUFFERS: [BufferId; 26] = [
+const ALL_BUFFERS: [BufferId; 28] = [
     BufferId::Positions,
     BufferId::Velocities,
     BufferId::Forces,
@@ -391,6 +413,8 @@ const ALL_BUFFERS: [BufferId; 26] = [
     BufferId::Tets,
     BufferId::RestVolumes,
     BufferId::VolumeCompliance,
+    BufferId::SpringMultipliers,
+    BufferId::VolumeMultipliers,
     BufferId::ConstraintSum,
     BufferId::Degrees,
     BufferId::NodeSpringOffsets,

@@ -208,6 +208,7 @@ impl Recorder<'_> {
                                 member_first: at.member,
                                 slot_first: at.slot,
                                 chebyshev_weight,
+                                iteration: iteration as u32,
                                 ..*self.push
                             };
                             for q in own.iter().chain(&shared) {

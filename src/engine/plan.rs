@@ -41,6 +41,11 @@ pub enum BufferId {
     RestVolumes,
     /// float per tet: volume compliance (`volume`).
     VolumeCompliance,
+    /// float per spring: implicit springs' multipliers so far in the step.
+    SpringMultipliers,
+    /// float per tet: compliant volume constraints' multipliers so far in the step
+    /// (`volume` with constraint iterations).
+    VolumeMultipliers,
     /// vec4 per node (`distance`, `volume` with Jacobi: the atomic sums).
     ConstraintSum,
     /// float per group (of every sweep) and node (constraint iterations).
@@ -91,6 +96,8 @@ impl BufferId {
             BufferId::Tets => "tets",
             BufferId::RestVolumes => "rest volumes",
             BufferId::VolumeCompliance => "volume compliance",
+            BufferId::SpringMultipliers => "spring multipliers",
+            BufferId::VolumeMultipliers => "volume multipliers",
             BufferId::ConstraintSum => "constraint sums",
             BufferId::Degrees => "constraint degrees",
             BufferId::NodeSpringOffsets => "node-spring offsets",
@@ -123,6 +130,8 @@ impl BufferId {
             BufferId::Tets => binding::TETS,
             BufferId::RestVolumes => binding::REST_VOLUMES,
             BufferId::VolumeCompliance => binding::VOLUME_COMPLIANCE,
+            BufferId::SpringMultipliers => binding::SPRING_MULTIPLIERS,
+            BufferId::VolumeMultipliers => binding::VOLUME_MULTIPLIERS,
             BufferId::ConstraintSum => binding::CONSTRAINT_SUM,
             BufferId::Degrees => binding::CONSTRAINT_DEGREE,
             BufferId::NodeSpringOffsets => binding::NODE_SPRING_OFFSETS,
@@ -492,6 +501,20 @@ impl EnginePlan {
             if !chebyshev.is_empty() {
                 buffers.push((ChebyshevBefore, 16 * n, 0));
             }
+            // The compliant constraints' multipliers so far in the step, one float per
+            // constraint of a sweep that tracks them. Volume sweeps always get theirs: the
+            // plan sees counts and parameters, not the per-tet compliances (a material's
+            // young's modulus or an object's own material may make any tet compliant), and
+            // 4 bytes per tet are what the compliances already take; hard tets never touch
+            // their entry.
+            for kind in [ConstraintKind::Spring, ConstraintKind::Volume] {
+                if sweeps.iter().any(|w| w.kind == kind) {
+                    buffers.push(match kind {
+                        ConstraintKind::Spring => (SpringMultipliers, 4 * s, 0),
+                        _ => (VolumeMultipliers, 4 * t, 0),
+                    });
+                }
+            }
         }
         let global = global.filter(|_| params.solves_global_volume());
         if let Some(g) = global {
@@ -605,11 +628,21 @@ impl EnginePlan {
                 let (elements, element_data) = match sweep.kind {
                     ConstraintKind::Volume => (
                         counts.tets,
-                        vec![(Tets, Read), (RestVolumes, Read), (VolumeCompliance, Read)],
+                        vec![
+                            (Tets, Read),
+                            (RestVolumes, Read),
+                            (VolumeCompliance, Read),
+                            (VolumeMultipliers, ReadWrite),
+                        ],
                     ),
-                    ConstraintKind::Spring => {
-                        (counts.springs, vec![(Springs, Read), (SpringDamping, Read)])
-                    }
+                    ConstraintKind::Spring => (
+                        counts.springs,
+                        vec![
+                            (Springs, Read),
+                            (SpringDamping, Read),
+                            (SpringMultipliers, ReadWrite),
+                        ],
+                    ),
                     ConstraintKind::Distance => (counts.springs, vec![(Springs, Read)]),
                 };
                 let mut bindings = vec![(Positions, Read), (Velocities, Read), (Forces, Read)];
@@ -815,7 +848,9 @@ impl EnginePlan {
                         BufferId::Tets
                         | BufferId::RestVolumes
                         | BufferId::VolumeCompliance
+                        | BufferId::VolumeMultipliers
                         | BufferId::Springs
+                        | BufferId::SpringMultipliers
                         | BufferId::SpringDamping,
                     ) => size / sweep_groups,
                     (
@@ -1066,6 +1101,8 @@ mod tests {
             (BufferId::NodeSlotItems, 4 * (2 * s + 4 * t)),
             (BufferId::SpringDamping, 4 * s),
             (BufferId::VolumeCompliance, 4 * t),
+            (BufferId::SpringMultipliers, 4 * s),
+            (BufferId::VolumeMultipliers, 4 * t),
         ] {
             assert_eq!(p.buffer(id).map(|b| b.bytes), Some(bytes), "{id:?}");
         }
@@ -1105,6 +1142,11 @@ mod tests {
         );
         assert_eq!(p.buffer(BufferId::Degrees).map(|b| b.bytes), Some(40));
         assert!(p.has(BufferId::ConstraintSum) && !p.has(BufferId::VolumeCompliance));
+        assert_eq!(
+            p.buffer(BufferId::SpringMultipliers).map(|b| b.bytes),
+            Some(4 * 30)
+        );
+        assert!(!p.has(BufferId::VolumeMultipliers));
         assert!(p.render().starts_with("method mss with implicit springs:"));
     }
 }

@@ -61,9 +61,16 @@ pub mod binding {
     pub const SPRING_DAMPING: u32 = 24;
     /// float per tet: the compliance of its volume constraint [m^3/Pa] (method `volume`).
     pub const VOLUME_COMPLIANCE: u32 = 25;
+    /// float per spring: an implicit spring's multiplier accumulated over the step's
+    /// iterations so far (0 in iteration 0; read and written by its own invocation only).
+    pub const SPRING_MULTIPLIERS: u32 = 26;
+    /// float per tet: a compliant volume constraint's multiplier so far in the step (method
+    /// `volume`; like [`SPRING_MULTIPLIERS`]).
+    pub const VOLUME_MULTIPLIERS: u32 = 27;
 }
 
-/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 64 bytes.
+/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 68 bytes used,
+/// padded to 80.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct PushConstants {
@@ -102,6 +109,12 @@ pub struct PushConstants {
     pub group_count: u32,
     /// The iteration's Chebyshev weight (solver `chebyshev`; 1 otherwise).
     pub chebyshev_weight: f32,
+    /// The constraint iteration within the step: in iteration 0 the compliant constraints
+    /// take their multipliers so far as 0 (and overwrite the last step's), so the
+    /// multiplier buffers need no reset.
+    pub iteration: u32,
+    /// Padding to a multiple of 16 bytes (not in the shader's block).
+    pub pad: [u32; 3],
 }
 
 /// Values of [`PushConstants::combine`] (the `COMBINE_*` macros in bindings.glsl).
@@ -138,6 +151,8 @@ impl PushConstants {
             group_first: 0,
             group_count: 0,
             chebyshev_weight: 1.0,
+            iteration: 0,
+            pad: [0; 3],
         }
     }
 }
@@ -215,7 +230,7 @@ mod tests {
 
     #[test]
     fn sizes_are_std430_multiples_of_16() {
-        assert_eq!(size_of::<PushConstants>(), 64);
+        assert_eq!(size_of::<PushConstants>(), 80);
         assert_eq!(size_of::<GpuSpring>(), 16);
         assert_eq!(size_of::<VolumePartial>(), 16);
         assert_eq!(size_of::<GpuGlobalObject>(), 32);
@@ -243,6 +258,7 @@ mod tests {
                 "chebyshev_weight",
                 offset_of!(PushConstants, chebyshev_weight),
             ),
+            ("iteration", offset_of!(PushConstants, iteration)),
         ];
         // integrate uses floor_on/friction/gravity, volume_sum the tet count: together they
         // name most members; every member the shader keeps must sit where Rust puts it.
@@ -257,7 +273,7 @@ mod tests {
             "PushConstants",
             &rust,
         );
-        assert!(checked >= 16);
+        assert!(checked >= 17);
     }
 
     #[test]
@@ -360,6 +376,8 @@ mod tests {
             ("ChebyshevBefore", binding::CHEBYSHEV_BEFORE),
             ("SpringDamping", binding::SPRING_DAMPING),
             ("VolumeCompliance", binding::VOLUME_COMPLIANCE),
+            ("SpringMultipliers", binding::SPRING_MULTIPLIERS),
+            ("VolumeMultipliers", binding::VOLUME_MULTIPLIERS),
         ]
         .into_iter()
         .collect();
