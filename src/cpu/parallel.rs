@@ -198,8 +198,9 @@ pub struct ParallelBackend {
     f: Vec<Vec3A>,
     /// Per explicit spring: force on the spring's end 0 (end 1 gets its negation).
     spring_out: Vec<Vec3A>,
-    /// Per spring or distance constraint, in group order: force on each end.
-    pair_out: Vec<[Vec3A; 2]>,
+    /// Per spring or distance constraint, in group order: force on the spring's end 0
+    /// (end 1 gets its negation).
+    pair_out: Vec<Vec3A>,
     /// Per volume constraint, in group order: force on each corner.
     tet_out: Vec<[Vec3A; 4]>,
     frame: u32,
@@ -299,7 +300,7 @@ impl ParallelBackend {
                 Vec::new()
             },
             pair_out: if has(ConstraintKind::Spring) || has(ConstraintKind::Distance) {
-                vec![[Vec3A::ZERO; 2]; model.springs.len()]
+                vec![Vec3A::ZERO; model.springs.len()]
             } else {
                 Vec::new()
             },
@@ -378,7 +379,7 @@ impl ParallelBackend {
             .enumerate()
             .with_min_len(CHUNK)
             .for_each(|(i, f)| {
-                *f = k.gravity * mass[i] + gather_ends(ends.row(i), out);
+                *f = k.gravity * mass[i] + gather(out)(ends.row(i));
             });
     }
 
@@ -631,13 +632,49 @@ struct Nodes<'a> {
     k: Coefficients,
 }
 
+/// One constraint's forces on its `K` nodes as a per-constraint result array holds them:
+/// all four for a tet; for a spring or distance constraint, whose gradients are `[n, -n]`,
+/// the force on end 0 (end 1 gets its negation), half the memory the gathers read.
+trait NodeForces<const K: usize>: Copy + Send + Sync {
+    fn from_forces(forces: [Vec3A; K]) -> Self;
+    fn corner(&self, corner: usize) -> Vec3A;
+}
+
+impl NodeForces<2> for Vec3A {
+    #[inline]
+    fn from_forces(forces: [Vec3A; 2]) -> Self {
+        forces[0]
+    }
+
+    #[inline]
+    fn corner(&self, corner: usize) -> Vec3A {
+        if corner == 0 {
+            *self
+        } else {
+            -*self
+        }
+    }
+}
+
+impl NodeForces<4> for [Vec3A; 4] {
+    #[inline]
+    fn from_forces(forces: [Vec3A; 4]) -> Self {
+        forces
+    }
+
+    #[inline]
+    fn corner(&self, corner: usize) -> Vec3A {
+        self[corner]
+    }
+}
+
 /// The per-constraint pass of one group, for any kind of constraint on `K` nodes: for the
 /// group's `members` (indices into `elements`), `constraint(e, positions)` gives the value
 /// `C`, the gradients, the softness and the damping of constraint `e`, and `out` (one
-/// entry per member) receives the force `-lambda grad_k C` on each of its nodes with the
-/// compliant multiplier ([`compliant_multiplier`]; zero where the constraint is skipped).
-fn solve_group<const K: usize>(
-    out: &mut [[Vec3A; K]],
+/// entry per member) receives the forces `-lambda grad_k C` on its nodes with the compliant
+/// multiplier ([`compliant_multiplier`]; zero where the constraint is skipped).
+fn solve_group<const K: usize, R: NodeForces<K>>(
+    out: &mut [R],
     members: &[u32],
     elements: &[[u32; K]],
     on: Nodes<'_>,
@@ -662,17 +699,18 @@ fn solve_group<const K: usize>(
             for (&i, &g) in ids.iter().zip(&grad) {
                 implicit_accumulate(&mut a, &mut b, g, w[i], a_scale[i], v[i], f[i], k.dt);
             }
-            *out = compliant_multiplier(c, a, b, k.dt, softness, damping, k.epsilon)
-                .map_or([Vec3A::ZERO; K], |l| grad.map(|g| g * -l));
+            let lambda = compliant_multiplier(c, a, b, k.dt, softness, damping, k.epsilon);
+            *out = R::from_forces(lambda.map_or([Vec3A::ZERO; K], |l| grad.map(|g| g * -l)));
         });
 }
 
-/// The gather of per-constraint results `out` over a node's slots (`K * position + corner`).
-fn gather<const K: usize>(out: &[[Vec3A; K]]) -> impl Fn(&[u32]) -> Vec3A + Sync + '_ {
+/// The gather of per-constraint results `out` over a node's slots (`K * position + corner`;
+/// `2 * spring + end` for the explicit springs' results).
+fn gather<const K: usize, R: NodeForces<K>>(out: &[R]) -> impl Fn(&[u32]) -> Vec3A + Sync + '_ {
     move |slots| {
         let mut sum = Vec3A::ZERO;
         for &e in slots {
-            sum += out[e as usize / K][e as usize % K];
+            sum += out[e as usize / K].corner(e as usize % K);
         }
         sum
     }
@@ -698,21 +736,6 @@ impl Chebyshev {
             self.weights[iteration],
         )
     }
-}
-
-/// Sum over a node's spring ends of the per-spring results (negated for end 1).
-#[inline]
-fn gather_ends(ends: &[u32], out: &[Vec3A]) -> Vec3A {
-    let mut sum = Vec3A::ZERO;
-    for &e in ends {
-        let value = out[(e >> 1) as usize];
-        if e & 1 == 0 {
-            sum += value;
-        } else {
-            sum -= value;
-        }
-    }
-    sum
 }
 
 impl Backend for ParallelBackend {
