@@ -3,6 +3,8 @@
 //! results in parallel (one spring, one tet), then a per-node pass gathers them through CSR
 //! adjacency (node -> spring ends, node -> tet corners). Data is packed in flat arrays of
 //! 16-byte SIMD vectors ([`Vec3A`]); parallel loops run in chunks of at least [`CHUNK`].
+//! Every constraint sweep (implicit springs, distance, hard or compliant volume) runs through
+//! one generic group solve ([`solve_group`]) and one gather.
 
 use glam::Vec3A;
 use rayon::prelude::*;
