@@ -3,6 +3,8 @@
 //! results in parallel (one spring, one tet), then a per-node pass gathers them through CSR
 //! adjacency (node -> spring ends, node -> tet corners). Data is packed in flat arrays of
 //! 16-byte SIMD vectors ([`Vec3A`]); parallel loops run in chunks of at least [`CHUNK`].
+//! Every constraint sweep (implicit springs, distance, hard or compliant volume) runs through
+//! one generic group solve ([`solve_group`]) and one gather.
 
 use glam::Vec3A;
 use rayon::prelude::*;
@@ -10,11 +12,12 @@ use rayon::prelude::*;
 use super::{check_state, diverged, Bad};
 use crate::backend::{Backend, State, VolumeSample};
 use crate::error::Result;
-use crate::model::{Csr, GlobalVolume, Model};
-use crate::params::{chebyshev_weights, Method, SimParams, Solver};
+use crate::model::{ConstraintKind, Csr, GlobalVolume, Model};
+use crate::params::{chebyshev_weights, Method, SimParams, Solver, SpringKind};
 use crate::physics::{
-    distance_constraint, face_volume, floor_solve, implicit_accumulate, implicit_lambda,
-    implicit_multiplier, integrate_node, spring_force, tet_volume, volume_constraint, Vector,
+    compliant_multiplier, distance_constraint, face_volume, floor_solve, implicit_accumulate,
+    implicit_multiplier, integrate_node, spring_constraint, spring_force, spring_softness,
+    tet_volume, volume_constraint, volume_softness, Vector,
 };
 
 /// Smallest number of elements one parallel task handles.
@@ -24,16 +27,16 @@ pub const CHUNK: usize = 1024;
 #[derive(Debug, Clone, Copy)]
 struct Coefficients {
     dt: f32,
-    ks: f32,
-    kd: f32,
     friction: f32,
     epsilon: f32,
     gravity: Vec3A,
 }
 
-/// Constraint groups with everything their sweeps read, in single precision.
+/// One constraint sweep of an iteration ([`Model::constraint_sweeps`]): its constraints in
+/// the groups solved one after another, with everything they read, in single precision.
 #[derive(Debug, Clone)]
-struct Groups {
+struct Sweep {
+    kind: ConstraintKind,
     /// Row `g`: the constraints of group `g` (their positions in `items` index the
     /// per-constraint results).
     members: Csr,
@@ -47,20 +50,21 @@ struct Groups {
     apply: Vec<f32>,
 }
 
-impl Groups {
-    fn new(model: &Model, params: &SimParams) -> Option<Self> {
-        let groups = model.constraint_groups(params.method, params.solver, params.groups)?;
+impl Sweep {
+    fn new(model: &Model, params: &SimParams, sweep: crate::model::Sweep) -> Self {
+        let (kind, groups) = (sweep.kind, sweep.groups);
         let n = model.node_count();
-        let slots = match params.method {
-            Method::Distance => groups.node_slots(&model.springs, n),
-            _ => groups.node_slots(&model.tets, n),
+        let slots = match kind {
+            ConstraintKind::Volume => groups.node_slots(&model.tets, n),
+            _ => groups.node_slots(&model.springs, n),
         };
         let factors: Vec<(f64, f64)> = groups
             .degree
             .iter()
             .map(|&d| params.combine.node_factors(d))
             .collect();
-        Some(Groups {
+        Sweep {
+            kind,
             members: groups.members,
             slots,
             a_scale: factors.iter().map(|f| f.0 as f32).collect(),
@@ -68,7 +72,7 @@ impl Groups {
                 .iter()
                 .map(|f| (f.1 * params.omega) as f32)
                 .collect(),
-        })
+        }
     }
 
     fn len(&self) -> usize {
@@ -156,6 +160,8 @@ impl Global {
 #[derive(Debug, Clone)]
 pub struct ParallelBackend {
     method: Method,
+    /// Whether the springs act as explicit forces (else they are solved in the sweeps).
+    explicit_springs: bool,
     substeps: u32,
     iterations: u32,
     floor: bool,
@@ -164,13 +170,22 @@ pub struct ParallelBackend {
     inv_mass: Vec<f32>,
     springs: Vec<[u32; 2]>,
     rest_length: Vec<f32>,
+    /// Per spring: stiffness [N/m] and damping [N s/m] ([`crate::model::ElementMaterial`]).
+    spring_stiffness: Vec<f32>,
+    spring_damping: Vec<f32>,
+    /// Per spring, with implicit springs: the softness of its compliant constraint
+    /// ([`spring_softness`], computed in f64).
+    spring_softness: Vec<f32>,
     tets: Vec<[u32; 4]>,
     rest_volume: Vec<f32>,
+    /// Per tet, for the volume method: the softness of its volume constraint
+    /// ([`volume_softness`]; 0: hard).
+    volume_softness: Vec<f32>,
     /// node -> `2 * spring + end` (end 0 is `springs[s][0]`).
     node_spring_ends: Csr,
-    /// The method's constraints in the groups solved one after another (`None` for the
-    /// springs-only methods).
-    groups: Option<Groups>,
+    /// The constraint sweeps of an iteration, in order (empty for explicit springs-only
+    /// methods).
+    sweeps: Vec<Sweep>,
     /// The global volume constraints, when solved.
     global: Option<Global>,
     /// The Chebyshev semi-iteration (solver `chebyshev`).
@@ -183,10 +198,11 @@ pub struct ParallelBackend {
     v: Vec<Vec3A>,
     /// Total force of the current step [N].
     f: Vec<Vec3A>,
-    /// Per-spring result: force on the spring's end 0 (end 1 gets its negation).
+    /// Per explicit spring: force on the spring's end 0 (end 1 gets its negation).
     spring_out: Vec<Vec3A>,
-    /// Per distance constraint, in group order: force on the spring's end 0.
-    distance_out: Vec<Vec3A>,
+    /// Per spring or distance constraint, in group order: force on the spring's end 0
+    /// (end 1 gets its negation).
+    pair_out: Vec<Vec3A>,
     /// Per volume constraint, in group order: force on each corner.
     tet_out: Vec<[Vec3A; 4]>,
     frame: u32,
@@ -213,15 +229,23 @@ impl ParallelBackend {
             }
         }
         let to32 = |v: &[f64]| v.iter().map(|&a| a as f32).collect::<Vec<f32>>();
+        let material = model.element_material(params);
+        let sweeps: Vec<Sweep> = model
+            .constraint_sweeps(params)
+            .into_iter()
+            .map(|sweep| Sweep::new(model, params, sweep))
+            .collect();
+        let has = |kind: ConstraintKind| sweeps.iter().any(|s| s.kind == kind);
+        let explicit_springs = params.springs == SpringKind::Explicit;
+        let dt = params.dt;
         Ok(ParallelBackend {
             method: params.method,
+            explicit_springs,
             substeps: params.substeps,
             iterations: params.iterations,
             floor: params.floor,
             k: Coefficients {
                 dt: params.dt as f32,
-                ks: params.ks as f32,
-                kd: params.kd as f32,
                 friction: params.friction as f32,
                 epsilon: params.constraint_epsilon as f32,
                 gravity: Vec3A::new(0.0, -params.gravity as f32, 0.0),
@@ -230,10 +254,26 @@ impl ParallelBackend {
             inv_mass: to32(&model.inv_mass),
             springs: model.springs.clone(),
             rest_length: to32(&model.rest_length),
+            spring_stiffness: to32(&material.spring_stiffness),
+            spring_damping: to32(&material.spring_damping),
+            spring_softness: if has(ConstraintKind::Spring) {
+                (material.spring_stiffness.iter())
+                    .zip(&material.spring_damping)
+                    .map(|(&k, &kd)| spring_softness(k, kd, dt) as f32)
+                    .collect()
+            } else {
+                Vec::new()
+            },
             tets: model.tets.clone(),
             rest_volume: to32(&model.rest_volume),
+            volume_softness: if has(ConstraintKind::Volume) {
+                (material.volume_compliance.iter())
+                    .map(|&alpha| volume_softness(alpha, dt) as f32)
+                    .collect()
+            } else {
+                Vec::new()
+            },
             node_spring_ends: ends,
-            groups: Groups::new(model, params),
             global: params.solves_global_volume().then(|| Global::new(model)),
             chebyshev: (params.solver == Solver::Chebyshev).then(|| Chebyshev {
                 weights: chebyshev_weights(params.rho, params.iterations)
@@ -256,15 +296,22 @@ impl ParallelBackend {
                 .map(|&v| Vec3A::from_dvec3(v))
                 .collect(),
             f: vec![Vec3A::ZERO; n],
-            spring_out: vec![Vec3A::ZERO; model.springs.len()],
-            distance_out: match params.method {
-                Method::Distance => vec![Vec3A::ZERO; model.springs.len()],
-                _ => Vec::new(),
+            spring_out: if explicit_springs && params.method != Method::MssNode {
+                vec![Vec3A::ZERO; model.springs.len()]
+            } else {
+                Vec::new()
             },
-            tet_out: match params.method {
-                Method::Volume => vec![[Vec3A::ZERO; 4]; model.tets.len()],
-                _ => Vec::new(),
+            pair_out: if has(ConstraintKind::Spring) || has(ConstraintKind::Distance) {
+                vec![Vec3A::ZERO; model.springs.len()]
+            } else {
+                Vec::new()
             },
+            tet_out: if has(ConstraintKind::Volume) {
+                vec![[Vec3A::ZERO; 4]; model.tets.len()]
+            } else {
+                Vec::new()
+            },
+            sweeps,
             frame: 0,
             speed_limit: crate::stability::speed_limit(model, params) as f32,
             likely: crate::stability::likely_cause(model, params),
@@ -287,13 +334,23 @@ impl ParallelBackend {
         Ok(())
     }
 
-    /// Pass `springs`: `F = m g + spring forces`. `mss-node` evaluates each spring at both
-    /// ends inside one node-centric gather; every other method evaluates each spring once
-    /// and gathers the results.
+    /// Pass `springs`: `F = m g + spring forces`, each spring with its own stiffness and
+    /// damping (`F = m g` alone with implicit springs, which the sweeps solve). `mss-node`
+    /// evaluates each spring at both ends inside one node-centric gather; every other method
+    /// evaluates each spring once and gathers the results.
     fn spring_pass(&mut self) {
         let (x, v, k) = (&self.x, &self.v, self.k);
         let (springs, rest, mass) = (&self.springs, &self.rest_length, &self.mass);
+        let (ks, kd) = (&self.spring_stiffness, &self.spring_damping);
         let ends = &self.node_spring_ends;
+        if !self.explicit_springs {
+            self.f
+                .par_iter_mut()
+                .zip(mass.par_iter())
+                .with_min_len(CHUNK)
+                .for_each(|(f, &m)| *f = k.gravity * m);
+            return;
+        }
         if self.method == Method::MssNode {
             self.f
                 .par_iter_mut()
@@ -304,7 +361,7 @@ impl ParallelBackend {
                     for &e in ends.row(i) {
                         let s = (e >> 1) as usize;
                         let j = springs[s][1 - (e & 1) as usize] as usize;
-                        sum += spring_force(x[i], x[j], v[i], v[j], rest[s], k.ks, k.kd);
+                        sum += spring_force(x[i], x[j], v[i], v[j], rest[s], ks[s], kd[s]);
                     }
                     *f = sum;
                 });
@@ -316,7 +373,7 @@ impl ParallelBackend {
             .with_min_len(CHUNK)
             .for_each(|(s, out)| {
                 let [i, j] = springs[s].map(|a| a as usize);
-                *out = spring_force(x[i], x[j], v[i], v[j], rest[s], k.ks, k.kd);
+                *out = spring_force(x[i], x[j], v[i], v[j], rest[s], ks[s], kd[s]);
             });
         let out = &self.spring_out;
         self.f
@@ -324,75 +381,57 @@ impl ParallelBackend {
             .enumerate()
             .with_min_len(CHUNK)
             .for_each(|(i, f)| {
-                *f = k.gravity * mass[i] + gather_ends(ends.row(i), out);
+                *f = k.gravity * mass[i] + gather(out)(ends.row(i));
             });
     }
 
-    /// One Jacobi sweep of group `g`'s distance constraints, then the per-node gather of
-    /// the group's results into `F` and the floor's solve.
-    fn distance_pass(&mut self, groups: &Groups, g: usize) {
-        let (x, v, f, w, k) = (&self.x, &self.v, &self.f, &self.inv_mass, self.k);
-        let n = x.len();
-        let a_scale = &groups.a_scale[g * n..(g + 1) * n];
-        let (springs, rest) = (&self.springs, &self.rest_length);
-        let range = groups.range(g);
-        self.distance_out[range.clone()]
-            .par_iter_mut()
-            .zip(groups.members.items[range].par_iter())
-            .with_min_len(CHUNK)
-            .for_each(|(out, &s)| {
-                let s = s as usize;
-                let ids = springs[s].map(|a| a as usize);
-                let (c, grad) = distance_constraint(x[ids[0]], x[ids[1]], rest[s]);
-                let lambda = implicit_lambda(
-                    c,
-                    &grad,
-                    &ids.map(|i| w[i]),
-                    &ids.map(|i| a_scale[i]),
-                    &ids.map(|i| v[i]),
-                    &ids.map(|i| f[i]),
-                    k.dt,
-                    k.epsilon,
-                );
-                *out = lambda.map_or(Vec3A::ZERO, |l| grad[0] * -l);
-            });
-        self.apply_group(groups, g);
+    /// One Jacobi sweep of group `g` of `sweep` (each constraint's multiplier against the
+    /// current `F`, [`solve_group`]), then the per-node gather of the group's results into
+    /// `F` and the floor's solve.
+    fn sweep_pass(&mut self, sweep: &Sweep, g: usize) {
+        let n = self.x.len();
+        let on = Nodes {
+            x: &self.x,
+            v: &self.v,
+            f: &self.f,
+            w: &self.inv_mass,
+            a_scale: &sweep.a_scale[g * n..(g + 1) * n],
+            k: self.k,
+        };
+        let range = sweep.range(g);
+        let members = &sweep.members.items[range.clone()];
+        let (rest, tets_rest) = (&self.rest_length, &self.rest_volume);
+        match sweep.kind {
+            ConstraintKind::Spring => {
+                let (softness, damping) = (&self.spring_softness, &self.spring_damping);
+                let out = &mut self.pair_out[range];
+                solve_group(out, members, &self.springs, on, |s, [xi, xj]| {
+                    let (c, grad) = spring_constraint(xi, xj, rest[s]);
+                    (c, grad, softness[s], damping[s])
+                });
+            }
+            ConstraintKind::Distance => {
+                let out = &mut self.pair_out[range];
+                solve_group(out, members, &self.springs, on, |s, [xi, xj]| {
+                    let (c, grad) = distance_constraint(xi, xj, rest[s]);
+                    (c, grad, 0.0, 0.0)
+                });
+            }
+            ConstraintKind::Volume => {
+                let softness = &self.volume_softness;
+                let out = &mut self.tet_out[range];
+                solve_group(out, members, &self.tets, on, |t, p| {
+                    let (c, grad) = volume_constraint(p, tets_rest[t]);
+                    (c, grad, softness[t], 0.0)
+                });
+            }
+        }
+        self.apply_group(sweep, g);
     }
 
-    /// One Jacobi sweep of group `g`'s volume constraints, then the per-node gather of the
-    /// group's results into `F` and the floor's solve.
-    fn volume_pass(&mut self, groups: &Groups, g: usize) {
-        let (x, v, f, w, k) = (&self.x, &self.v, &self.f, &self.inv_mass, self.k);
-        let n = x.len();
-        let a_scale = &groups.a_scale[g * n..(g + 1) * n];
-        let (tets, rest) = (&self.tets, &self.rest_volume);
-        let range = groups.range(g);
-        self.tet_out[range.clone()]
-            .par_iter_mut()
-            .zip(groups.members.items[range].par_iter())
-            .with_min_len(CHUNK)
-            .for_each(|(out, &t)| {
-                let t = t as usize;
-                let ids = tets[t].map(|a| a as usize);
-                let (c, grad) = volume_constraint(ids.map(|i| x[i]), rest[t]);
-                let lambda = implicit_lambda(
-                    c,
-                    &grad,
-                    &ids.map(|i| w[i]),
-                    &ids.map(|i| a_scale[i]),
-                    &ids.map(|i| v[i]),
-                    &ids.map(|i| f[i]),
-                    k.dt,
-                    k.epsilon,
-                );
-                *out = lambda.map_or([Vec3A::ZERO; 4], |l| grad.map(|g| g * -l));
-            });
-        self.apply_group(groups, g);
-    }
-
-    /// Per node `i`: `F += apply * (i's results in group g)` (springs' or tets'), the
-    /// Chebyshev extrapolation when it is on, then the floor's solve.
-    fn apply_group(&mut self, groups: &Groups, g: usize) {
+    /// Per node `i`: `F += apply * (i's results in group g of sweep)` (springs' or tets'),
+    /// the Chebyshev extrapolation when it is on, then the floor's solve.
+    fn apply_group(&mut self, sweep: &Sweep, g: usize) {
         let ParallelBackend {
             f,
             floor_force,
@@ -403,26 +442,31 @@ impl ParallelBackend {
             k,
             chebyshev,
             iteration,
-            method,
-            distance_out,
+            pair_out,
             tet_out,
             ..
         } = self;
         let contact = floor.then_some((&x[..], &v[..], &inv_mass[..], k.dt));
         let chebyshev = chebyshev.as_mut().map(|c| c.state(*iteration));
-        match method {
-            Method::Distance => {
-                apply_results(f, floor_force, contact, chebyshev, groups, g, |slots| {
-                    gather_ends(slots, distance_out)
-                })
-            }
-            _ => apply_results(f, floor_force, contact, chebyshev, groups, g, |slots| {
-                let mut sum = Vec3A::ZERO;
-                for &e in slots {
-                    sum += tet_out[(e >> 2) as usize][(e & 3) as usize];
-                }
-                sum
-            }),
+        match sweep.kind {
+            ConstraintKind::Volume => apply_results(
+                f,
+                floor_force,
+                contact,
+                chebyshev,
+                sweep,
+                g,
+                gather(tet_out),
+            ),
+            _ => apply_results(
+                f,
+                floor_force,
+                contact,
+                chebyshev,
+                sweep,
+                g,
+                gather(pair_out),
+            ),
         }
     }
 
@@ -467,20 +511,20 @@ impl ParallelBackend {
             c.before_f.clone_from(&self.f);
             c.before_n.clone_from(&self.floor_force);
         }
-        if let Some(groups) = self.groups.take() {
+        if !self.sweeps.is_empty() {
+            let sweeps = std::mem::take(&mut self.sweeps);
             for iteration in 0..self.iterations as usize {
                 self.iteration = iteration;
-                for g in 0..groups.len() {
-                    match self.method {
-                        Method::Distance => self.distance_pass(&groups, g),
-                        _ => self.volume_pass(&groups, g),
+                for sweep in &sweeps {
+                    for g in 0..sweep.len() {
+                        self.sweep_pass(sweep, g);
                     }
                 }
                 if let Some(global) = &global {
                     self.global_pass(global);
                 }
             }
-            self.groups = Some(groups);
+            self.sweeps = sweeps;
         }
         self.global = global;
         self.integrate_pass()
@@ -534,14 +578,14 @@ fn apply_results(
     floor_force: &mut [f32],
     contact: Option<Contact<'_>>,
     chebyshev: Option<ChebyshevState<'_>>,
-    groups: &Groups,
+    sweep: &Sweep,
     g: usize,
     gather: impl Fn(&[u32]) -> Vec3A + Sync,
 ) {
     let n = f.len();
-    let apply = &groups.apply[g * n..(g + 1) * n];
+    let apply = &sweep.apply[g * n..(g + 1) * n];
     let update = |i: usize, f: &mut Vec3A| {
-        *f += gather(groups.slots.row(g * n + i)) * apply[i];
+        *f += gather(sweep.slots.row(g * n + i)) * apply[i];
     };
     let floor = |i: usize, f: &mut Vec3A, fl: &mut f32| {
         if let Some((x, v, w, dt)) = contact {
@@ -577,6 +621,103 @@ fn apply_results(
     }
 }
 
+/// What a group's constraints read: positions, velocities, the current total force and
+/// inverse masses of every node, the group's scales of the inverse masses in `A`, and the
+/// step's coefficients.
+#[derive(Clone, Copy)]
+struct Nodes<'a> {
+    x: &'a [Vec3A],
+    v: &'a [Vec3A],
+    f: &'a [Vec3A],
+    w: &'a [f32],
+    a_scale: &'a [f32],
+    k: Coefficients,
+}
+
+/// One constraint's forces on its `K` nodes as a per-constraint result array holds them:
+/// all four for a tet; for a spring or distance constraint, whose gradients are `[n, -n]`,
+/// the force on end 0 (end 1 gets its negation), half the memory the gathers read.
+trait NodeForces<const K: usize>: Copy + Send + Sync {
+    fn from_forces(forces: [Vec3A; K]) -> Self;
+    fn corner(&self, corner: usize) -> Vec3A;
+}
+
+impl NodeForces<2> for Vec3A {
+    #[inline]
+    fn from_forces(forces: [Vec3A; 2]) -> Self {
+        forces[0]
+    }
+
+    #[inline]
+    fn corner(&self, corner: usize) -> Vec3A {
+        if corner == 0 {
+            *self
+        } else {
+            -*self
+        }
+    }
+}
+
+impl NodeForces<4> for [Vec3A; 4] {
+    #[inline]
+    fn from_forces(forces: [Vec3A; 4]) -> Self {
+        forces
+    }
+
+    #[inline]
+    fn corner(&self, corner: usize) -> Vec3A {
+        self[corner]
+    }
+}
+
+/// The per-constraint pass of one group, for any kind of constraint on `K` nodes: for the
+/// group's `members` (indices into `elements`), `constraint(e, positions)` gives the value
+/// `C`, the gradients, the softness and the damping of constraint `e`, and `out` (one
+/// entry per member) receives the forces `-lambda grad_k C` on its nodes with the compliant
+/// multiplier ([`compliant_multiplier`]; zero where the constraint is skipped).
+fn solve_group<const K: usize, R: NodeForces<K>>(
+    out: &mut [R],
+    members: &[u32],
+    elements: &[[u32; K]],
+    on: Nodes<'_>,
+    constraint: impl Fn(usize, [Vec3A; K]) -> (f32, [Vec3A; K], f32, f32) + Sync,
+) {
+    let Nodes {
+        x,
+        v,
+        f,
+        w,
+        a_scale,
+        k,
+    } = on;
+    out.par_iter_mut()
+        .zip(members.par_iter())
+        .with_min_len(CHUNK)
+        .for_each(|(out, &e)| {
+            let e = e as usize;
+            let ids = elements[e].map(|a| a as usize);
+            let (c, grad, softness, damping) = constraint(e, ids.map(|i| x[i]));
+            let (mut a, mut b) = (0.0, 0.0);
+            for (&i, &g) in ids.iter().zip(&grad) {
+                implicit_accumulate(&mut a, &mut b, g, w[i], a_scale[i], v[i], f[i], k.dt);
+            }
+            let lambda = compliant_multiplier(c, a, b, k.dt, softness, damping, k.epsilon);
+            *out = R::from_forces(lambda.map_or([Vec3A::ZERO; K], |l| grad.map(|g| g * -l)));
+        });
+}
+
+/// The gather of per-constraint results `out` over a node's slots (`K * position + corner`;
+/// `2 * spring + end` for the explicit springs' results).
+fn gather<const K: usize, R: NodeForces<K>>(out: &[R]) -> impl Fn(&[u32]) -> Vec3A + Sync + '_ {
+    move |slots| {
+        let mut sum = Vec3A::ZERO;
+        for &e in slots {
+            sum += out[e as usize / K].corner(e as usize % K);
+        }
+        sum
+    }
+}
+
 /// The Chebyshev state of one iteration: the total and floor forces two iterations back
 /// (updated in place) and the iteration's weight.
 type ChebyshevState<'a> = (&'a mut [Vec3A], &'a mut [f32], f32);
@@ -597,21 +738,6 @@ impl Chebyshev {
             self.weights[iteration],
         )
     }
-}
-
-/// Sum over a node's spring ends of the per-spring results (negated for end 1).
-#[inline]
-fn gather_ends(ends: &[u32], out: &[Vec3A]) -> Vec3A {
-    let mut sum = Vec3A::ZERO;
-    for &e in ends {
-        let value = out[(e >> 1) as usize];
-        if e & 1 == 0 {
-            sum += value;
-        } else {
-            sum -= value;
-        }
-    }
-    sum
 }
 
 impl Backend for ParallelBackend {
