@@ -67,9 +67,10 @@ pub struct RecordParams {
     /// Whether a global volume constraint per object was solved too.
     #[serde(default)]
     pub global_volume: bool,
-    /// Explicit springs (the paper) or implicit (compliant constraints).
+    /// Explicit springs (the paper) or implicit (compliant constraints); `--springs` (the
+    /// record's `springs` is the spring count).
     #[serde(default = "crate::params::default_springs")]
-    pub springs: SpringKind,
+    pub spring_kind: SpringKind,
     /// Young's modulus [Pa] of the material, when the springs come from one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub youngs_modulus: Option<f64>,
@@ -101,7 +102,7 @@ impl RecordParams {
                 .max()
                 .unwrap_or(1),
             global_volume: params.solves_global_volume(),
-            springs: params.springs,
+            spring_kind: params.springs,
             youngs_modulus: params.youngs_modulus,
             poisson_ratio: params.poisson_ratio,
             damping: params.youngs_modulus.map(|_| {
@@ -369,7 +370,7 @@ mod tests {
                 solver: Solver::GaussSeidel,
                 groups: 8,
                 global_volume: false,
-                springs: SpringKind::Explicit,
+                spring_kind: SpringKind::Explicit,
                 youngs_modulus: None,
                 poisson_ratio: None,
                 damping: None,

@@ -61,7 +61,13 @@ fn stability_command_writes_maps_csv_json_and_the_edge() {
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );
-    for method in ["mss", "distance", "volume", "mss-implicit", "volume-implicit"] {
+    for method in [
+        "mss",
+        "distance",
+        "volume",
+        "mss-implicit",
+        "volume-implicit",
+    ] {
         let png = std::fs::read(out.join(format!("stability_{method}.png"))).unwrap();
         assert_eq!(&png[1..4], b"PNG", "{method}");
         assert!(stdout.contains(&format!("{method}: max |volume - 100| %")));
@@ -84,7 +90,10 @@ fn stability_command_writes_maps_csv_json_and_the_edge() {
     for c in json.iter().filter(|c| c["method"] == "mss-implicit") {
         assert_eq!(c["diverged"], false, "{c}");
     }
-    assert_eq!(find("mss-implicit", 1e-2, 5e5)["dt_estimate"], serde_json::Value::Null);
+    assert_eq!(
+        find("mss-implicit", 1e-2, 5e5)["dt_estimate"],
+        serde_json::Value::Null
+    );
     // The volume constraint keeps the volume within 1 % at the paper's step.
     let v = find("volume", 1e-3, 5000.0);
     assert_eq!(v["diverged"], false);

@@ -66,14 +66,7 @@ pub fn execute(args: StabilityArgs) -> anyhow::Result<()> {
             loaded.mesh_name(),
             model.tets.len()
         );
-        heat_map(
-            &path,
-            &cells,
-            method,
-            &config.dts,
-            &config.kss,
-            &title,
-        )?;
+        heat_map(&path, &cells, method, &config.dts, &config.kss, &title)?;
         eprintln!("wrote {}", path.display());
     }
     write_atomically(&args.out_dir.join("stability.csv"), csv(&cells).as_bytes())?;

@@ -27,6 +27,7 @@ pub const CHUNK: usize = 1024;
 #[derive(Debug, Clone, Copy)]
 struct Coefficients {
     dt: f32,
+    omega: f32,
     friction: f32,
     epsilon: f32,
     gravity: Vec3A,
@@ -48,6 +49,9 @@ struct Sweep {
     a_scale: Vec<f32>,
     /// Per group and node: `omega` times the combine mode's apply weight.
     apply: Vec<f32>,
+    /// Per constraint (position in `members.items`): the multiplier a compliant constraint
+    /// has gathered so far in this step (zero at its start; unused by hard ones).
+    multipliers: Vec<f32>,
 }
 
 impl Sweep {
@@ -65,6 +69,7 @@ impl Sweep {
             .collect();
         Sweep {
             kind,
+            multipliers: vec![0.0; groups.members.items.len()],
             members: groups.members,
             slots,
             a_scale: factors.iter().map(|f| f.0 as f32).collect(),
@@ -246,6 +251,7 @@ impl ParallelBackend {
             floor: params.floor,
             k: Coefficients {
                 dt: params.dt as f32,
+                omega: params.omega as f32,
                 friction: params.friction as f32,
                 epsilon: params.constraint_epsilon as f32,
                 gravity: Vec3A::new(0.0, -params.gravity as f32, 0.0),
@@ -388,7 +394,7 @@ impl ParallelBackend {
     /// One Jacobi sweep of group `g` of `sweep` (each constraint's multiplier against the
     /// current `F`, [`solve_group`]), then the per-node gather of the group's results into
     /// `F` and the floor's solve.
-    fn sweep_pass(&mut self, sweep: &Sweep, g: usize) {
+    fn sweep_pass(&mut self, sweep: &mut Sweep, g: usize) {
         let n = self.x.len();
         let on = Nodes {
             x: &self.x,
@@ -400,19 +406,20 @@ impl ParallelBackend {
         };
         let range = sweep.range(g);
         let members = &sweep.members.items[range.clone()];
+        let so_far = &mut sweep.multipliers[range.clone()];
         let (rest, tets_rest) = (&self.rest_length, &self.rest_volume);
         match sweep.kind {
             ConstraintKind::Spring => {
                 let (softness, damping) = (&self.spring_softness, &self.spring_damping);
                 let out = &mut self.pair_out[range];
-                solve_group(out, members, &self.springs, on, |s, [xi, xj]| {
+                solve_group(out, so_far, members, &self.springs, on, |s, [xi, xj]| {
                     let (c, grad) = spring_constraint(xi, xj, rest[s]);
                     (c, grad, softness[s], damping[s])
                 });
             }
             ConstraintKind::Distance => {
                 let out = &mut self.pair_out[range];
-                solve_group(out, members, &self.springs, on, |s, [xi, xj]| {
+                solve_group(out, so_far, members, &self.springs, on, |s, [xi, xj]| {
                     let (c, grad) = distance_constraint(xi, xj, rest[s]);
                     (c, grad, 0.0, 0.0)
                 });
@@ -420,7 +427,7 @@ impl ParallelBackend {
             ConstraintKind::Volume => {
                 let softness = &self.volume_softness;
                 let out = &mut self.tet_out[range];
-                solve_group(out, members, &self.tets, on, |t, p| {
+                solve_group(out, so_far, members, &self.tets, on, |t, p| {
                     let (c, grad) = volume_constraint(p, tets_rest[t]);
                     (c, grad, softness[t], 0.0)
                 });
@@ -512,10 +519,13 @@ impl ParallelBackend {
             c.before_n.clone_from(&self.floor_force);
         }
         if !self.sweeps.is_empty() {
-            let sweeps = std::mem::take(&mut self.sweeps);
+            let mut sweeps = std::mem::take(&mut self.sweeps);
+            for sweep in &mut sweeps {
+                sweep.multipliers.fill(0.0);
+            }
             for iteration in 0..self.iterations as usize {
                 self.iteration = iteration;
-                for sweep in &sweeps {
+                for sweep in &mut sweeps {
                     for g in 0..sweep.len() {
                         self.sweep_pass(sweep, g);
                     }
@@ -673,10 +683,13 @@ impl NodeForces<4> for [Vec3A; 4] {
 /// The per-constraint pass of one group, for any kind of constraint on `K` nodes: for the
 /// group's `members` (indices into `elements`), `constraint(e, positions)` gives the value
 /// `C`, the gradients, the softness and the damping of constraint `e`, and `out` (one
-/// entry per member) receives the forces `-lambda grad_k C` on its nodes with the compliant
-/// multiplier ([`compliant_multiplier`]; zero where the constraint is skipped).
+/// entry per member) receives the forces `-delta grad_k C` on its nodes with the compliant
+/// multiplier's increment ([`compliant_multiplier`] against `B - softness * so_far`; zero
+/// where the constraint is skipped); a compliant constraint's `so_far` grows by
+/// `omega delta`.
 fn solve_group<const K: usize, R: NodeForces<K>>(
     out: &mut [R],
+    so_far: &mut [f32],
     members: &[u32],
     elements: &[[u32; K]],
     on: Nodes<'_>,
@@ -691,9 +704,10 @@ fn solve_group<const K: usize, R: NodeForces<K>>(
         k,
     } = on;
     out.par_iter_mut()
+        .zip(so_far.par_iter_mut())
         .zip(members.par_iter())
         .with_min_len(CHUNK)
-        .for_each(|(out, &e)| {
+        .for_each(|((out, so_far), &e)| {
             let e = e as usize;
             let ids = elements[e].map(|a| a as usize);
             let (c, grad, softness, damping) = constraint(e, ids.map(|i| x[i]));
@@ -701,8 +715,12 @@ fn solve_group<const K: usize, R: NodeForces<K>>(
             for (&i, &g) in ids.iter().zip(&grad) {
                 implicit_accumulate(&mut a, &mut b, g, w[i], a_scale[i], v[i], f[i], k.dt);
             }
-            let lambda = compliant_multiplier(c, a, b, k.dt, softness, damping, k.epsilon);
-            *out = R::from_forces(lambda.map_or([Vec3A::ZERO; K], |l| grad.map(|g| g * -l)));
+            let b = b - softness * *so_far;
+            let delta = compliant_multiplier(c, a, b, k.dt, softness, damping, k.epsilon);
+            if let (Some(d), true) = (delta, softness > 0.0) {
+                *so_far += k.omega * d;
+            }
+            *out = R::from_forces(delta.map_or([Vec3A::ZERO; K], |d| grad.map(|g| g * -d)));
         });
 }
 
