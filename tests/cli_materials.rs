@@ -1,0 +1,146 @@
+//! Materials in physical units and implicit springs from the command line and from scenes:
+//! what is refused (with the flag or key named), what a run records, `--no-fit`, and
+//! objects of one scene with different materials.
+
+mod common;
+
+use std::process::{Command, Output};
+
+use common::ball_mesh;
+use tetrasim::mesh::io::write_tetgen;
+use tetrasim::metrics::RunRecord;
+use tetrasim::scene::Scene;
+
+fn tetrasim(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_tetrasim"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn contradictory_or_out_of_range_material_flags_are_refused() {
+    for (args, needles) in [
+        (&["--poisson", "0.4"][..], &["--youngs"][..]),
+        (&["--damping", "0.01"][..], &["--youngs"][..]),
+        (&["--youngs", "1e5", "--ks", "100"][..], &["--ks", "--youngs"][..]),
+        (&["--youngs", "1e5", "--poisson", "0.7"][..], &["poisson_ratio", "[0, 0.5]"][..]),
+        (&["--youngs=-5"][..], &["youngs_modulus"][..]),
+        (
+            &["--springs", "implicit", "--method", "distance"][..],
+            &["springs", "mss and volume"][..],
+        ),
+        (
+            &["--springs", "implicit", "--solver", "chebyshev"][..],
+            &["springs", "chebyshev"][..],
+        ),
+        (&["--no-fit", "--fit-size", "1"][..], &["--fit-size", "--no-fit"][..]),
+    ] {
+        let out = tetrasim(&[&["run", "--frames", "1", "--quiet"][..], args].concat());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} was accepted");
+        assert!(!stderr.contains("panicked"), "{stderr}");
+        for needle in needles {
+            assert!(stderr.contains(needle), "{args:?}: `{needle}` missing: {stderr}");
+        }
+    }
+}
+
+#[test]
+fn scenes_refuse_spring_constants_beside_a_youngs_modulus() {
+    for (material, needle) in [
+        ("{ youngs_modulus = 1e5, ks = 10.0 }", "give youngs_modulus or ks"),
+        ("{ poisson_ratio = 0.3 }", "poisson_ratio"),
+    ] {
+        let text = format!("[[object]]\nmesh = \"a\"\nmaterial = {material}\n");
+        let err = Scene::parse(&text).unwrap_err().to_string();
+        assert!(err.contains("object[0]") && err.contains(needle), "{err}");
+    }
+}
+
+#[test]
+fn a_material_run_records_it_and_does_not_warn_about_the_explicit_bound() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("m.json");
+    let run = |springs: &str| {
+        let out = Command::new(env!("CARGO_BIN_EXE_tetrasim"))
+            .args(["run", "--quiet", "--method", "volume", "--frames", "20"])
+            .args(["--fit-size", "0.1", "--youngs", "1e5", "--poisson", "0.45"])
+            .args(["--density", "1000", "--springs", springs, "--json"])
+            .arg(&json)
+            .output()
+            .unwrap();
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    // The same material with the paper's explicit springs is far beyond their bound.
+    assert!(run("explicit").contains("warning: dt exceeds"));
+    let stderr = run("implicit");
+    assert!(!stderr.contains("warning: dt exceeds"), "{stderr}");
+    let records: Vec<RunRecord> =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let r = &records[0];
+    assert!(!r.diverged, "{:?}", r.divergence);
+    assert_eq!(r.params.spring_kind.name(), "implicit");
+    assert_eq!(
+        (r.params.youngs_modulus, r.params.poisson_ratio, r.params.damping),
+        (Some(1e5), Some(0.45), Some(0.003))
+    );
+    assert!(r.min_volume_pct > 99.0, "{}", r.min_volume_pct);
+}
+
+/// `--no-fit` keeps the mesh's size and its X and Z; a drop height only lifts it.
+#[test]
+fn without_fitting_the_mesh_keeps_its_size_and_is_only_lifted() {
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("ball");
+    let mesh = ball_mesh(1.5);
+    write_tetgen(&prefix, &mesh).unwrap();
+    let text = format!(
+        "[[object]]\nmesh = {:?}\ndrop_height = 0.25\n",
+        prefix.display().to_string()
+    );
+    let scene = Scene::parse(&text).unwrap();
+    let staged = tetrasim::launch::stage(&scene).unwrap();
+    let lowest = mesh.nodes.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
+    for (p, q) in mesh.nodes.iter().zip(&staged.model.positions) {
+        assert_eq!((p.x, p.z), (q.x, q.z));
+        assert!((q.y - (p.y - lowest + 0.25)).abs() < 1e-12);
+    }
+}
+
+/// Two objects, two materials: each model keeps its own per-spring stiffness, and the run
+/// goes through (it used to be refused).
+#[test]
+fn objects_of_one_scene_may_have_different_materials() {
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("ball");
+    write_tetgen(&prefix, &ball_mesh(1.5)).unwrap();
+    let text = format!(
+        "[solver]\nsprings = \"implicit\"\nframes = 30\n\
+         [[object]]\nmesh = {p:?}\nfit_size = 0.1\ndrop_height = 0.01\n\
+         material = {{ youngs_modulus = 1e4, poisson_ratio = 0.45, density = 1000.0 }}\n\
+         [[object]]\nmesh = {p:?}\nfit_size = 0.1\ndrop_height = 0.05\n\
+         material = {{ youngs_modulus = 1e6, density = 1100.0 }}\n",
+        p = prefix.display().to_string()
+    );
+    let path = dir.path().join("two.toml");
+    std::fs::write(&path, text).unwrap();
+    let scene = Scene::load(&path).unwrap();
+    let staged = tetrasim::launch::stage(&scene).unwrap();
+    let material = staged.model.material.as_ref().unwrap();
+    let half = material.spring_stiffness.len() / 2;
+    let ratio = material.spring_stiffness[half] / material.spring_stiffness[0];
+    assert!((ratio - 100.0).abs() < 1e-6, "stiffness ratio {ratio}");
+    assert!(material.volume_compliance[0] > 0.0);
+    assert_eq!(*material.volume_compliance.last().unwrap(), 0.0);
+    let out = Command::new(env!("CARGO_BIN_EXE_tetrasim"))
+        .args(["run", "--quiet", "--scene"])
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
