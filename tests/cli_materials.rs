@@ -23,8 +23,14 @@ fn contradictory_or_out_of_range_material_flags_are_refused() {
     for (args, needles) in [
         (&["--poisson", "0.4"][..], &["--youngs"][..]),
         (&["--damping", "0.01"][..], &["--youngs"][..]),
-        (&["--youngs", "1e5", "--ks", "100"][..], &["--ks", "--youngs"][..]),
-        (&["--youngs", "1e5", "--poisson", "0.7"][..], &["poisson_ratio", "[0, 0.5]"][..]),
+        (
+            &["--youngs", "1e5", "--ks", "100"][..],
+            &["--ks", "--youngs"][..],
+        ),
+        (
+            &["--youngs", "1e5", "--poisson", "0.7"][..],
+            &["poisson_ratio", "[0, 0.5]"][..],
+        ),
         (&["--youngs=-5"][..], &["youngs_modulus"][..]),
         (
             &["--springs", "implicit", "--method", "distance"][..],
@@ -34,14 +40,20 @@ fn contradictory_or_out_of_range_material_flags_are_refused() {
             &["--springs", "implicit", "--solver", "chebyshev"][..],
             &["springs", "chebyshev"][..],
         ),
-        (&["--no-fit", "--fit-size", "1"][..], &["--fit-size", "--no-fit"][..]),
+        (
+            &["--no-fit", "--fit-size", "1"][..],
+            &["--fit-size", "--no-fit"][..],
+        ),
     ] {
         let out = tetrasim(&[&["run", "--frames", "1", "--quiet"][..], args].concat());
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "{args:?} was accepted");
         assert!(!stderr.contains("panicked"), "{stderr}");
         for needle in needles {
-            assert!(stderr.contains(needle), "{args:?}: `{needle}` missing: {stderr}");
+            assert!(
+                stderr.contains(needle),
+                "{args:?}: `{needle}` missing: {stderr}"
+            );
         }
     }
 }
@@ -49,7 +61,10 @@ fn contradictory_or_out_of_range_material_flags_are_refused() {
 #[test]
 fn scenes_refuse_spring_constants_beside_a_youngs_modulus() {
     for (material, needle) in [
-        ("{ youngs_modulus = 1e5, ks = 10.0 }", "give youngs_modulus or ks"),
+        (
+            "{ youngs_modulus = 1e5, ks = 10.0 }",
+            "give youngs_modulus or ks",
+        ),
         ("{ poisson_ratio = 0.3 }", "poisson_ratio"),
     ] {
         let text = format!("[[object]]\nmesh = \"a\"\nmaterial = {material}\n");
@@ -82,7 +97,11 @@ fn a_material_run_records_it_and_does_not_warn_about_the_explicit_bound() {
     assert!(!r.diverged, "{:?}", r.divergence);
     assert_eq!(r.params.spring_kind.name(), "implicit");
     assert_eq!(
-        (r.params.youngs_modulus, r.params.poisson_ratio, r.params.damping),
+        (
+            r.params.youngs_modulus,
+            r.params.poisson_ratio,
+            r.params.damping
+        ),
         (Some(1e5), Some(0.45), Some(0.003))
     );
     assert!(r.min_volume_pct > 99.0, "{}", r.min_volume_pct);

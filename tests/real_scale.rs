@@ -10,9 +10,9 @@
 //!
 //! Needs `../shared/meshes/horse.ply`; without it the test fails under `CI=true`.
 
+mod gpu_support;
 #[path = "common/prep.rs"]
 mod prep_fixtures;
-mod gpu_support;
 
 use prep_fixtures::scan;
 use tetrasim::metrics::RunRecord;
