@@ -202,6 +202,12 @@ pub struct SimParams {
     /// Explicit spring forces (the paper) or compliant spring constraints.
     #[serde(default = "default_springs")]
     pub springs: SpringKind,
+    /// Implicit springs start each step from their last step's multipliers (their forces
+    /// added to `F` at `x(t)`): the stiffness no longer depends on the iteration count in
+    /// quasi-static scenes, but a multiplier carried through an impact is wrong (physics.md,
+    /// docs/PHYSICS.md "Iterations"). Off by default.
+    #[serde(default)]
+    pub warm_start: bool,
     /// Young's modulus [Pa]: when given, every spring's stiffness comes from it (Van Gelder:
     /// `k_e = E sum_(t at e) V0_t / L_e^2`) instead of `ks`, and its damping is `damping k_e`
     /// instead of `kd` (physics.md, "Material in physical units").
@@ -264,6 +270,7 @@ impl Default for SimParams {
             ks: 5000.0,
             kd: 15.0,
             springs: default_springs(),
+            warm_start: false,
             youngs_modulus: None,
             poisson_ratio: None,
             damping: None,
@@ -387,6 +394,12 @@ impl SimParams {
         }
         if let Some(beta) = self.damping {
             non_negative_finite("damping", beta)?;
+        }
+        if self.warm_start && self.springs != SpringKind::Implicit {
+            return Err(Error::param(
+                "warm_start",
+                "acts only with implicit springs (springs = implicit)",
+            ));
         }
         if self.springs == SpringKind::Implicit {
             match self.method {

@@ -17,6 +17,7 @@
 //! global_volume = true  # one global volume constraint per object (default: on for
 //!                       # gauss-seidel, off for jacobi and chebyshev)
 //! springs = "explicit"  # the paper's forces, or "implicit" (compliant constraints)
+//! warm_start = false    # implicit springs start each step from the last multipliers
 //! atomics = "auto"    # or "ext", "cas"
 //! epsilon = 1e-20     # skip a constraint whose denominator A is at or below this
 //! gravity = 9.81      # m/s^2, along -Y

@@ -203,8 +203,12 @@ pub struct ParallelBackend {
     v: Vec<Vec3A>,
     /// Total force of the current step [N].
     f: Vec<Vec3A>,
-    /// Per explicit spring: force on the spring's end 0 (end 1 gets its negation).
+    /// Per explicit spring: force on the spring's end 0 (end 1 gets its negation); for
+    /// warm-started implicit springs, the warm start's force.
     spring_out: Vec<Vec3A>,
+    /// With warm-started implicit springs: per spring, its multiplier at the end of the
+    /// last step (empty otherwise).
+    spring_warm: Vec<f32>,
     /// Per spring or distance constraint, in group order: force on the spring's end 0
     /// (end 1 gets its negation).
     pair_out: Vec<Vec3A>,
@@ -302,8 +306,15 @@ impl ParallelBackend {
                 .map(|&v| Vec3A::from_dvec3(v))
                 .collect(),
             f: vec![Vec3A::ZERO; n],
-            spring_out: if explicit_springs && params.method != Method::MssNode {
+            spring_out: if (explicit_springs || params.warm_start)
+                && params.method != Method::MssNode
+            {
                 vec![Vec3A::ZERO; model.springs.len()]
+            } else {
+                Vec::new()
+            },
+            spring_warm: if params.warm_start {
+                vec![0.0; model.springs.len()]
             } else {
                 Vec::new()
             },
@@ -337,19 +348,32 @@ impl ParallelBackend {
             .iter()
             .map(|&p| Vec3A::from_dvec3(p))
             .collect();
+        self.spring_warm.fill(0.0);
         Ok(())
     }
 
     /// Pass `springs`: `F = m g + spring forces`, each spring with its own stiffness and
-    /// damping (`F = m g` alone with implicit springs, which the sweeps solve). `mss-node`
-    /// evaluates each spring at both ends inside one node-centric gather; every other method
+    /// damping (`F = m g` alone with implicit springs, which the sweeps solve, plus their
+    /// last multipliers' forces `-lambda grad C` when warm-started). `mss-node` evaluates
+    /// each spring at both ends inside one node-centric gather; every other method
     /// evaluates each spring once and gathers the results.
     fn spring_pass(&mut self) {
         let (x, v, k) = (&self.x, &self.v, self.k);
         let (springs, rest, mass) = (&self.springs, &self.rest_length, &self.mass);
         let (ks, kd) = (&self.spring_stiffness, &self.spring_damping);
         let ends = &self.node_spring_ends;
-        if !self.explicit_springs {
+        let warm = &self.spring_warm;
+        if !self.explicit_springs && !warm.is_empty() {
+            self.spring_out
+                .par_iter_mut()
+                .enumerate()
+                .with_min_len(CHUNK)
+                .for_each(|(s, out)| {
+                    let [i, j] = springs[s].map(|a| a as usize);
+                    let (_, grad) = spring_constraint(x[i], x[j], rest[s]);
+                    *out = grad[0] * -warm[s];
+                });
+        } else if !self.explicit_springs {
             self.f
                 .par_iter_mut()
                 .zip(mass.par_iter())
@@ -373,14 +397,16 @@ impl ParallelBackend {
                 });
             return;
         }
-        self.spring_out
-            .par_iter_mut()
-            .enumerate()
-            .with_min_len(CHUNK)
-            .for_each(|(s, out)| {
-                let [i, j] = springs[s].map(|a| a as usize);
-                *out = spring_force(x[i], x[j], v[i], v[j], rest[s], ks[s], kd[s]);
-            });
+        if self.explicit_springs {
+            self.spring_out
+                .par_iter_mut()
+                .enumerate()
+                .with_min_len(CHUNK)
+                .for_each(|(s, out)| {
+                    let [i, j] = springs[s].map(|a| a as usize);
+                    *out = spring_force(x[i], x[j], v[i], v[j], rest[s], ks[s], kd[s]);
+                });
+        }
         let out = &self.spring_out;
         self.f
             .par_iter_mut()
@@ -521,7 +547,15 @@ impl ParallelBackend {
         if !self.sweeps.is_empty() {
             let mut sweeps = std::mem::take(&mut self.sweeps);
             for sweep in &mut sweeps {
-                sweep.multipliers.fill(0.0);
+                match (sweep.kind, self.spring_warm.is_empty()) {
+                    (ConstraintKind::Spring, false) => {
+                        let warm = &self.spring_warm;
+                        for (m, &s) in sweep.multipliers.iter_mut().zip(&sweep.members.items) {
+                            *m = warm[s as usize];
+                        }
+                    }
+                    _ => sweep.multipliers.fill(0.0),
+                }
             }
             for iteration in 0..self.iterations as usize {
                 self.iteration = iteration;
@@ -532,6 +566,13 @@ impl ParallelBackend {
                 }
                 if let Some(global) = &global {
                     self.global_pass(global);
+                }
+            }
+            if !self.spring_warm.is_empty() {
+                for sweep in sweeps.iter().filter(|s| s.kind == ConstraintKind::Spring) {
+                    for (&m, &s) in sweep.multipliers.iter().zip(&sweep.members.items) {
+                        self.spring_warm[s as usize] = m;
+                    }
                 }
             }
             self.sweeps = sweeps;

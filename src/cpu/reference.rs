@@ -66,6 +66,9 @@ pub struct ReferenceBackend {
     group_factors: Vec<Vec<Vec<(f64, f64)>>>,
     /// The global volume constraints, when solved.
     global: Option<GlobalVolume>,
+    /// Per spring, its implicit multiplier at the end of the last step: the next step's
+    /// start with `warm_start` (zeros otherwise, and after [`Self::set_state`]).
+    spring_warm: Vec<f64>,
 }
 
 impl ReferenceBackend {
@@ -103,6 +106,7 @@ impl ReferenceBackend {
             global: params
                 .solves_global_volume()
                 .then(|| GlobalVolume::new(model)),
+            spring_warm: vec![0.0; model.springs.len()],
         })
     }
 
@@ -111,11 +115,13 @@ impl ReferenceBackend {
         check_state(self.model.node_count(), state)?;
         self.x.clone_from(&state.positions);
         self.v.clone_from(&state.velocities);
+        self.spring_warm.fill(0.0);
         Ok(())
     }
 
     /// Steps 1 and 2 of a time step at the current state: gravity, explicit springs
-    /// (spring-centric for every method but `mss-node`, which gathers per node), then
+    /// (spring-centric for every method but `mss-node`, which gathers per node) or, for
+    /// warm-started implicit springs, the last step's multipliers as forces, then
     /// `iterations` times the sweeps ([`Model::constraint_sweeps`]: implicit springs, then
     /// the method's constraints), each group after group (one group for Jacobi and
     /// Chebyshev, the colour groups for Gauss-Seidel; Chebyshev extrapolating each
@@ -126,12 +132,13 @@ impl ReferenceBackend {
         let down = DVec3::new(0.0, -self.params.gravity, 0.0);
         let gravity: Vec<DVec3> = self.model.mass.iter().map(|&m| down * m).collect();
         let springs = match (self.params.springs, self.params.method) {
-            (SpringKind::Implicit, _) => vec![DVec3::ZERO; n],
+            (SpringKind::Implicit, _) => self.warm_start_forces(),
             (_, Method::MssNode) => self.spring_forces_gather(),
             _ => self.spring_forces_scatter(),
         };
-        // The compliant constraints' multipliers found so far in this step.
-        let mut spring_lambda = vec![0.0; self.model.springs.len()];
+        // The compliant constraints' multipliers found so far in this step (the warm start's
+        // for the springs).
+        let mut spring_lambda = self.spring_warm.clone();
         let mut volume_lambda = vec![0.0; self.model.tets.len()];
         let mut total: Vec<DVec3> = (0..n).map(|i| gravity[i] + springs[i]).collect();
         let mut floor = vec![0.0; n];
@@ -193,6 +200,23 @@ impl ReferenceBackend {
             spring_multipliers: spring_lambda,
             volume_multipliers: volume_lambda,
         }
+    }
+
+    /// With implicit springs: each spring's warm-start multiplier (zero without
+    /// `warm_start`) as the force `-lambda grad C` at the current positions.
+    fn warm_start_forces(&self) -> Vec<DVec3> {
+        let mut f = vec![DVec3::ZERO; self.model.node_count()];
+        for (s, &lambda) in self.spring_warm.iter().enumerate() {
+            if lambda != 0.0 {
+                let ids = self.model.springs[s].map(|i| i as usize);
+                let (_, grad) =
+                    spring_constraint(self.x[ids[0]], self.x[ids[1]], self.model.rest_length[s]);
+                for k in 0..2 {
+                    f[ids[k]] -= grad[k] * lambda;
+                }
+            }
+        }
+        f
     }
 
     /// The forces `-lambda grad_k C_g` of `object`'s global volume constraint against the
@@ -403,8 +427,11 @@ impl ReferenceBackend {
     /// faster than the speed limit, if any.
     fn step(&mut self) -> Option<(usize, Bad)> {
         let limit = self.speed_limit;
-        let forces = self.forces();
+        let mut forces = self.forces();
         let f = forces.total();
+        if self.params.warm_start {
+            std::mem::swap(&mut self.spring_warm, &mut forces.spring_multipliers);
+        }
         let p = &self.params;
         let mut bad = None;
         let nodes = self

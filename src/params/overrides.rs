@@ -48,6 +48,11 @@ pub struct SolverOverrides {
     /// methods mss and volume).
     #[arg(long, value_enum)]
     pub springs: Option<SpringKind>,
+    /// Implicit springs start each step from the last step's multipliers: stiffness
+    /// independent of the iteration count for slow, quasi-static loads (not through impacts;
+    /// default false).
+    #[arg(long, num_args = 0..=1, default_missing_value = "true", value_name = "BOOL")]
+    pub warm_start: Option<bool>,
     /// Spectral radius estimate of the Chebyshev solver, in (0, 1) (default 0.95).
     #[arg(long)]
     pub rho: Option<f64>,
@@ -78,6 +83,7 @@ impl SolverOverrides {
         set(&mut params.global_volume, self.global_volume.map(Some));
         set(&mut params.rho, self.rho);
         set(&mut params.springs, self.springs);
+        set(&mut params.warm_start, self.warm_start);
         set(&mut params.atomics, self.atomics);
         set(&mut params.constraint_epsilon, self.epsilon);
         set(&mut params.gravity, self.gravity);
