@@ -131,20 +131,24 @@ fn free_flight_keeps_linear_and_angular_momentum() {
 #[test]
 fn implicit_springs_keep_linear_and_angular_momentum() {
     // Implicit springs are solved as compliant constraints in the iterations (with the
-    // methods mss and volume, by Jacobi or Gauss-Seidel): their forces conserve momentum as
-    // the explicit springs' do. The `vulkan` backend has its own test once it solves them.
+    // methods mss and volume, by Jacobi or Gauss-Seidel), cold or warm-started: their forces
+    // conserve momentum as the explicit springs' do. (`vulkan` follows `cpu-ref` on these
+    // settings in backends_match_reference_settings.rs.)
     let model = flying_sphere();
     for method in [Method::Mss, Method::Volume] {
         for solver in [Solver::Jacobi, Solver::GaussSeidel] {
-            for global in [false, true] {
+            for (global, warm_start) in [(false, false), (true, false), (false, true)] {
                 if global && method == Method::Mss {
                     continue;
                 }
                 let params = SimParams {
                     springs: SpringKind::Implicit,
+                    warm_start,
                     ..flight_params(method, ConstraintCombine::Scaled, 1.0, solver, global)
                 };
-                let case = format!("implicit springs, {method} {solver} global {global}");
+                let case = format!(
+                    "implicit springs, {method} {solver} global {global} warm start {warm_start}"
+                );
                 let backends: [(&str, Box<dyn Backend>); 2] = [
                     (
                         "cpu-ref",
