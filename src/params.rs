@@ -202,6 +202,9 @@ pub struct SimParams {
     /// Explicit spring forces (the paper) or compliant spring constraints.
     #[serde(default = "default_springs")]
     pub springs: SpringKind,
+    /// Warm start of implicit springs: each step starts from the last step's multipliers.
+    #[serde(default)]
+    pub warm_start: bool,
     /// Young's modulus [Pa]: when given, every spring's stiffness comes from it (Van Gelder:
     /// `k_e = E sum_(t at e) V0_t / L_e^2`) instead of `ks`, and its damping is `damping k_e`
     /// instead of `kd` (physics.md, "Material in physical units").
@@ -264,6 +267,7 @@ impl Default for SimParams {
             ks: 5000.0,
             kd: 15.0,
             springs: default_springs(),
+            warm_start: false,
             youngs_modulus: None,
             poisson_ratio: None,
             damping: None,
