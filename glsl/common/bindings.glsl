@@ -64,7 +64,8 @@
 // Compliant constraints' multipliers lambda accumulated over the step's iterations so far
 // (XPBD-style: B - s lambda; each read and written only by the invocation that solves its
 // constraint, treated as 0 in iteration 0, so nothing resets them): per spring (implicit
-// springs) and per tet (method volume; hard tets leave theirs unused).
+// springs) and per tet (method volume; hard tets leave theirs unused). With pc.warm_start a
+// spring's stored value (the last step's final one) is its multiplier so far in iteration 0.
 #define B_SPRING_MULTIPLIERS 26
 #define B_VOLUME_MULTIPLIERS 27
 
@@ -122,6 +123,8 @@ layout(push_constant, std430) uniform PushConstants {
     uint group_count; // its constraint count (gather path)
     float chebyshev_weight; // the iteration's Chebyshev weight (solver chebyshev; else 1)
     uint iteration;   // the constraint iteration within the step (0: multipliers start at 0)
+    uint warm_start;  // 1: implicit springs' multipliers start at the stored (last step's)
+                      // values, applied as forces by spring_warm_start
 } pc;
 
 // Index of node i's per-group data (degrees, slot rows) in the current group.

@@ -5,7 +5,8 @@
 // 1 / k_e and the damping kd_e of the spring's own material (its Spring.stiffness and
 // SpringDamping), lambda = compliant_multiplier with spring_softness(k_e, kd_e, dt), solved
 // for the increment delta of the spring's multiplier so far in the step (B - s lambda, from
-// SpringMultipliers, 0 in iteration 0), which then grows by omega delta.
+// SpringMultipliers, 0 in iteration 0; with pc.warm_start the stored last step's value,
+// which `spring_warm_start` applied as a force), which then grows by omega delta.
 // Variants `ext`/`cas` (Jacobi, one group): add -lambda grad C to both nodes' constraint
 // sums with float atomics. Variant `gather` (Gauss-Seidel by colour groups, no atomics):
 // solve group pc.group's springs and write -lambda grad C into the spring's two
@@ -45,7 +46,7 @@ void main() {
     implicit_accumulate(a, b, gb, xb.w, combine_a_scale(pc.combine, degrees[group_node(sp.b)]), velocities[sp.b].xyz, forces[sp.b].xyz, pc.dt);
     float damping = spring_damping[s];
     float softness = spring_softness(sp.stiffness, damping, pc.dt);
-    float so_far = multiplier_so_far(spring_multipliers[s], pc.iteration);
+    float so_far = multiplier_so_far(spring_multipliers[s], pc.iteration, pc.warm_start);
     float lambda = compliant_multiplier(c, a, b - softness * so_far, pc.dt, softness, damping, pc.epsilon);
     spring_multipliers[s] = so_far + pc.omega * lambda;
     constraint_output(position, 2u, 0u, sp.a, -lambda * ga, lambda != 0.0);

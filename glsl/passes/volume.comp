@@ -45,7 +45,7 @@ void main() {
     float softness = volume_softness(volume_compliance[t], pc.dt);
     float so_far = 0.0;
     if (softness > 0.0) {
-        so_far = multiplier_so_far(volume_multipliers[t], pc.iteration);
+        so_far = multiplier_so_far(volume_multipliers[t], pc.iteration, 0u);
     }
     float lambda = compliant_multiplier(c, a, b - softness * so_far, pc.dt, softness, 0.0, pc.epsilon);
     if (softness > 0.0) {

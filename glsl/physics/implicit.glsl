@@ -35,9 +35,11 @@ float compliant_multiplier(float c, float a, float b, float dt, float softness, 
 }
 
 // The multiplier accumulated so far in this step by a compliant constraint whose stored
-// value is `stored` (iteration 0 starts the step: whatever is stored is the last step's).
-float multiplier_so_far(float stored, uint iteration) {
-    return iteration == 0u ? 0.0 : stored;
+// value is `stored` (iteration 0 starts the step: whatever is stored is the last step's,
+// which counts only when the step is warm-started with it, `warm` != 0: then
+// `spring_warm_start` has already applied it as a force).
+float multiplier_so_far(float stored, uint iteration, uint warm) {
+    return iteration == 0u && warm == 0u ? 0.0 : stored;
 }
 
 // lambda of a hard constraint from its value and the accumulated A and B sums

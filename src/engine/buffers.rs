@@ -95,6 +95,11 @@ impl SimBuffers {
         let mut uploads = Uploads::default();
         uploads.write(&self.positions, bytes(&positions))?;
         uploads.write(&self.velocities, bytes(&velocities))?;
+        // A new state starts without warm-start multipliers (the implicit springs' stored
+        // values count in iteration 0 only with `warm_start`; zeroing is harmless otherwise).
+        if let Some(multipliers) = &self.spring_multipliers {
+            uploads.zero(multipliers);
+        }
         uploads.submit(self.positions.context())
     }
 
@@ -199,8 +204,8 @@ impl SimBuffers {
         };
         let constraint_sum = zeroed(BufferId::ConstraintSum)?;
         let chebyshev_before = zeroed(BufferId::ChebyshevBefore)?;
-        // The multipliers need no initial values (iteration 0 writes before any read);
-        // zeroed all the same.
+        // The multipliers need no initial values (iteration 0 writes before any read), but
+        // for warm-started implicit springs, whose first step starts from 0: zeroed.
         let mut zeroed_floats = |id: BufferId, count: usize| -> Result<Option<Buffer>> {
             match plan.has(id) {
                 true => Ok(Some(up.zeroed(

@@ -13,6 +13,9 @@ pub enum PassKind {
     SpringScatter,
     /// Spring forces gathered per node (no atomics).
     SpringGather,
+    /// Warm start of implicit springs: the stored multipliers applied as forces, gathered
+    /// per node, once per step before the first iteration (`warm_start`).
+    SpringWarmStart,
     /// Global volume constraint: `C`, `A` and the surface gradients, once per step.
     GlobalVolumePrepare,
     /// Implicit (compliant) spring constraints of a group (`springs = implicit`; before the
@@ -36,9 +39,10 @@ pub enum PassKind {
 
 impl PassKind {
     /// Every pass, in execution order.
-    pub const ALL: [PassKind; 11] = [
+    pub const ALL: [PassKind; 12] = [
         PassKind::SpringScatter,
         PassKind::SpringGather,
+        PassKind::SpringWarmStart,
         PassKind::GlobalVolumePrepare,
         PassKind::SpringConstraint,
         PassKind::Distance,
@@ -55,6 +59,7 @@ impl PassKind {
         match self {
             PassKind::SpringScatter => "spring_scatter",
             PassKind::SpringGather => "spring_gather",
+            PassKind::SpringWarmStart => "spring_warm_start",
             PassKind::GlobalVolumePrepare => "global_volume_prepare",
             PassKind::SpringConstraint => "spring_constraint",
             PassKind::Distance => "distance",
@@ -72,6 +77,7 @@ impl PassKind {
         match self {
             PassKind::SpringScatter => file::PASSES_SPRING_SCATTER_COMP,
             PassKind::SpringGather => file::PASSES_SPRING_GATHER_COMP,
+            PassKind::SpringWarmStart => file::PASSES_SPRING_WARM_START_COMP,
             PassKind::GlobalVolumePrepare => file::PASSES_GLOBAL_VOLUME_PREPARE_COMP,
             PassKind::SpringConstraint => file::PASSES_SPRING_CONSTRAINT_COMP,
             PassKind::Distance => file::PASSES_DISTANCE_COMP,

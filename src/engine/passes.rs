@@ -4,6 +4,8 @@
 //! for each substep:
 //!     (spring_scatter | spring_gather)      F += explicit spring forces (F = m g before;
 //!                                           no spring force pass with implicit springs)
+//!     (spring_warm_start)                   warm-started implicit springs: F += the
+//!                                           stored multipliers' forces at x(t)
 //!     (global_volume_prepare)               C_g, A and the surface gradients at x(t)
 //!     iterations x sweeps x groups x        (implicit springs, then the method's
 //!                                           constraints; one group for Jacobi, the colour

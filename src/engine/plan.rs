@@ -8,8 +8,9 @@
 //! What a scene does not use is not built: no degrees without constraint iterations
 //! (`distance`, `volume` or implicit springs), atomic constraint sums only for Jacobi and the
 //! gather path's buffers (group members, contributions, node-slot CSR) only for
-//! Gauss-Seidel, no spring force pass with implicit springs, no node-spring adjacency
-//! without `mss-node` or the gather path of explicit springs, no volume compliances
+//! Gauss-Seidel, no spring force pass with implicit springs (but the `spring_warm_start`
+//! pass when they are warm-started), no node-spring adjacency without `mss-node`, the
+//! gather path of explicit springs or warm-started implicit springs, no volume compliances
 //! without `volume`, no floor test in `integrate` without a floor
 //! (specialisation constant 1), and no `volume_sum` pass or partials copy in the frame
 //! without per-frame metrics. The `check` pass (divergence) and its 16-byte status copy are
@@ -50,9 +51,10 @@ pub enum BufferId {
     ConstraintSum,
     /// float per group (of every sweep) and node (constraint iterations).
     Degrees,
-    /// N + 1 u32 (`mss-node`, gather path of explicit springs).
+    /// N + 1 u32 (`mss-node`, gather path of explicit springs, warm-started implicit
+    /// springs).
     NodeSpringOffsets,
-    /// 2 S u32 (`mss-node`, gather path of explicit springs).
+    /// 2 S u32 (`mss-node`, gather path of explicit springs, warm-started implicit springs).
     NodeSpringItems,
     /// 16 bytes per volume_sum workgroup.
     Partials,
@@ -375,6 +377,10 @@ pub struct EnginePlan {
     pub method: Method,
     /// Explicit spring forces or implicit spring constraints.
     pub springs: SpringKind,
+    /// Whether implicit springs are warm-started (`warm_start`): the `spring_warm_start`
+    /// pass applies the stored multipliers as forces before the first iteration, which
+    /// `spring_constraint` then takes as the multipliers so far in iteration 0.
+    pub warm_start: bool,
     /// Element counts.
     pub counts: PlanCounts,
     /// Time steps per frame.
@@ -533,7 +539,12 @@ impl EnginePlan {
         // pass (F starts as m g, which `integrate` and the initial upload leave).
         let spring_forces = params.springs == SpringKind::Explicit;
         let spring_gather = spring_forces && (method == Method::MssNode || gather);
-        if spring_gather {
+        // Warm-started implicit springs apply their stored multipliers as forces, gathered
+        // per node (no atomics), before the first iteration.
+        let warm_start = params.springs == SpringKind::Implicit
+            && params.warm_start
+            && sweeps.iter().any(|w| w.kind == ConstraintKind::Spring);
+        if spring_gather || warm_start {
             buffers.push((NodeSpringOffsets, 4 * (n + 1), 0));
             buffers.push((NodeSpringItems, 4 * 2 * s, 0));
         }
@@ -597,6 +608,22 @@ impl EnginePlan {
                     Repeat::Substep,
                 ),
             });
+        }
+        if warm_start {
+            passes.push(pass(
+                PassKind::SpringWarmStart,
+                Variant::Plain,
+                counts.nodes,
+                vec![
+                    (Positions, Read),
+                    (Springs, Read),
+                    (SpringMultipliers, Read),
+                    (NodeSpringOffsets, Read),
+                    (NodeSpringItems, Read),
+                    (Forces, ReadWrite),
+                ],
+                Repeat::Substep,
+            ));
         }
         if let Some(g) = global {
             passes.push(pass(
@@ -730,6 +757,7 @@ impl EnginePlan {
         EnginePlan {
             method,
             springs: params.springs,
+            warm_start,
             counts,
             substeps: params.substeps,
             iterations: params.iterations,
@@ -885,9 +913,10 @@ impl EnginePlan {
     pub fn render(&self) -> String {
         let mut out = String::new();
         let c = self.counts;
-        let springs = match self.springs {
-            SpringKind::Explicit => "",
-            SpringKind::Implicit => " with implicit springs",
+        let springs = match (self.springs, self.warm_start) {
+            (SpringKind::Explicit, _) => "",
+            (SpringKind::Implicit, false) => " with implicit springs",
+            (SpringKind::Implicit, true) => " with warm-started implicit springs",
         };
         let _ = writeln!(
             out,
@@ -1148,5 +1177,53 @@ mod tests {
         );
         assert!(!p.has(BufferId::VolumeMultipliers));
         assert!(p.render().starts_with("method mss with implicit springs:"));
+    }
+
+    #[test]
+    fn warm_started_implicit_springs_gather_their_stored_forces_before_the_iterations() {
+        let params = SimParams {
+            method: Method::Mss,
+            springs: SpringKind::Implicit,
+            warm_start: true,
+            solver: Solver::Jacobi,
+            ..SimParams::default()
+        };
+        let sweeps = [SweepPlan {
+            kind: ConstraintKind::Spring,
+            groups: vec![30],
+        }];
+        let p = plan(&params, &sweeps);
+        assert!(p.warm_start);
+        assert_eq!(
+            p.pass_list(),
+            [
+                "spring_warm_start",
+                "10 x (spring_constraint, constraint_apply#sums[floor])",
+                "integrate[floor]",
+                "check"
+            ]
+        );
+        assert_eq!(
+            p.buffer(BufferId::NodeSpringOffsets).map(|b| b.bytes),
+            Some(4 * 11)
+        );
+        assert_eq!(
+            p.buffer(BufferId::NodeSpringItems).map(|b| b.bytes),
+            Some(4 * 60)
+        );
+        assert!(!p.runs(PassKind::SpringGather) && !p.runs(PassKind::SpringScatter));
+        assert_eq!(p.dispatches_per_frame(), 1 + 10 * 2 + 2);
+        assert!(p
+            .render()
+            .starts_with("method mss with warm-started implicit springs:"));
+        // Warm start means nothing to explicit springs.
+        let explicit = plan(
+            &SimParams {
+                springs: SpringKind::Explicit,
+                ..params
+            },
+            &[],
+        );
+        assert!(!explicit.warm_start && !explicit.runs(PassKind::SpringWarmStart));
     }
 }

@@ -5,7 +5,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use crate::params::{ConstraintCombine, SimParams};
+use crate::params::{ConstraintCombine, SimParams, SpringKind};
 
 /// Descriptor binding numbers of set 0 (the `B_*` macros in glsl/common/bindings.glsl).
 pub mod binding {
@@ -69,7 +69,7 @@ pub mod binding {
     pub const VOLUME_MULTIPLIERS: u32 = 27;
 }
 
-/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 68 bytes used,
+/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 72 bytes used,
 /// padded to 80.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
@@ -113,8 +113,12 @@ pub struct PushConstants {
     /// take their multipliers so far as 0 (and overwrite the last step's), so the
     /// multiplier buffers need no reset.
     pub iteration: u32,
+    /// 1 when implicit springs are warm-started (`warm_start`): in iteration 0 a spring's
+    /// multiplier so far is its stored value, the last step's, which `spring_warm_start`
+    /// applied as a force at the start of the step.
+    pub warm_start: u32,
     /// Padding to a multiple of 16 bytes (not in the shader's block).
-    pub pad: [u32; 3],
+    pub pad: [u32; 2],
 }
 
 /// Values of [`PushConstants::combine`] (the `COMBINE_*` macros in bindings.glsl).
@@ -152,7 +156,8 @@ impl PushConstants {
             group_count: 0,
             chebyshev_weight: 1.0,
             iteration: 0,
-            pad: [0; 3],
+            warm_start: u32::from(params.springs == SpringKind::Implicit && params.warm_start),
+            pad: [0; 2],
         }
     }
 }
@@ -259,6 +264,7 @@ mod tests {
                 offset_of!(PushConstants, chebyshev_weight),
             ),
             ("iteration", offset_of!(PushConstants, iteration)),
+            ("warm_start", offset_of!(PushConstants, warm_start)),
         ];
         // integrate uses floor_on/friction/gravity, volume_sum the tet count: together they
         // name most members; every member the shader keeps must sit where Rust puts it.
@@ -269,11 +275,12 @@ mod tests {
                 "passes/spring_scatter.comp#cas",
                 "passes/volume.comp#gather",
                 "passes/constraint_apply.comp#chebyshev",
+                "passes/spring_constraint.comp#gather",
             ],
             "PushConstants",
             &rust,
         );
-        assert!(checked >= 17);
+        assert!(checked >= 18);
     }
 
     #[test]
