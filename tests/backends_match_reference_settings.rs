@@ -173,6 +173,15 @@ fn cases() -> Vec<(&'static str, Model, SimParams)> {
             },
         ),
         (
+            "warm-started implicit springs, volume, deformed",
+            gpu_support::jittered(&dense, 0.01, 0.3, 47),
+            SimParams {
+                springs: SpringKind::Implicit,
+                warm_start: true,
+                ..elastic(Method::Volume, 0.45)
+            },
+        ),
+        (
             "young's modulus, nu 0.45, implicit springs, jacobi",
             gpu_support::jittered(&dense, 0.01, 0.3, 37),
             SimParams {
