@@ -2,8 +2,10 @@
 //! summation, substeps on a deformed body, friction, pinned nodes (with the Jacobi solver, so
 //! that the held ball sags onto the floor), density masses, Gauss-Seidel with 3 and with
 //! all colour groups, the global volume constraint with either solver (on two objects,
-//! one constraint each), Chebyshev with and without it, each on a small ball dropped from 1 cm so that the floor is part
-//! of every run (60 frames).
+//! one constraint each), Chebyshev with and without it, implicit springs (mss with Jacobi,
+//! volume with Gauss-Seidel, warm-started), materials from a Young's modulus (compliant
+//! volumes, explicit springs) and two objects with different materials, each on a small ball
+//! dropped from 1 cm so that the floor is part of every run (60 frames).
 //!
 //! Tolerances: every node within 1e-5 of the bounding-box diagonal and every frame's volume
 //! within 1e-3 percentage points (f32 against f64; the default settings measure about 1e-7
