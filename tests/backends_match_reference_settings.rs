@@ -175,6 +175,17 @@ fn cases() -> Vec<(&'static str, Model, SimParams)> {
             },
         ),
         (
+            "warm-started implicit springs, mss, jacobi, E 10 MPa, deformed",
+            gpu_support::jittered(&dense, 0.01, 0.3, 53),
+            SimParams {
+                springs: SpringKind::Implicit,
+                warm_start: true,
+                solver: Solver::Jacobi,
+                youngs_modulus: Some(1e7),
+                ..elastic(Method::Mss, 0.45)
+            },
+        ),
+        (
             "warm-started implicit springs, volume, deformed",
             gpu_support::jittered(&dense, 0.01, 0.3, 47),
             SimParams {
