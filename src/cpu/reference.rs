@@ -152,13 +152,35 @@ impl ReferenceBackend {
                 for (g, factors) in sweep_factors.iter().enumerate() {
                     let a_scale: Vec<f64> = factors.iter().map(|f| f.0).collect();
                     let members = sweep.groups.group(g);
+                    let (springs, tets, m) =
+                        (&self.model.springs, &self.model.tets, &self.material);
+                    let (rest, rest_volume, dt) = (
+                        &self.model.rest_length,
+                        &self.model.rest_volume,
+                        self.params.dt,
+                    );
                     let sum = match sweep.kind {
                         ConstraintKind::Spring => {
-                            self.spring_sweep(members, &total, &a_scale, &mut spring_lambda)
+                            let lambda = &mut spring_lambda;
+                            self.sweep(members, springs, &total, &a_scale, lambda, |s, [a, b]| {
+                                let (c, grad) = spring_constraint(a, b, rest[s]);
+                                let (k, kd) = (m.spring_stiffness[s], m.spring_damping[s]);
+                                (c, grad, spring_softness(k, kd, dt), kd)
+                            })
                         }
-                        ConstraintKind::Distance => self.distance_sweep(members, &total, &a_scale),
+                        ConstraintKind::Distance => {
+                            let lambda = &mut spring_lambda;
+                            self.sweep(members, springs, &total, &a_scale, lambda, |s, [a, b]| {
+                                let (c, grad) = distance_constraint(a, b, rest[s]);
+                                (c, grad, 0.0, 0.0)
+                            })
+                        }
                         ConstraintKind::Volume => {
-                            self.volume_sweep(members, &total, &a_scale, &mut volume_lambda)
+                            let lambda = &mut volume_lambda;
+                            self.sweep(members, tets, &total, &a_scale, lambda, |t, p| {
+                                let (c, grad) = volume_constraint(p, rest_volume[t]);
+                                (c, grad, volume_softness(m.volume_compliance[t], dt), 0.0)
+                            })
                         }
                     };
                     let current = weights.as_ref().map(|_| (total.clone(), floor.clone()));
@@ -311,76 +333,36 @@ impl ReferenceBackend {
         )
     }
 
-    /// One Jacobi sweep of the implicit springs `members` against the force `f`: per-node
-    /// sums of `-delta grad C`, `delta` the compliant multiplier's increment for each
-    /// spring's stiffness, damping and multiplier so far (`lambda`, which grows by
-    /// `omega delta`).
-    fn spring_sweep(
+    /// One Jacobi sweep of the constraints `members` (indices into `elements`) against the
+    /// force `f`: `constraint(e, positions)` gives constraint `e`'s value, gradients,
+    /// softness and damping; returns the per-node sums of `-delta grad C`, `delta` the
+    /// compliant multiplier's increment ([`Self::lambda`]). A compliant constraint
+    /// (softness > 0) carries its multiplier so far in `lambda[e]`, which grows by
+    /// `omega delta`; a hard one neither reads nor changes it.
+    fn sweep<const K: usize>(
         &self,
         members: &[u32],
+        elements: &[[u32; K]],
         f: &[DVec3],
         a_scale: &[f64],
         lambda: &mut [f64],
+        constraint: impl Fn(usize, [DVec3; K]) -> (f64, [DVec3; K], f64, f64),
     ) -> Vec<DVec3> {
         let mut sum = vec![DVec3::ZERO; self.model.node_count()];
-        let dt = self.params.dt;
-        for &s in members {
-            let s = s as usize;
-            let ids = self.model.springs[s].map(|i| i as usize);
-            let (c, grad) =
-                spring_constraint(self.x[ids[0]], self.x[ids[1]], self.model.rest_length[s]);
-            let damping = self.material.spring_damping[s];
-            let softness = spring_softness(self.material.spring_stiffness[s], damping, dt);
-            let so_far = softness * lambda[s];
+        for &e in members {
+            let e = e as usize;
+            let ids = elements[e].map(|i| i as usize);
+            let (c, grad, softness, damping) = constraint(e, ids.map(|i| self.x[i]));
+            let so_far = if softness > 0.0 {
+                softness * lambda[e]
+            } else {
+                0.0
+            };
             if let Some(delta) = self.lambda(c, &grad, ids, f, a_scale, so_far, softness, damping) {
-                lambda[s] += self.params.omega * delta;
-                for k in 0..2 {
-                    sum[ids[k]] -= grad[k] * delta;
-                }
-            }
-        }
-        sum
-    }
-
-    /// One Jacobi sweep of the distance constraints `members` against the force `f`:
-    /// per-node sums of `-lambda grad C`.
-    fn distance_sweep(&self, members: &[u32], f: &[DVec3], a_scale: &[f64]) -> Vec<DVec3> {
-        let mut sum = vec![DVec3::ZERO; self.model.node_count()];
-        for &s in members {
-            let s = s as usize;
-            let ids = self.model.springs[s].map(|i| i as usize);
-            let (c, grad) =
-                distance_constraint(self.x[ids[0]], self.x[ids[1]], self.model.rest_length[s]);
-            if let Some(lambda) = self.lambda(c, &grad, ids, f, a_scale, 0.0, 0.0, 0.0) {
-                for k in 0..2 {
-                    sum[ids[k]] -= grad[k] * lambda;
-                }
-            }
-        }
-        sum
-    }
-
-    /// One Jacobi sweep of the volume constraints `members` against the force `f`; a
-    /// compliant one solves for its multiplier's increment, like [`Self::spring_sweep`].
-    fn volume_sweep(
-        &self,
-        members: &[u32],
-        f: &[DVec3],
-        a_scale: &[f64],
-        lambda: &mut [f64],
-    ) -> Vec<DVec3> {
-        let mut sum = vec![DVec3::ZERO; self.model.node_count()];
-        for &t in members {
-            let t = t as usize;
-            let ids = self.model.tets[t].map(|i| i as usize);
-            let (c, grad) = volume_constraint(ids.map(|i| self.x[i]), self.model.rest_volume[t]);
-            let softness = volume_softness(self.material.volume_compliance[t], self.params.dt);
-            let so_far = softness * lambda[t];
-            if let Some(delta) = self.lambda(c, &grad, ids, f, a_scale, so_far, softness, 0.0) {
                 if softness > 0.0 {
-                    lambda[t] += self.params.omega * delta;
+                    lambda[e] += self.params.omega * delta;
                 }
-                for k in 0..4 {
+                for k in 0..K {
                     sum[ids[k]] -= grad[k] * delta;
                 }
             }
