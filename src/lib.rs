@@ -139,6 +139,8 @@ pub use error::{Error, Result};
 pub use model::{Model, ModelBuilder};
 pub use params::{MassMode, Method, Placement, SimParams, Solver};
 pub use runner::{create_backend, load_mesh};
+/// The signed tet volume and the precision traits of the physics (the `tetmesh` crate).
+pub use tetmesh::geometry;
 /// Mesh types, readers/writers, repair, voxel mesher, simplification (the `tetmesh` crate).
 pub use tetmesh::mesh;
 /// The preprocessing pipeline shared with `tetprep` (the `tetmesh` crate).

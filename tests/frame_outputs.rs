@@ -17,8 +17,9 @@ use std::process::Command;
 use common::ball_mesh;
 use common::python::python_with_meshio;
 use glam::DVec3;
+use tetrasim::geometry::tet_volume;
 use tetrasim::mesh::io::write_tetgen;
-use tetrasim::mesh::{tet_signed_volume, TetMesh};
+use tetrasim::mesh::TetMesh;
 
 const G: f64 = 9.81;
 const DT: f64 = 1e-3;
@@ -162,7 +163,7 @@ fn vtu_series_in_input_units_is_the_input_mesh_then_falls_as_computed() {
             .iter()
             .map(|t| {
                 let p = t.map(|i| points[i as usize]);
-                tet_signed_volume(p[0], p[1], p[2], p[3]).abs()
+                tet_volume(p).abs()
             })
             .sum();
         let volume0: f64 = mesh
@@ -170,7 +171,7 @@ fn vtu_series_in_input_units_is_the_input_mesh_then_falls_as_computed() {
             .iter()
             .map(|t| {
                 let p = t.map(|i| mesh.nodes[i as usize]);
-                tet_signed_volume(p[0], p[1], p[2], p[3]).abs()
+                tet_volume(p).abs()
             })
             .sum();
         assert!((volume / volume0 - 1.0).abs() < 1e-9, "frame {frame}");

@@ -8,8 +8,9 @@ mod io_fixtures;
 
 use glam::DVec3;
 use io_fixtures::*;
+use tetrasim::geometry::tet_volume;
 use tetrasim::mesh::io::{self, ply::PlyEncoding};
-use tetrasim::mesh::{grid, tet_signed_volume, topology, SurfaceMesh, TetMesh};
+use tetrasim::mesh::{grid, topology, SurfaceMesh, TetMesh};
 
 #[test]
 fn surface_round_trips_are_exact_for_every_format() {
@@ -347,14 +348,7 @@ fn vtk_output_parses_back() {
     let volumes: Vec<f64> = mesh
         .tets
         .iter()
-        .map(|t| {
-            tet_signed_volume(
-                mesh.nodes[t[0] as usize],
-                mesh.nodes[t[1] as usize],
-                mesh.nodes[t[2] as usize],
-                mesh.nodes[t[3] as usize],
-            )
-        })
+        .map(|t| tet_volume(t.map(|i| mesh.nodes[i as usize])))
         .collect();
     let path = dir.path().join("m.vtk");
     io::write_vtk(&path, &mesh, Some(("volume", &volumes))).unwrap();

@@ -9,9 +9,10 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 // The readers (crate tetmesh) return its own error type, re-exported here.
+use tetrasim::geometry::tet_volume;
 use tetrasim::mesh::io::{self, read_tet_mesh, TetFormat};
 use tetrasim::mesh::Error;
-use tetrasim::mesh::{tet_signed_volume, TetMesh};
+use tetrasim::mesh::TetMesh;
 
 /// Reference figures printed by make_fixtures.py (computed by meshio/numpy, not by us):
 /// 12 nodes, 12 tets, sum of |tet volume| 2.0.
@@ -53,7 +54,7 @@ fn total_volume(m: &TetMesh) -> f64 {
         .iter()
         .map(|t| {
             let p = t.map(|v| m.nodes[v as usize]);
-            tet_signed_volume(p[0], p[1], p[2], p[3]).abs()
+            tet_volume(p).abs()
         })
         .sum()
 }
@@ -72,7 +73,7 @@ fn every_fixture_reads_to_the_tetgen_original() {
         // Same tets, same order, same orientation (tet 1 is negative in every file).
         assert_eq!(m.tets, original.tets, "{name}");
         let p = m.tets[1].map(|v| m.nodes[v as usize]);
-        assert!(tet_signed_volume(p[0], p[1], p[2], p[3]) < 0.0, "{name}");
+        assert!(tet_volume(p) < 0.0, "{name}");
     }
 }
 

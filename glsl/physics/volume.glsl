@@ -7,7 +7,7 @@
 #define PHYSICS_VOLUME_GLSL
 
 // Signed volume [m^3], positive for a positively oriented tet (tet_volume in
-// src/physics/constraint.rs, computed in the same order).
+// tools/tetmesh/src/geometry/mod.rs, computed in the same order).
 float tet_volume(vec3 p1, vec3 p2, vec3 p3, vec3 p4) {
     vec3 e1 = p2 - p1;
     vec3 e2 = p3 - p1;
@@ -16,7 +16,7 @@ float tet_volume(vec3 p1, vec3 p2, vec3 p3, vec3 p4) {
 }
 
 // C and its gradients with respect to p1..p4 (volume_constraint in
-// src/physics/constraint.rs, computed in the same order).
+// tools/tetmesh/src/geometry/mod.rs, computed in the same order).
 float volume_constraint(vec3 p1, vec3 p2, vec3 p3, vec3 p4, float rest, out vec3 g1, out vec3 g2, out vec3 g3, out vec3 g4) {
     vec3 e1 = p2 - p1;
     vec3 e2 = p3 - p1;

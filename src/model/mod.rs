@@ -14,8 +14,9 @@ use std::borrow::Cow;
 use glam::DVec3;
 
 use crate::error::{Error, Result};
-use crate::mesh::{bounds_of, tet_signed_volume, topology, TetMesh};
+use crate::mesh::{bounds_of, topology, TetMesh};
 use crate::params::{MassMode, Method, Placement, SimParams, Solver, SpringKind};
+use crate::physics::tet_volume;
 
 /// Compressed sparse rows: `items[offsets[i]..offsets[i + 1]]` belong to row `i`.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -351,7 +352,7 @@ impl<'a> ModelBuilder<'a> {
         let mut rest_volume = Vec::with_capacity(tets.len());
         for (t, tet) in tets.iter_mut().enumerate() {
             let p = tet.map(|v| positions[v as usize]);
-            let mut v = tet_signed_volume(p[0], p[1], p[2], p[3]);
+            let mut v = tet_volume(p);
             if v.abs() <= degenerate {
                 return Err(Error::Mesh(format!(
                     "tet {t} {tet:?} is degenerate (volume {v:e} m^3)"

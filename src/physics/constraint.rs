@@ -3,13 +3,6 @@
 
 use super::{Real, Vector};
 
-/// Signed volume [m^3] of the tetrahedron `p`: `(e1 x e2) . e3 / 6` with `e_k = p_k - p_0`.
-#[inline]
-pub fn tet_volume<V: Vector>(p: [V; 4]) -> V::Real {
-    let (e1, e2, e3) = (p[1] - p[0], p[2] - p[0], p[3] - p[0]);
-    e1.cross(e2).dot(e3) * V::Real::from_f64(1.0 / 6.0)
-}
-
 /// Distance constraint of the spring `(i, j)` with rest length `rest` [m], squared form:
 /// returns `C = |x_i - x_j|^2 - L^2` [m^2] and the gradients `[grad_i C, grad_j C]` [m].
 #[inline]
@@ -169,6 +162,7 @@ pub fn face_volume<V: Vector>(p: [V; 3], o: V) -> (V::Real, [V; 3]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::physics::tet_volume;
     use glam::DVec3;
 
     fn tet() -> [DVec3; 4] {

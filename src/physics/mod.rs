@@ -25,14 +25,12 @@
 
 mod constraint;
 mod integrate;
-mod real;
 mod spring;
 
 pub use constraint::{
     compliant_multiplier, distance_constraint, face_volume, implicit_accumulate, implicit_lambda,
-    implicit_multiplier, spring_constraint, spring_softness, tet_volume, volume_constraint,
-    volume_softness,
+    implicit_multiplier, spring_constraint, spring_softness, volume_constraint, volume_softness,
 };
 pub use integrate::{floor_force, floor_friction, floor_solve, integrate_node, symplectic_euler};
-pub use real::{Real, Vector};
 pub use spring::spring_force;
+pub use tetmesh::geometry::{tet_volume, Real, Vector};

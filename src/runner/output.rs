@@ -23,9 +23,10 @@ use glam::DVec3;
 use crate::backend::State;
 use crate::error::{Error, Result};
 use crate::mesh::io::{self, Field, FieldValues, Fields};
-use crate::mesh::{tet_signed_volume, SurfaceMesh, TetMesh};
+use crate::mesh::{SurfaceMesh, TetMesh};
 use crate::model::{Model, Similarity};
 use crate::params::Method;
+use crate::physics::tet_volume;
 
 /// What to write.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum, serde::Deserialize)]
@@ -212,7 +213,7 @@ impl FrameData {
             .iter()
             .map(|t| {
                 let p = t.map(|i| state.positions[i as usize]);
-                tet_signed_volume(p[0], p[1], p[2], p[3])
+                tet_volume(p)
             })
             .collect();
         let n = model.node_count();

@@ -6,7 +6,8 @@
 mod skip;
 use glam::DVec3;
 use std::path::PathBuf;
-use tetrasim::mesh::{shapes, tet_signed_volume, SurfaceMesh, TetMesh};
+use tetrasim::geometry::tet_volume;
+use tetrasim::mesh::{shapes, SurfaceMesh, TetMesh};
 
 /// The unit cube `[0, 1]^3` as 8 vertices and 12 outward triangles.
 pub fn cube() -> SurfaceMesh {
@@ -36,7 +37,7 @@ pub fn tet_volumes(mesh: &TetMesh) -> Vec<f64> {
         .iter()
         .map(|t| {
             let p = t.map(|i| mesh.nodes[i as usize]);
-            tet_signed_volume(p[0], p[1], p[2], p[3])
+            tet_volume(p)
         })
         .collect()
 }

@@ -10,6 +10,7 @@
 //! (AGPL-3.0) is compiled in only with the `tetgen` feature (on by default).
 
 pub mod error;
+pub mod geometry;
 pub mod mesh;
 pub mod prep;
 

@@ -4,7 +4,8 @@
 
 use glam::DVec3;
 
-use super::{tet_signed_volume, TetMesh};
+use super::TetMesh;
+use crate::geometry::tet_volume;
 
 /// The six tets of a unit cube, as corner numbers `x + 2y + 4z`, each walking from corner 0
 /// to corner 7 along one permutation of the axes.
@@ -49,7 +50,7 @@ pub fn grid_tets(
                         used[id]
                     });
                     let p = ids.map(|i| nodes[i as usize]);
-                    let oriented = if tet_signed_volume(p[0], p[1], p[2], p[3]) < 0.0 {
+                    let oriented = if tet_volume(p) < 0.0 {
                         [ids[0], ids[1], ids[3], ids[2]]
                     } else {
                         ids
@@ -82,7 +83,7 @@ mod tests {
             .iter()
             .map(|t| {
                 let p = t.map(|i| mesh.nodes[i as usize]);
-                tet_signed_volume(p[0], p[1], p[2], p[3])
+                tet_volume(p)
             })
             .inspect(|v| assert!(*v > 0.0))
             .sum();

@@ -58,9 +58,3 @@ pub fn bounds_of(points: &[DVec3]) -> Option<(DVec3, DVec3)> {
             .fold((first, first), |(lo, hi), p| (lo.min(*p), hi.max(*p))),
     )
 }
-
-/// Signed volume of the tetrahedron `(a, b, c, d)` in the convention of physics.md:
-/// `((b - a) x (c - a)) . (d - a) / 6`, positive for a positively oriented tet.
-pub fn tet_signed_volume(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
-    (b - a).cross(c - a).dot(d - a) / 6.0
-}

@@ -2,7 +2,8 @@
 
 use glam::DVec3;
 
-use crate::mesh::{tet_signed_volume, TetMesh};
+use crate::geometry::tet_volume;
+use crate::mesh::TetMesh;
 
 /// Volume and shape figures of a tet mesh.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -42,7 +43,7 @@ pub fn tet_quality(mesh: &TetMesh) -> TetQuality {
     };
     for t in &mesh.tets {
         let p = t.map(|i| mesh.nodes[i as usize]);
-        let v = tet_signed_volume(p[0], p[1], p[2], p[3]);
+        let v = tet_volume(p);
         q.volume += v;
         if v <= 0.0 {
             q.non_positive += 1;

@@ -17,8 +17,9 @@ use tetgen_sys::{Switches, TetGenOutput};
 
 use super::options::PrepOptions;
 use crate::error::{Error, Result};
+use crate::geometry::tet_volume;
 use crate::mesh::repair::{clean, untangle::untangle};
-use crate::mesh::{simplify::simplify, tet_signed_volume, topology, SurfaceMesh, TetMesh};
+use crate::mesh::{simplify::simplify, topology, SurfaceMesh, TetMesh};
 
 /// Most TetGen runs spent on reaching a target.
 pub const MAX_RUNS: usize = 6;
@@ -71,7 +72,7 @@ pub fn to_tet_mesh(out: TetGenOutput) -> TetMesh {
         .iter()
         .map(|&t| {
             let p = t.map(|i| nodes[i as usize]);
-            if tet_signed_volume(p[0], p[1], p[2], p[3]) < 0.0 {
+            if tet_volume(p) < 0.0 {
                 [t[0], t[1], t[3], t[2]]
             } else {
                 t
