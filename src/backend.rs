@@ -60,6 +60,29 @@ pub trait Backend {
     /// pinned nodes (`examples/pull.rs`). Fails unless `state` has one finite position and
     /// velocity per node.
     fn set_state(&mut self, state: &State) -> Result<()>;
+    /// Frames [`Backend::submit_frame`] may queue before [`Backend::collect_frame`] must
+    /// finish the oldest: 1 (the default) for a backend whose frames finish as they are
+    /// submitted; 2 for `vulkan`, whose next frame runs while the host reads the last.
+    fn frames_in_flight(&self) -> usize {
+        1
+    }
+    /// Starts the next frame: queues it (a GPU backend returns without waiting for it) or,
+    /// by default, steps it. At most [`Backend::frames_in_flight`] frames may be started and
+    /// not yet collected; [`Backend::state`], [`Backend::volume`] and
+    /// [`Backend::set_state`] first finish every started frame (without its divergence
+    /// check: collect the frames a run cares about).
+    fn submit_frame(&mut self) -> Result<()> {
+        self.step_frame()
+    }
+    /// Finishes the oldest started frame: waits for it, reports its divergence as
+    /// [`crate::Error::Diverged`], and with `sample` returns its volume measures. With no
+    /// frame started (or all finished by a state read), it only takes the sample.
+    fn collect_frame(&mut self, sample: bool) -> Result<Option<VolumeSample>> {
+        match sample {
+            true => self.volume().map(Some),
+            false => Ok(None),
+        }
+    }
     /// Forgets the GPU pass times measured so far, so a benchmark times only the frames after
     /// its warm-up; nothing on backends without GPU timing.
     fn reset_timing(&mut self) -> Result<()> {

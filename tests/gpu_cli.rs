@@ -14,6 +14,14 @@ fn tetrasim() -> Command {
     Command::new(env!("CARGO_BIN_EXE_tetrasim"))
 }
 
+/// A temporary folder holding a ball of `radius` cells as TetGen files, and their prefix.
+fn ball_files(radius: f64) -> (tempfile::TempDir, std::path::PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("ball");
+    write_tetgen(&prefix, &common::ball_mesh(radius)).unwrap();
+    (dir, prefix)
+}
+
 #[test]
 fn info_lists_limits_and_atomic_paths() {
     if !gpu_support::vulkan_available() {
@@ -46,9 +54,7 @@ fn vulkan_run_reports_device_atomics_and_pass_times() {
     if !gpu_support::vulkan_available() {
         return;
     }
-    let dir = tempfile::tempdir().unwrap();
-    let prefix = dir.path().join("ball");
-    write_tetgen(&prefix, &common::ball_mesh(2.5)).unwrap();
+    let (dir, prefix) = ball_files(2.5);
     let metrics = dir.path().join("run.json");
     let output = tetrasim()
         .args([
@@ -127,9 +133,7 @@ fn unknown_device_is_a_clear_error() {
     if !gpu_support::vulkan_available() {
         return;
     }
-    let dir = tempfile::tempdir().unwrap();
-    let prefix = dir.path().join("ball");
-    write_tetgen(&prefix, &common::ball_mesh(1.5)).unwrap();
+    let (_dir, prefix) = ball_files(1.5);
     let output = tetrasim()
         .args([
             "run",
@@ -149,6 +153,62 @@ fn unknown_device_is_a_clear_error() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(
         stderr.contains("--device no-such-gpu") && stderr.contains("there are:"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn frames_in_flight_change_nothing_but_the_waiting() {
+    if !gpu_support::vulkan_available() {
+        return;
+    }
+    let (dir, prefix) = ball_files(2.5);
+    let run = |depth: &str| {
+        let metrics = dir.path().join(format!("run{depth}.json"));
+        let output = tetrasim()
+            .args([
+                "run",
+                "--backend",
+                "vulkan",
+                "--method",
+                "volume",
+                "--quiet",
+            ])
+            .args([
+                "--frames",
+                "40",
+                "--validation",
+                "--frames-in-flight",
+                depth,
+            ])
+            .arg("--mesh")
+            .arg(&prefix)
+            .arg("--metrics")
+            .arg(&metrics)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr).to_string();
+        (output.status.code(), stderr, metrics)
+    };
+    // The default solver is deterministic: one, two or three frames in flight give the same
+    // run to the last bit.
+    let mut series = Vec::new();
+    for depth in ["1", "2", "3"] {
+        let (code, stderr, metrics) = run(depth);
+        assert_eq!(code, Some(0), "{stderr}");
+        assert!(!stderr.contains("validation:"), "{stderr}");
+        let records: Vec<RunRecord> =
+            serde_json::from_str(&std::fs::read_to_string(&metrics).unwrap()).unwrap();
+        let r = &records[0];
+        assert_eq!(r.frames_run, 40);
+        series.push((r.volume_pct.clone(), r.local_error_pct.clone()));
+    }
+    assert_eq!(series[0], series[1]);
+    assert_eq!(series[0], series[2]);
+    let (code, stderr, _) = run("0");
+    assert_eq!(code, Some(1));
+    assert!(
+        stderr.contains("frames-in-flight") && stderr.contains("must be 1 to 8"),
         "{stderr}"
     );
 }

@@ -8,7 +8,7 @@ mod gpu_support;
 
 use std::sync::Arc;
 
-use tetrasim::engine::VulkanBackend;
+use tetrasim::engine::{DrawBuffers, VulkanBackend};
 use tetrasim::gpu::{Buffer, Context, ContextOptions};
 use tetrasim::params::{Method, SimParams};
 use tetrasim::render::legend::LegendLayout;
@@ -121,7 +121,7 @@ fn a_falling_box_moves_down_over_a_floor_of_the_right_colour() {
                 sim.step_frame().unwrap();
             }
         }
-        let image = renderer.render(sim.positions(), false).unwrap();
+        let image = renderer.render(sim.draw_buffers(), false).unwrap();
         let object = object_pixels(&image);
         let share = object.len() as f64 / f64::from(W * H);
         assert!(
@@ -164,6 +164,13 @@ fn volume_colours_show_squashed_blue_and_stretched_red() {
     let ctx = context();
     let model = gpu_support::box_model([4, 3, 2], 0.1);
     let mut renderer = Renderer::new(&ctx, &model, &options(ColourMode::Volume)).unwrap();
+    // The tets and rest volumes come from a simulation of the model; the positions are ours.
+    let sim =
+        VulkanBackend::with_context(ctx.clone(), &model, &SimParams::default(), Some(64)).unwrap();
+    let at = |positions| DrawBuffers {
+        positions,
+        ..sim.draw_buffers()
+    };
     let base = model
         .positions
         .iter()
@@ -173,15 +180,11 @@ fn volume_colours_show_squashed_blue_and_stretched_red() {
     let blue = |c: [i32; 3]| c[2] - c[0] > 40;
     let red = |c: [i32; 3]| c[0] - c[2] > 40;
 
-    let rest = renderer
-        .render(&positions_buffer(&ctx, &model, scaled(1.0)), false)
-        .unwrap();
-    let squashed = renderer
-        .render(&positions_buffer(&ctx, &model, scaled(0.6)), false)
-        .unwrap();
-    let stretched = renderer
-        .render(&positions_buffer(&ctx, &model, scaled(1.4)), true)
-        .unwrap();
+    let [rest, squashed, stretched] =
+        [1.0, 0.6, 1.4].map(|s| positions_buffer(&ctx, &model, scaled(s)));
+    let rest = renderer.render(at(&rest), false).unwrap();
+    let squashed = renderer.render(at(&squashed), false).unwrap();
+    let stretched = renderer.render(at(&stretched), true).unwrap();
     let pixels = f64::from(W * H);
     let share = |image: &Image, keep: &dyn Fn([i32; 3]) -> bool| count(image, keep) as f64 / pixels;
     assert!(
@@ -216,8 +219,18 @@ fn volume_colours_show_squashed_blue_and_stretched_red() {
     );
 
     let short = Buffer::with_data(&ctx, "too short", &[0u8; 32]).unwrap();
-    let err = renderer.render(&short, false).unwrap_err().to_string();
+    let err = renderer.render(at(&short), false).unwrap_err().to_string();
     assert!(err.contains("too short") && err.contains("nodes"), "{err}");
+    // Another model's springs (fewer than this model's) are refused the same way.
+    let springs = DrawBuffers {
+        springs: &short,
+        ..sim.draw_buffers()
+    };
+    let err = renderer.render(springs, false).unwrap_err().to_string();
+    assert!(
+        err.contains("too short") && err.contains("springs"),
+        "{err}"
+    );
     assert_no_messages(&ctx);
 }
 

@@ -1,9 +1,12 @@
 #version 460
 // Pass `check`: divergence detection, once per frame after the last time step. A node whose
 // position or velocity is NaN or infinite sets flag 1, one faster than the speed limit sets
-// flag 2; either lowers `first_bad` to its index (atomicMin: the lowest bad node wins). The
-// frame copies the 16-byte status to the host with the volume partials, so reading it costs
-// no extra round trip. The flags are sticky: a diverged run stops.
+// flag 2 and raises `fastest` to its speed (atomicMax on the bits: for non-negative floats
+// their order is the numbers' order); either lowers `first_bad` to its index (atomicMin: the
+// lowest bad node wins). The frame copies the 16-byte status to the host with the volume
+// partials, so reading it costs no extra round trip, and a report needs no state read-back
+// (with frames in flight, the state is already a later frame's). The flags are sticky: a
+// diverged run stops.
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 
@@ -13,7 +16,7 @@ layout(std430, set = 0, binding = B_STATUS) restrict buffer Status {
     uint flags;
     uint first_bad;
     float speed_limit;
-    uint unused;
+    uint fastest;
 } status;
 
 void main() {
@@ -29,5 +32,8 @@ void main() {
     if (non_finite || too_fast) {
         atomicOr(status.flags, non_finite ? 1u : 2u);
         atomicMin(status.first_bad, i);
+        if (too_fast) {
+            atomicMax(status.fastest, floatBitsToUint(length(v)));
+        }
     }
 }

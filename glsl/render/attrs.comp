@@ -20,6 +20,7 @@ layout(std430, set = 0, binding = R_TETS) readonly restrict buffer Tets { uvec4 
 layout(std430, set = 0, binding = R_REST_VOLUMES) readonly restrict buffer RestVolumes { float rest_volumes[]; };
 layout(std430, set = 0, binding = R_SPRING_OFFSETS) readonly restrict buffer SpringOffsets { uint spring_offsets[]; };
 layout(std430, set = 0, binding = R_SPRING_ITEMS) readonly restrict buffer SpringItems { uint spring_items[]; };
+// The simulation's springs (GpuSpring: a, b, rest length bits, stiffness bits).
 layout(std430, set = 0, binding = R_SPRINGS) readonly restrict buffer Springs { uvec4 springs[]; };
 
 vec3 p(uint node) {

@@ -30,6 +30,7 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
         workgroup_size: args.workgroup_size,
         volume_on_demand: args.scene.is_some() && scene.output.json.is_none(),
         untimed: false,
+        frames_in_flight: None,
     };
     let selector: DeviceSelector = options.device.clone();
     let info = list_devices().ok().and_then(|devices| {
@@ -72,6 +73,7 @@ fn refuse_run_only_flags(args: &RunArgs) -> crate::Result<()> {
         ("units", args.units.is_some()),
         ("frames", args.solver.frames.is_some()),
         ("validation", args.validation),
+        ("frames-in-flight", args.frames_in_flight.is_some()),
         ("quiet", args.quiet),
     ];
     match given.iter().find(|(_, on)| *on) {

@@ -68,6 +68,14 @@ pub fn execute(args: RenderArgs) -> anyhow::Result<()> {
     if run.json.is_some() {
         anyhow::bail!("--json is not written by `render`; use `tetrasim run --json FILE`");
     }
+    if run.frames_in_flight.is_some() {
+        return Err(crate::Error::param(
+            "frames-in-flight",
+            "`render` draws every frame it steps from the GPU's buffers, one frame at a time; \
+             the flag is `tetrasim run`'s",
+        )
+        .into());
+    }
     if run.every.is_some() && args.frames_dir.is_none() && run.out_dir.is_none() {
         return Err(crate::Error::param(
             "every",

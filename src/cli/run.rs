@@ -72,6 +72,10 @@ pub struct RunArgs {
     /// Turn on the Vulkan validation layer and print its messages.
     #[arg(long)]
     pub validation: bool,
+    /// Frames the GPU may have in flight (1 to 8; default 2: the next frame runs while the
+    /// last one's volume is read); 1 waits for every frame.
+    #[arg(long, value_name = "N")]
+    pub frames_in_flight: Option<u32>,
     /// Parameter preset; the flags below override its values.
     #[arg(long, value_enum, default_value = "seed")]
     pub preset: PresetName,
@@ -290,6 +294,7 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
             ("atomics", args.solver.atomics.is_some()),
             ("workgroup-size", args.workgroup_size.is_some()),
             ("validation", args.validation),
+            ("frames-in-flight", args.frames_in_flight.is_some()),
         ];
         if let Some((flag, _)) = gpu_only.iter().find(|(_, given)| *given) {
             return Err(crate::Error::param(
@@ -356,6 +361,7 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
             // (no per-frame readback); the flags' run always prints its per-frame table.
             volume_on_demand: args.scene.is_some() && out.json.is_none(),
             untimed: false,
+            frames_in_flight: args.frames_in_flight,
         },
     };
     let records = run_methods(model, params, &methods, &options)?;

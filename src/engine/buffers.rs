@@ -29,8 +29,9 @@ pub(crate) struct SimBuffers {
     pub spring_damping: Buffer,
     /// uvec4 per tet.
     pub tets: Buffer,
-    /// float per tet: rest volume [m^3] (`volume` only).
-    pub rest_volumes: Option<Buffer>,
+    /// float per tet: rest volume [m^3] (the volume constraints' and the local volume
+    /// error's; every method).
+    pub rest_volumes: Buffer,
     /// float per tet: volume compliance [m^3/Pa] (`volume` only).
     pub volume_compliance: Option<Buffer>,
     /// float per spring: the implicit springs' multipliers so far in the step.
@@ -52,18 +53,15 @@ pub(crate) struct SimBuffers {
     pub global: Option<[Buffer; 7]>,
     /// Node -> springs CSR offsets and items (`mss-node`).
     pub node_springs: Option<(Buffer, Buffer)>,
-    /// One [`crate::gpu::layout::VolumePartial`] per volume_sum workgroup.
+    /// One [`crate::gpu::layout::VolumePartial`] per volume_sum workgroup (their host-visible
+    /// copies belong to the frames that write them: `super::FrameSlot`).
     pub partials: Buffer,
-    /// Host-visible copy of `partials`: written at the end of every frame with per-frame
-    /// metrics, else created on the first on-demand measurement.
-    pub partials_readback: Option<Buffer>,
-    /// Divergence status: `[flags, first bad node, speed limit (f32 bits), 0]`.
+    /// Divergence status: `[flags, first bad node, speed limit (f32 bits), fastest speed of
+    /// a too-fast node (f32 bits)]`.
     pub status: Buffer,
-    /// Host-visible copy of `status`, written at the end of every frame.
-    pub status_readback: Buffer,
 }
 
-/// Initial `status`: no flags, no bad node (`u32::MAX`), the speed limit [m/s].
+/// Initial `status`: no flags, no bad node (`u32::MAX`), the speed limit [m/s], no speed.
 pub(crate) fn initial_status(speed_limit: f32) -> [u32; 4] {
     [0, u32::MAX, speed_limit.to_bits(), 0]
 }
@@ -168,6 +166,7 @@ impl SimBuffers {
             bytes(&floats(&material.spring_damping)),
         )?;
         let tets_buffer = upload(BufferId::Tets, bytes(&model.tets))?;
+        let rest_volumes = upload(BufferId::RestVolumes, bytes(&floats(&model.rest_volume)))?;
         let status_buffer = upload(BufferId::Status, bytes(&initial_status(speed_limit)))?;
         let degrees = match degrees {
             Some(w) => Some(upload(BufferId::Degrees, bytes(&w))?),
@@ -179,9 +178,6 @@ impl SimBuffers {
                 false => Ok(None),
             }
         };
-        let rest_volumes = optional(BufferId::RestVolumes, &|| {
-            bytes(&floats(&model.rest_volume)).to_vec()
-        })?;
         let volume_compliance = optional(BufferId::VolumeCompliance, &|| {
             bytes(&floats(&material.volume_compliance)).to_vec()
         })?;
@@ -251,16 +247,7 @@ impl SimBuffers {
                 vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
                 MemoryLocation::GpuOnly,
             )?,
-            partials_readback: match plan.metrics {
-                true => Some(Buffer::readback(
-                    ctx,
-                    "volume partials (readback)",
-                    partials_size,
-                )?),
-                false => None,
-            },
             status: status_buffer,
-            status_readback: Buffer::readback(ctx, "divergence status (readback)", 16)?,
         };
         buffers.check_against(plan)?;
         up.submit(ctx)?;
@@ -276,7 +263,7 @@ impl SimBuffers {
             BufferId::Springs => Some(&self.springs),
             BufferId::SpringDamping => Some(&self.spring_damping),
             BufferId::Tets => Some(&self.tets),
-            BufferId::RestVolumes => self.rest_volumes.as_ref(),
+            BufferId::RestVolumes => Some(&self.rest_volumes),
             BufferId::VolumeCompliance => self.volume_compliance.as_ref(),
             BufferId::SpringMultipliers => self.spring_multipliers.as_ref(),
             BufferId::VolumeMultipliers => self.volume_multipliers.as_ref(),

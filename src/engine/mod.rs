@@ -2,15 +2,21 @@
 //!
 //! The model is uploaded once; only the buffers and pipelines the method needs are built;
 //! the frame's command buffer (substeps x passes, barriers, timestamps, the volume metric)
-//! is recorded once and replayed by [`Backend::step_frame`], which submits it and waits on
-//! its fence. [`Backend::volume`] then only reads the few volume partials the frame copied
-//! to host-visible memory; only [`Backend::state`] reads back every node.
+//! is recorded once per frame slot and replayed. Two slots, each with its own fence, its own
+//! host-visible copies of the divergence status and the volume partials, and its own
+//! timestamps, let two frames be in flight: [`Backend::submit_frame`] queues a frame without
+//! waiting and [`Backend::collect_frame`] finishes the oldest, so the driver reads frame N's
+//! volume while frame N + 1 runs ([`crate::runner::Simulation::advance_frames`]).
+//! [`Backend::step_frame`] submits one frame and waits for it. [`Backend::volume`] only reads
+//! the few volume partials a frame copied to host-visible memory; only [`Backend::state`]
+//! reads back every node.
 
 mod buffers;
 pub mod pass_kind;
 mod passes;
 pub mod plan;
 
+use std::collections::VecDeque;
 use std::sync::Arc;
 
 use glam::DVec3;
@@ -56,14 +62,60 @@ pub struct EngineOptions {
     /// 30 ms bunny frame with the default solver's 175 passes), so wall-clock benchmarks run
     /// untimed and measure the pass breakdown in a separate run.
     pub untimed: bool,
+    /// Frames that may be in flight at once (recorded frame slots), 1 to
+    /// [`MAX_FRAMES_IN_FLIGHT`]; `None`: [`FRAMES_IN_FLIGHT`]. 1 waits for every frame
+    /// before the next is submitted (`tetrasim run --frames-in-flight 1`, for comparisons).
+    pub frames_in_flight: Option<u32>,
+}
+
+/// What a renderer draws from ([`crate::render::Renderer::render`]): node positions and the
+/// model's static data, all of them the engine's own buffers, so the renderer uploads only
+/// what drawing alone needs (the surface and its adjacency).
+#[derive(Clone, Copy)]
+pub struct DrawBuffers<'a> {
+    /// vec4 per node: position [m], w = inverse mass [1/kg].
+    pub positions: &'a Buffer,
+    /// uvec4 per tet.
+    pub tets: &'a Buffer,
+    /// float per tet: rest volume [m^3].
+    pub rest_volumes: &'a Buffer,
+    /// One [`crate::gpu::layout::GpuSpring`] per spring: `a`, `b`, rest length [m] (f32
+    /// bits), stiffness.
+    pub springs: &'a Buffer,
+}
+
+/// Frames the `vulkan` backend has in flight by default (recorded frame slots): the next
+/// frame runs while the host reads the last.
+pub const FRAMES_IN_FLIGHT: u32 = 2;
+/// The most frame slots [`EngineOptions::frames_in_flight`] may ask for.
+pub const MAX_FRAMES_IN_FLIGHT: u32 = 8;
+
+/// One recorded frame with its own fence (in `frame`), timestamps and host-visible copies of
+/// the divergence status and (with per-frame metrics) the volume partials. Field order is
+/// drop order: the command buffer waits for its submission before the rest goes.
+struct FrameSlot {
+    frame: Recorded,
+    timer: Option<Timer>,
+    status_readback: Buffer,
+    partials_readback: Option<Buffer>,
 }
 
 /// The Vulkan compute backend. Field order is drop order: GPU work is waited for in
 /// `Drop`, then command buffers, pipelines and buffers go, and the context last.
 pub struct VulkanBackend {
-    frame: Recorded,
+    slots: Vec<FrameSlot>,
+    /// Slots submitted and not yet finished, oldest first.
+    queued: VecDeque<usize>,
+    /// The slot the next frame goes to.
+    next_slot: usize,
+    /// The slot of the last finished frame, while its partials hold the volume of the
+    /// current positions.
+    fresh_slot: Option<usize>,
+    /// Most frames ever queued at once.
+    max_queued: usize,
     measure: Recorded,
-    timer: Option<Timer>,
+    /// Host-visible copy of the partials of an on-demand measurement.
+    measure_readback: Buffer,
     /// Never read after recording, but the recorded frame uses its pipelines.
     #[allow(dead_code)]
     passes: Passes,
@@ -76,8 +128,8 @@ pub struct VulkanBackend {
     atomics: AtomicsPath,
     workgroup_size: u32,
     counts: PlanCounts,
-    /// Whether `partials_readback` holds the volume of the current positions.
-    partials_fresh: bool,
+    /// Whether `measure_readback` holds the volume of the current positions.
+    measure_fresh: bool,
     frames: u32,
     /// The model's inverse masses and masses, the `w` of the uploaded positions and
     /// velocities ([`Backend::set_state`]).
@@ -154,6 +206,13 @@ impl VulkanBackend {
         options: &EngineOptions,
     ) -> Result<Self> {
         params.validate()?;
+        let depth = options.frames_in_flight.unwrap_or(FRAMES_IN_FLIGHT);
+        if !(1..=MAX_FRAMES_IN_FLIGHT).contains(&depth) {
+            return Err(Error::param(
+                "frames-in-flight",
+                format!("must be 1 to {MAX_FRAMES_IN_FLIGHT}, not {depth}"),
+            ));
+        }
         let info = ctx.info();
         let atomics = info.atomics_path(params.atomics)?;
         let (sweeps, global) = constraint_data(model, params);
@@ -178,42 +237,64 @@ impl VulkanBackend {
             model.tets.len(),
         );
 
-        let mut timer = match options.untimed {
-            true => None,
-            false => Timer::new(&ctx, plan.dispatches_per_frame())?,
-        };
-        let frame = Recorded::begin(&ctx, "frame", false)?;
+        let slots = (0..depth)
+            .map(|k| {
+                let mut timer = match options.untimed {
+                    true => None,
+                    false => Timer::new(&ctx, plan.dispatches_per_frame())?,
+                };
+                let status_readback =
+                    Buffer::readback(&ctx, &format!("divergence status (readback {k})"), 16)?;
+                let partials_readback = match plan.metrics {
+                    true => Some(Buffer::readback(
+                        &ctx,
+                        &format!("volume partials (readback {k})"),
+                        buffers.partials.size,
+                    )?),
+                    false => None,
+                };
+                let frame = Recorded::begin(&ctx, &format!("frame {k}"), false)?;
+                Recorder {
+                    ctx: &ctx,
+                    cmd: frame.cmd,
+                    push: &push,
+                    timer: timer.as_mut(),
+                }
+                .record_frame(
+                    &plan,
+                    &passes,
+                    &buffers,
+                    &status_readback,
+                    partials_readback.as_ref(),
+                )?;
+                frame.end()?;
+                Ok(FrameSlot {
+                    frame,
+                    timer,
+                    status_readback,
+                    partials_readback,
+                })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let measure = Recorded::begin(&ctx, "volume measure", false)?;
+        let measure_readback =
+            Buffer::readback(&ctx, "volume partials (measure)", buffers.partials.size)?;
         Recorder {
             ctx: &ctx,
-            cmd: frame.cmd,
+            cmd: measure.cmd,
             push: &push,
-            timer: timer.as_mut(),
+            timer: None,
         }
-        .record_frame(&plan, &passes, &buffers)?;
-        frame.end()?;
-        let measure = Recorded::begin(&ctx, "volume measure", false)?;
-        let mut buffers = buffers;
-        if buffers.partials_readback.is_none() {
-            buffers.partials_readback = Some(Buffer::readback(
-                &ctx,
-                "volume partials (readback)",
-                buffers.partials.size,
-            )?);
-        }
-        if let Some(readback) = &buffers.partials_readback {
-            Recorder {
-                ctx: &ctx,
-                cmd: measure.cmd,
-                push: &push,
-                timer: None,
-            }
-            .record_volume_sum(&passes, &buffers, readback)?;
-        }
+        .record_volume_sum(&passes, &buffers, &measure_readback)?;
         measure.end()?;
         Ok(VulkanBackend {
-            frame,
+            slots,
+            queued: VecDeque::new(),
+            next_slot: 0,
+            fresh_slot: None,
+            max_queued: 0,
             measure,
-            timer,
+            measure_readback,
             passes,
             readback: None,
             buffers,
@@ -223,7 +304,7 @@ impl VulkanBackend {
             atomics,
             workgroup_size: wg,
             counts,
-            partials_fresh: false,
+            measure_fresh: false,
             frames: 0,
             inv_mass: model.inv_mass.clone(),
             mass: model.mass.clone(),
@@ -261,21 +342,24 @@ impl VulkanBackend {
         self.frames
     }
 
+    /// The most frames that were ever in flight at once (1 when every frame was waited
+    /// for before the next was submitted).
+    pub fn max_frames_in_flight(&self) -> usize {
+        self.max_queued
+    }
+
     /// GPU time per frame of every pass, averaged over the frames so far (empty when the
-    /// device has no timestamps). Waits for a frame in flight.
+    /// device has no timestamps). Waits for the frames in flight.
     pub fn pass_times(&mut self) -> Result<Vec<PassTime>> {
-        self.finish_frame()?;
-        Ok(self
-            .timer
-            .as_ref()
-            .map(Timer::per_frame)
-            .unwrap_or_default())
+        self.settle()?;
+        let timers: Vec<&Timer> = self.slots.iter().filter_map(|s| s.timer.as_ref()).collect();
+        Ok(Timer::per_frame_of(&timers))
     }
 
     /// Forgets the pass times measured so far (e.g. after warm-up frames).
     pub fn reset_pass_times(&mut self) -> Result<()> {
-        self.finish_frame()?;
-        if let Some(t) = self.timer.as_mut() {
+        self.settle()?;
+        for t in self.slots.iter_mut().filter_map(|s| s.timer.as_mut()) {
             t.reset_totals();
         }
         Ok(())
@@ -293,100 +377,49 @@ impl VulkanBackend {
         &self.buffers.positions
     }
 
+    /// This backend's positions (those of the last finished frame once
+    /// [`Backend::step_frame`] has returned) with the model's tets, rest volumes and springs,
+    /// for drawing in place.
+    pub fn draw_buffers(&self) -> DrawBuffers<'_> {
+        DrawBuffers {
+            positions: &self.buffers.positions,
+            tets: &self.buffers.tets,
+            rest_volumes: &self.buffers.rest_volumes,
+            springs: &self.buffers.springs,
+        }
+    }
+
     /// The context (shared with other backends or tests).
     pub fn context(&self) -> &Arc<Context> {
         &self.ctx
     }
 
-    /// Waits for a frame in flight and collects its timestamps.
-    fn finish_frame(&mut self) -> Result<()> {
-        if self.frame.wait()? {
-            if let Some(t) = self.timer.as_mut() {
-                t.collect()?;
-            }
-            self.frames += 1;
-            self.partials_fresh = self.plan.metrics;
+    /// Waits for the oldest frame in flight and collects its timestamps; returns its slot
+    /// (`None`: nothing was in flight).
+    fn finish_oldest(&mut self) -> Result<Option<usize>> {
+        let Some(k) = self.queued.pop_front() else {
+            return Ok(None);
+        };
+        let slot = &mut self.slots[k];
+        slot.frame.wait()?;
+        if let Some(t) = slot.timer.as_mut() {
+            t.collect()?;
         }
+        self.frames += 1;
+        self.fresh_slot = (self.queued.is_empty() && slot.partials_readback.is_some()).then_some(k);
+        Ok(Some(k))
+    }
+
+    /// Waits for every frame in flight (without checking their divergence status: that is
+    /// [`Backend::collect_frame`]'s and [`Backend::step_frame`]'s).
+    fn settle(&mut self) -> Result<()> {
+        while self.finish_oldest()?.is_some() {}
         Ok(())
     }
 
-    /// Reads the divergence status the last frame copied to the host; on flags, names the
-    /// frame, the first bad node (with its speed, from one state readback) and the cause.
-    fn check_status(&mut self) -> Result<()> {
-        let words: [u32; 4] = {
-            let bytes = self.buffers.status_readback.mapped()?;
-            let b = bytes
-                .get(..16)
-                .ok_or_else(|| Error::Gpu("divergence status readback is short".into()))?;
-            bytemuck::pod_read_unaligned(b)
-        };
-        let [flags, node, limit, _] = words;
-        if flags == 0 {
-            return Ok(());
-        }
-        let limit = f32::from_bits(limit);
-        let node = (node != u32::MAX).then_some(node);
-        let what = match (flags & 1 != 0, node) {
-            (true, _) => "a position or velocity became non-finite".to_string(),
-            (false, Some(n)) => {
-                let speed = self
-                    .state()
-                    .ok()
-                    .and_then(|s| s.velocities.get(n as usize).map(|v| v.length()));
-                match speed {
-                    Some(v) => format!(
-                        "its speed {v:.3e} m/s exceeds the divergence limit {limit:.3e} m/s"
-                    ),
-                    None => format!("its speed exceeds the divergence limit {limit:.3e} m/s"),
-                }
-            }
-            (false, None) => format!("a speed exceeds the divergence limit {limit:.3e} m/s"),
-        };
-        Err(Error::Diverged(Box::new(Divergence {
-            frame: self.frames.saturating_sub(1),
-            substep: None,
-            method: self.method.to_string(),
-            node,
-            cause: format!("{what}; {}", self.likely),
-        })))
-    }
-}
-
-impl Backend for VulkanBackend {
-    fn name(&self) -> &'static str {
-        "vulkan"
-    }
-
-    fn reset_timing(&mut self) -> Result<()> {
-        self.reset_pass_times()
-    }
-
-    /// Submits the recorded frame and waits for it: one fence wait, no extra transfer (the
-    /// divergence status and, with per-frame metrics, the volume partials are copied to
-    /// host-visible memory by the frame itself). A diverged frame is an
-    /// [`Error::Diverged`] naming the frame and the first bad node (no substep: the check
-    /// runs once per frame).
-    fn step_frame(&mut self) -> Result<()> {
-        self.finish_frame()?;
-        self.partials_fresh = false;
-        self.frame.submit()?;
-        self.finish_frame()?;
-        self.check_status()
-    }
-
-    fn volume(&mut self) -> Result<VolumeSample> {
-        self.finish_frame()?;
-        if !self.partials_fresh {
-            self.measure.submit()?;
-            self.measure.wait()?;
-            self.partials_fresh = true;
-        }
-        let bytes = self
-            .buffers
-            .partials_readback
-            .as_ref()
-            .ok_or_else(|| Error::Gpu("volume partials readback missing".into()))?
-            .mapped()?;
+    /// The volume measures of the partials a frame or a measurement copied to `readback`.
+    fn read_partials(&self, readback: &Buffer) -> Result<VolumeSample> {
+        let bytes = readback.mapped()?;
         let groups = self.counts.tets.div_ceil(self.workgroup_size) as usize;
         let partials: &[VolumePartial] = bytes
             .get(..groups * std::mem::size_of::<VolumePartial>())
@@ -404,8 +437,127 @@ impl Backend for VulkanBackend {
         })
     }
 
+    /// Reads the divergence status frame slot `k` copied to the host; on flags, names the
+    /// frame, the first bad node, the fastest speed and the cause (all from the status: no
+    /// state read-back, which with frames in flight would show a later frame).
+    fn check_status(&mut self, k: usize) -> Result<()> {
+        let words: [u32; 4] = {
+            let bytes = self.slots[k].status_readback.mapped()?;
+            let b = bytes
+                .get(..16)
+                .ok_or_else(|| Error::Gpu("divergence status readback is short".into()))?;
+            bytemuck::pod_read_unaligned(b)
+        };
+        let [flags, node, limit, fastest] = words;
+        if flags == 0 {
+            return Ok(());
+        }
+        let frame = self.frames.saturating_sub(1);
+        let limit = f32::from_bits(limit);
+        let node = (node != u32::MAX).then_some(node);
+        let what = match (flags & 1 != 0, node) {
+            (true, _) => "a position or velocity became non-finite".to_string(),
+            (false, _) => format!(
+                "the fastest node's speed {:.3e} m/s exceeds the divergence limit {limit:.3e} m/s",
+                f32::from_bits(fastest)
+            ),
+        };
+        Err(Error::Diverged(Box::new(Divergence {
+            frame,
+            substep: None,
+            method: self.method.to_string(),
+            node,
+            cause: format!("{what}; {}", self.likely),
+        })))
+    }
+}
+
+impl Backend for VulkanBackend {
+    fn name(&self) -> &'static str {
+        "vulkan"
+    }
+
+    fn reset_timing(&mut self) -> Result<()> {
+        self.reset_pass_times()
+    }
+
+    /// Submits a recorded frame and waits for it (and for any frame still in flight before
+    /// it): one fence wait, no extra transfer (the divergence status and, with per-frame
+    /// metrics, the volume partials are copied to host-visible memory by the frame itself).
+    /// A diverged frame is an [`Error::Diverged`] naming the frame and the first bad node
+    /// (no substep: the check runs once per frame).
+    fn step_frame(&mut self) -> Result<()> {
+        self.settle()?;
+        self.submit_frame()?;
+        self.collect_frame(false).map(|_| ())
+    }
+
+    fn frames_in_flight(&self) -> usize {
+        self.slots.len()
+    }
+
+    /// Queues the next frame in its slot without waiting for it (the GPU runs it after the
+    /// frames queued before it).
+    fn submit_frame(&mut self) -> Result<()> {
+        if self.queued.len() >= self.slots.len() {
+            return Err(Error::Gpu(format!(
+                "submit_frame: {} frames are already in flight; collect_frame first",
+                self.queued.len()
+            )));
+        }
+        let k = self.next_slot;
+        self.slots[k].frame.submit()?;
+        self.queued.push_back(k);
+        self.max_queued = self.max_queued.max(self.queued.len());
+        self.next_slot = (k + 1) % self.slots.len();
+        self.fresh_slot = None;
+        self.measure_fresh = false;
+        Ok(())
+    }
+
+    /// Waits for the oldest frame in flight, reports its divergence, and reads its volume
+    /// from its own partials (with per-frame metrics), or measures the current positions
+    /// once nothing is in flight (on-demand volume: ask only at a run's last frame). With
+    /// nothing in flight (a state read finished every frame), only the sample is taken.
+    fn collect_frame(&mut self, sample: bool) -> Result<Option<VolumeSample>> {
+        let Some(k) = self.finish_oldest()? else {
+            return match sample {
+                true => self.volume().map(Some),
+                false => Ok(None),
+            };
+        };
+        self.check_status(k)?;
+        if !sample {
+            return Ok(None);
+        }
+        match &self.slots[k].partials_readback {
+            Some(readback) => self.read_partials(readback).map(Some),
+            None if self.queued.is_empty() => self.volume().map(Some),
+            None => Err(Error::Gpu(
+                "collect_frame: the volume is measured on demand, which needs every frame \
+                 finished; sample only the last frame"
+                    .into(),
+            )),
+        }
+    }
+
+    fn volume(&mut self) -> Result<VolumeSample> {
+        self.settle()?;
+        if let Some(k) = self.fresh_slot {
+            if let Some(readback) = &self.slots[k].partials_readback {
+                return self.read_partials(readback);
+            }
+        }
+        if !self.measure_fresh {
+            self.measure.submit()?;
+            self.measure.wait()?;
+            self.measure_fresh = true;
+        }
+        self.read_partials(&self.measure_readback)
+    }
+
     fn state(&mut self) -> Result<State> {
-        self.finish_frame()?;
+        self.settle()?;
         let size = u64::from(self.counts.nodes) * 16;
         if self.readback.is_none() {
             self.readback = Some((
@@ -464,8 +616,9 @@ impl Backend for VulkanBackend {
     /// partials of the old positions are stale until the next frame or measure).
     fn set_state(&mut self, state: &State) -> Result<()> {
         crate::cpu::check_state(self.inv_mass.len(), state)?;
-        self.finish_frame()?;
-        self.partials_fresh = false;
+        self.settle()?;
+        self.fresh_slot = None;
+        self.measure_fresh = false;
         self.buffers.upload_state(state, &self.inv_mass, &self.mass)
     }
 
@@ -489,7 +642,9 @@ impl Drop for VulkanBackend {
     fn drop(&mut self) {
         // Buffers and pipelines may only go once the GPU is done with them; the fields then
         // drop in declaration order, the context last.
-        let _ = self.frame.wait();
+        for slot in &mut self.slots {
+            let _ = slot.frame.wait();
+        }
         let _ = self.measure.wait();
     }
 }

@@ -19,7 +19,8 @@
 //!     integrate                             v, x, floor (specialised away without one); F = m g
 //! check                                     divergence flags + first bad node -> status
 //! volume_sum (with per-frame metrics)       the frame's volume metric
-//! copy status (+ partials) to the host      one copy, read after the frame's fence
+//! copy status (+ partials) to the host      into the frame slot's own host-visible
+//!                                           buffers, read after the slot's fence
 //! ```
 //! Each dispatch sits in a debug label region named for its pass (so RenderDoc and Nsight
 //! captures name it) and is followed by a timestamp and a barrier on the buffers it writes.
@@ -30,7 +31,7 @@ use ash::vk;
 
 use super::buffers::SimBuffers;
 use super::plan::{volume_sum_pass, Access as Use, EnginePlan, PassPlan, Repeat};
-use crate::gpu::commands::{barrier, Access};
+use crate::gpu::commands::{barrier, memory_barrier, Access};
 use crate::gpu::layout::PushConstants;
 use crate::gpu::{AtomicsPath, BindingLayout, Buffer, Context, Kernel, Timer};
 use crate::{Error, Result};
@@ -273,8 +274,20 @@ impl Recorder<'_> {
         Ok(())
     }
 
-    /// A whole frame: `substeps` steps, the frame's passes, the host copies.
-    pub fn record_frame(&mut self, plan: &EnginePlan, p: &Passes, b: &SimBuffers) -> Result<()> {
+    /// A whole frame: `substeps` steps, the frame's passes, the host copies of the
+    /// divergence status into `status_readback` and, with per-frame metrics, of the volume
+    /// partials into `partials_readback`. It starts with an execution barrier after every
+    /// earlier copy, so a frame submitted right behind another (frames in flight) rewrites
+    /// the status and the partials only once the earlier frame's copies have read them.
+    pub fn record_frame(
+        &mut self,
+        plan: &EnginePlan,
+        p: &Passes,
+        b: &SimBuffers,
+        status_readback: &Buffer,
+        partials_readback: Option<&Buffer>,
+    ) -> Result<()> {
+        memory_barrier(self.ctx, self.cmd, Access::TRANSFER_READ, Access::COMPUTE);
         if let Some(timer) = self.timer.as_deref_mut() {
             timer.record_start(self.cmd);
         }
@@ -284,8 +297,8 @@ impl Recorder<'_> {
         for q in p.frame.iter().filter(|q| q.plan.repeat == Repeat::Frame) {
             self.pass(q, b)?;
         }
-        self.copy_to_host(&b.status, &b.status_readback);
-        if let Some(readback) = &b.partials_readback {
+        self.copy_to_host(&b.status, status_readback);
+        if let Some(readback) = partials_readback {
             self.copy_to_host(&b.partials, readback);
         }
         Ok(())

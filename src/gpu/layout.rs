@@ -31,7 +31,8 @@ pub mod binding {
     pub const NODE_SPRING_ITEMS: u32 = 9;
     /// [`super::VolumePartial`] per volume_sum workgroup.
     pub const VOLUME_PARTIALS: u32 = 10;
-    /// Divergence status (16 bytes): flags, first bad node, speed limit [m/s].
+    /// Divergence status (16 bytes): flags, first bad node, speed limit [m/s], the fastest
+    /// too-fast node's speed [m/s] (f32 bits).
     pub const STATUS: u32 = 11;
     /// u32 per constraint: the constraints in group order (gather path).
     pub const GROUP_MEMBERS: u32 = 12;

@@ -137,9 +137,24 @@ impl Timer {
 
     /// Average GPU time per submission of each pass, in first-recorded order.
     pub fn per_frame(&self) -> Vec<PassTime> {
-        let frames = f64::from(self.frames.max(1));
-        self.totals_ns
-            .iter()
+        Self::per_frame_of(&[self])
+    }
+
+    /// The GPU time per frame of every pass over all frames `timers` collected (the
+    /// timers of the frame slots that take turns, each timing its own frames), in the first
+    /// timer's pass order.
+    pub fn per_frame_of(timers: &[&Timer]) -> Vec<PassTime> {
+        let frames: u32 = timers.iter().map(|t| t.frames).sum();
+        let mut totals: Vec<(&'static str, f64)> = Vec::new();
+        for (name, ns) in timers.iter().flat_map(|t| t.totals_ns.iter()) {
+            match totals.iter_mut().find(|(n, _)| n == name) {
+                Some((_, total)) => *total += ns,
+                None => totals.push((name, *ns)),
+            }
+        }
+        let frames = f64::from(frames.max(1));
+        totals
+            .into_iter()
             .map(|(name, ns)| PassTime {
                 name: name.to_string(),
                 ms_per_frame: ns / frames / 1e6,

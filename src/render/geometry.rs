@@ -1,6 +1,8 @@
-//! The render's static GPU data, uploaded once from the [`Model`]: the surface triangles (the
-//! index buffer), the surface nodes, node adjacency (to triangles, tets and springs) for the
-//! `attrs` pass, the rest data it compares against, and the per-node attribute buffer.
+//! The render's own static GPU data, uploaded once from the [`Model`]: the surface triangles
+//! (the index buffer), the surface nodes, node adjacency (to triangles, tets and springs) for
+//! the `attrs` pass, and the per-node attribute buffer. The tets, rest volumes and springs it
+//! compares against are the simulation's own buffers
+//! ([`crate::engine::DrawBuffers`], bound at each render), not copies.
 
 use std::sync::Arc;
 
@@ -14,7 +16,7 @@ use crate::gpu::commands::{self, Access};
 use crate::gpu::{Buffer, Context};
 use crate::model::{adjacency, Model};
 
-/// Buffers the render reads besides the simulation's positions.
+/// Buffers the render reads besides the simulation's ([`crate::engine::DrawBuffers`]).
 pub struct Geometry {
     /// 3 node indices per surface triangle; the index buffer and a storage buffer.
     pub triangles: Buffer,
@@ -60,13 +62,6 @@ impl Geometry {
         let surface_nodes: Vec<u32> = (0..n as u32)
             .filter(|&i| faces.offsets[i as usize + 1] > faces.offsets[i as usize])
             .collect();
-        let rest_volumes: Vec<f32> = model.rest_volume.iter().map(|&v| v as f32).collect();
-        let springs: Vec<[u32; 4]> = model
-            .springs
-            .iter()
-            .zip(&model.rest_length)
-            .map(|(s, &l)| [s[0], s[1], (l as f32).to_bits(), 0])
-            .collect();
 
         let triangles = Buffer::new(
             ctx,
@@ -107,11 +102,6 @@ impl Geometry {
                 binding::TET_ITEMS,
                 upload("node-tet items", bytes(&tets.items))?,
             ),
-            (binding::TETS, upload("render tets", bytes(&model.tets))?),
-            (
-                binding::REST_VOLUMES,
-                upload("render rest volumes", bytes(&rest_volumes))?,
-            ),
             (
                 binding::SPRING_OFFSETS,
                 upload(
@@ -123,7 +113,6 @@ impl Geometry {
                 binding::SPRING_ITEMS,
                 upload("render node-spring items", bytes(&model.node_springs.items))?,
             ),
-            (binding::SPRINGS, upload("render springs", bytes(&springs))?),
         ];
         let attrs = Buffer::new(
             ctx,
@@ -141,7 +130,7 @@ impl Geometry {
         })
     }
 
-    /// Points every binding of the render set except the positions at these buffers.
+    /// Points the render set's bindings of the render's own data at these buffers.
     pub fn bind(&self, pipelines: &Pipelines) {
         pipelines.bind(binding::ATTRS, &self.attrs);
         pipelines.bind(binding::TRIANGLES, &self.triangles);

@@ -22,15 +22,16 @@ pub mod binding {
     pub const TET_OFFSETS: u32 = 6;
     /// Node -> tets CSR items.
     pub const TET_ITEMS: u32 = 7;
-    /// uvec4 per tet.
+    /// uvec4 per tet (the simulation's buffer).
     pub const TETS: u32 = 8;
-    /// float per tet: rest volume [m^3].
+    /// float per tet: rest volume [m^3] (the simulation's buffer).
     pub const REST_VOLUMES: u32 = 9;
     /// Node -> springs CSR offsets.
     pub const SPRING_OFFSETS: u32 = 10;
     /// Node -> springs CSR items.
     pub const SPRING_ITEMS: u32 = 11;
-    /// uvec4 per spring: a, b, rest length [m] as f32 bits, unused.
+    /// uvec4 per spring: a, b, rest length [m] as f32 bits, stiffness (the simulation's
+    /// [`crate::gpu::layout::GpuSpring`] buffer; the render reads `xyz`).
     pub const SPRINGS: u32 = 12;
     /// Number of bindings (0..COUNT).
     pub const COUNT: u32 = 13;

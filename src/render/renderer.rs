@@ -1,5 +1,7 @@
 //! [`Renderer`]: draws a model at the positions in a GPU buffer (normally the simulation's
-//! own position buffer) into the offscreen target and reads back only the finished image.
+//! own position buffer) into the offscreen target and reads back only the finished image. The
+//! model's tets, rest volumes and springs are the simulation's buffers too
+//! ([`DrawBuffers`]): the renderer uploads only its surface and adjacency.
 //!
 //! One render is one command buffer, submitted and waited for:
 //! ```text
@@ -25,9 +27,10 @@ use super::pipelines::{Pipelines, ATTRS_WORKGROUP};
 use super::style::{linear, BACKGROUND_RGB};
 use super::target::Target;
 use super::RenderOptions;
+use crate::engine::DrawBuffers;
 use crate::error::{Error, Result};
 use crate::gpu::commands::{self, Access};
-use crate::gpu::{Buffer, Context};
+use crate::gpu::Context;
 use crate::mesh::bounds_of;
 use crate::model::Model;
 
@@ -46,6 +49,8 @@ pub struct Renderer {
     options: RenderOptions,
     legend: LegendLayout,
     nodes: u32,
+    tets: u64,
+    springs: u64,
     ctx: Arc<Context>,
 }
 
@@ -79,6 +84,8 @@ impl Renderer {
             nodes: u32::try_from(model.node_count()).map_err(|_| {
                 Error::Mesh(format!("{} nodes exceed u32 indices", model.node_count()))
             })?,
+            tets: model.tets.len() as u64,
+            springs: model.springs.len() as u64,
             ctx: ctx.clone(),
         })
     }
@@ -114,18 +121,34 @@ impl Renderer {
         }
     }
 
-    /// Renders the model at `positions` (vec4 per node, xyz in metres; the simulation's
-    /// position buffer) and returns the picture. `legend` adds the colour bar and its labels
-    /// (colour modes only). Waits for the GPU; reads back only the image.
-    pub fn render(&mut self, positions: &Buffer, legend: bool) -> Result<Image> {
-        let needed = u64::from(self.nodes) * 16;
-        if positions.size < needed {
-            return Err(Error::Gpu(format!(
-                "buffer `{}` holds {} bytes; {} nodes need {needed}",
-                positions.name, positions.size, self.nodes
-            )));
+    /// Renders the model at `source.positions` (vec4 per node, xyz in metres), with the
+    /// tets, rest volumes and springs of `source` (normally all a simulation's:
+    /// [`crate::engine::VulkanBackend::draw_buffers`]), and returns the picture. `legend`
+    /// adds the colour bar and its labels (colour modes only). Waits for the GPU; reads back
+    /// only the image. Fails when a buffer is too short for the model the renderer was made
+    /// for.
+    pub fn render(&mut self, source: DrawBuffers<'_>, legend: bool) -> Result<Image> {
+        let needs = [
+            (source.positions, u64::from(self.nodes), 16, "nodes"),
+            (source.tets, self.tets, 16, "tets"),
+            (source.rest_volumes, self.tets, 4, "tets"),
+            (source.springs, self.springs, 16, "springs"),
+        ];
+        for (buffer, count, stride, what) in needs {
+            let needed = count * stride;
+            if buffer.size < needed {
+                return Err(Error::Gpu(format!(
+                    "buffer `{}` holds {} bytes; {count} {what} need {needed}",
+                    buffer.name, buffer.size
+                )));
+            }
         }
+        let positions = source.positions;
         self.pipelines.bind(binding::POSITIONS, positions);
+        self.pipelines.bind(binding::TETS, source.tets);
+        self.pipelines
+            .bind(binding::REST_VOLUMES, source.rest_volumes);
+        self.pipelines.bind(binding::SPRINGS, source.springs);
         let push = self.push();
         let legend = legend && self.options.colour != super::ColourMode::Flat;
         let ctx = &self.ctx;

@@ -3,10 +3,16 @@
 //! non-finite) into a stop, and keeps the per-frame series every report is made from. `run`,
 //! `bench`/`tradeoff` and `render` all drive their backends through it and add only their
 //! extras (progress and mesh files; timing and position samples; pictures).
+//!
+//! [`Simulation::advance_frames`] does the same for many frames with several in flight
+//! ([`Backend::frames_in_flight`]): on `vulkan` it queues frame N + 1 before it reads frame
+//! N's volume, so a headless run never leaves the GPU idle while the host waits on a fence
+//! and reads the measures. Both give the same frames, bit for bit (`tests/frame_driver.rs`).
 
+use std::collections::VecDeque;
 use std::time::Instant;
 
-use crate::backend::{Backend, Divergence};
+use crate::backend::{Backend, Divergence, VolumeSample};
 use crate::error::{Error, Result};
 use crate::metrics::{local_error_pct, volume_pct, RunRecord};
 use crate::model::Model;
@@ -115,31 +121,105 @@ impl Simulation {
             Err(e) => return Err(e),
         }
         self.stepping_s += step_s;
-        let frame = self.frames;
         self.frames += 1;
         if sample {
             let measured = backend.volume()?;
-            let pct = volume_pct(measured, self.rest_volume);
-            if !pct.is_finite() {
-                let divergence = Divergence {
-                    frame,
-                    substep: None,
-                    method: self.method.clone(),
-                    node: None,
-                    cause: "the total volume became non-finite (positions unbounded)".to_string(),
-                };
-                self.divergence = Some(divergence.to_string());
+            if !self.record_sample(measured) {
                 return Ok(Advance::Stopped);
             }
-            let time = self.time();
-            let series = &mut self.series;
-            series.time_s.push(time);
-            series.volume_pct.push(pct);
-            series.inverted.push(measured.inverted);
-            series
-                .local_error_pct
-                .push(local_error_pct(measured, self.rest_volume));
         }
         Ok(Advance::Stepped(step_s))
+    }
+
+    /// Advances `backend` by `frames` frames (fewer if the run stops), with up to
+    /// [`Backend::frames_in_flight`] of them started before the oldest is collected.
+    /// `sample(n)` says whether to sample the volume after the run's `n`-th frame (counted
+    /// from 1 over the whole run); `on_frame` runs after each frame is recorded (progress).
+    /// A divergence stops the run as in [`Simulation::advance`]; frames still in flight
+    /// then finish unrecorded. [`Simulation::stepping_s`] grows by the wall time of the
+    /// whole call (the few sampled reads included). Returns the frames advanced.
+    pub fn advance_frames(
+        &mut self,
+        backend: &mut dyn Backend,
+        frames: u32,
+        sample: &dyn Fn(u32) -> bool,
+        on_frame: &mut dyn FnMut(&Simulation),
+    ) -> Result<u32> {
+        let depth = backend.frames_in_flight().max(1);
+        let first = self.frames;
+        let t0 = Instant::now();
+        // Whether each started frame is to be sampled, oldest first.
+        let mut started: VecDeque<bool> = VecDeque::with_capacity(depth);
+        let mut submitted = 0;
+        let mut failed_submit = None;
+        loop {
+            while !self.stopped()
+                && failed_submit.is_none()
+                && submitted < frames
+                && started.len() < depth
+            {
+                let n = self.frames + started.len() as u32 + 1;
+                match backend.submit_frame() {
+                    Ok(()) => {
+                        started.push_back(sample(n));
+                        submitted += 1;
+                    }
+                    Err(Error::Diverged(d)) => failed_submit = Some(d.to_string()),
+                    Err(e) => return Err(e),
+                }
+            }
+            let Some(sampled) = started.pop_front() else {
+                break;
+            };
+            if self.stopped() {
+                // Frames started before the stop was seen: finish them, unrecorded.
+                match backend.collect_frame(false) {
+                    Ok(_) | Err(Error::Diverged(_)) => continue,
+                    Err(e) => return Err(e),
+                }
+            }
+            match backend.collect_frame(sampled) {
+                Ok(measured) => {
+                    self.frames += 1;
+                    if let Some(measured) = measured {
+                        self.record_sample(measured);
+                    }
+                    on_frame(self);
+                }
+                Err(Error::Diverged(d)) => self.divergence = Some(d.to_string()),
+                Err(e) => return Err(e),
+            }
+        }
+        if self.divergence.is_none() {
+            self.divergence = failed_submit;
+        }
+        self.stepping_s += t0.elapsed().as_secs_f64();
+        Ok(self.frames - first)
+    }
+
+    /// Appends the measures of the frame just finished to the series; a non-finite volume
+    /// stops the run instead (returns `false`).
+    fn record_sample(&mut self, measured: VolumeSample) -> bool {
+        let pct = volume_pct(measured, self.rest_volume);
+        if !pct.is_finite() {
+            let divergence = Divergence {
+                frame: self.frames.saturating_sub(1),
+                substep: None,
+                method: self.method.clone(),
+                node: None,
+                cause: "the total volume became non-finite (positions unbounded)".to_string(),
+            };
+            self.divergence = Some(divergence.to_string());
+            return false;
+        }
+        let time = self.time();
+        let series = &mut self.series;
+        series.time_s.push(time);
+        series.volume_pct.push(pct);
+        series.inverted.push(measured.inverted);
+        series
+            .local_error_pct
+            .push(local_error_pct(measured, self.rest_volume));
+        true
     }
 }

@@ -64,27 +64,33 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
     }
     // With `volume_on_demand` the volume is sampled after the last frame only.
     let every_frame = !options.gpu.volume_on_demand;
-    let mut sim = Simulation::new(model, params);
-    for frame in 0..options.frames {
-        let last = frame + 1 == options.frames;
-        if sim.advance(backend.as_mut(), every_frame || last)? == Advance::Stopped {
-            break;
-        }
-        if let Some(out) = &options.output {
-            if (frame + 1) % out.every == 0 {
-                out.write(
-                    model,
-                    params.method,
-                    frame + 1,
-                    frame_time,
-                    &backend.state()?,
-                )?;
-            }
-        }
+    let frames = options.frames;
+    let sample = |n: u32| every_frame || n == frames;
+    let mut progress = |sim: &Simulation| {
         if let Some(pct) = sim.last_volume_pct() {
             bar.set_message(format!("{pct:.2} %"));
         }
         bar.inc(1);
+    };
+    let mut sim = Simulation::new(model, params);
+    // Frames in flight between the outputs, which need the state of their frame.
+    while sim.frames() < frames && !sim.stopped() {
+        let until = match &options.output {
+            Some(out) => frames.min((sim.frames() / out.every + 1) * out.every),
+            None => frames,
+        };
+        sim.advance_frames(
+            backend.as_mut(),
+            until - sim.frames(),
+            &sample,
+            &mut progress,
+        )?;
+        if let Some(out) = &options.output {
+            let done = sim.frames();
+            if !sim.stopped() && done % out.every == 0 {
+                out.write(model, params.method, done, frame_time, &backend.state()?)?;
+            }
+        }
     }
     bar.finish_and_clear();
     sim.fill_record(&mut record);
