@@ -339,3 +339,35 @@ fn scans_mesh_near_20k_tets() {
         );
     }
 }
+
+/// The pipeline renumbers TetGen's output along a Morton curve unless `keep_order` is set:
+/// the same tets, each one's nodes close together in memory.
+#[cfg(feature = "tetgen")]
+#[test]
+fn tetgen_output_is_renumbered_for_locality() {
+    use tetrasim::mesh::order::median_index_spread;
+    let sphere = shapes::sphere(0.5, 3);
+    let options = PrepOptions {
+        target_tets: Some(6000),
+        ..Default::default()
+    };
+    let ordered = prep_surface(&sphere, &options, &mut quiet()).unwrap();
+    let kept = PrepOptions {
+        keep_order: true,
+        ..options
+    };
+    let kept = prep_surface(&sphere, &kept, &mut quiet()).unwrap();
+    assert_valid(&ordered);
+    assert_eq!(ordered.mesh.tets.len(), kept.mesh.tets.len());
+    assert_eq!(ordered.mesh.nodes.len(), kept.mesh.nodes.len());
+    let total = |m: &TetMesh| tet_volumes(m).iter().sum::<f64>();
+    assert!((total(&ordered.mesh) / total(&kept.mesh) - 1.0).abs() < 1e-12);
+    let (before, after) = (
+        median_index_spread(&kept.mesh),
+        median_index_spread(&ordered.mesh),
+    );
+    println!("median index spread: TetGen {before:.4}, Morton {after:.4}");
+    assert!(before > 0.1 && after < 0.2 * before, "{before} -> {after}");
+    assert!(ordered.stats.times.iter().any(|t| t.stage == "order"));
+    assert!(!kept.stats.times.iter().any(|t| t.stage == "order"));
+}

@@ -3,6 +3,7 @@
 
 pub mod grid;
 pub mod io;
+pub mod order;
 pub mod repair;
 pub mod shapes;
 pub mod simplify;

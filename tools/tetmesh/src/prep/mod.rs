@@ -1,5 +1,5 @@
 //! The preprocessing pipeline shared by `tetprep` and `tetrasim run --mesh surface.ply`:
-//! read -> scale -> repair -> (simplify) -> mesh (TetGen or voxel) -> stats.
+//! read -> scale -> repair -> (simplify) -> mesh (TetGen or voxel) -> order -> stats.
 //!
 //! ```no_run
 //! use tetmesh::prep::{prep_file, PrepOptions};
@@ -24,7 +24,7 @@ pub use stats::{PrepStats, StageTime};
 /// What the pipeline fails with (the crate's [`crate::Error`]).
 pub use crate::error::{Error, Result};
 use crate::mesh::repair::{self, RepairReport};
-use crate::mesh::{io, voxel, SurfaceMesh, TetMesh};
+use crate::mesh::{io, order, voxel, SurfaceMesh, TetMesh};
 
 /// The tet mesh and what was measured on the way.
 #[derive(Debug, Clone)]
@@ -137,6 +137,17 @@ pub fn prep_surface(
         },
     };
     clock.lap("mesh");
+    let mesh = match options.keep_order {
+        true => mesh,
+        false => {
+            progress("ordering nodes and tets along a Morton curve");
+            let mut ordered = order::spatially_ordered(&mesh);
+            // The meshers' faces are the tets' boundary in its derived order; keep it so.
+            ordered.faces = crate::mesh::topology::boundary_faces(&ordered.tets);
+            clock.lap("order");
+            ordered
+        }
+    };
     progress("measuring");
     let mut stats = PrepStats::measure(&mesh, &report, options.target_tets);
     clock.lap("stats");

@@ -49,6 +49,9 @@ pub struct PrepOptions {
     pub fallback: bool,
     /// Surface repair settings.
     pub repair: RepairOptions,
+    /// Keep the mesher's numbering of nodes and tets; `false` (default): renumber both
+    /// along a Morton curve for memory locality ([`crate::mesh::order`]).
+    pub keep_order: bool,
 }
 
 impl Default for PrepOptions {
@@ -62,6 +65,7 @@ impl Default for PrepOptions {
             mesher: Mesher::Tetgen,
             fallback: false,
             repair: RepairOptions::default(),
+            keep_order: false,
         }
     }
 }

@@ -52,6 +52,10 @@ pub struct PrepStats {
     pub max_dihedral_deg: f64,
     /// Tets with signed volume <= 0 (0 for a usable mesh).
     pub non_positive_tets: usize,
+    /// Median over tets of their node indices' spread, as a fraction of the node count
+    /// ([`crate::mesh::order::median_index_spread`]: small when a tet's nodes sit together
+    /// in memory).
+    pub median_index_spread: f64,
     /// Sum of tet volumes and the repaired surface's enclosed volume (length unit cubed).
     pub tet_volume: f64,
     pub enclosed_volume: f64,
@@ -100,6 +104,7 @@ impl PrepStats {
             min_dihedral_deg: q.min_dihedral_deg,
             max_dihedral_deg: q.max_dihedral_deg,
             non_positive_tets: q.non_positive,
+            median_index_spread: crate::mesh::order::median_index_spread(mesh),
             tet_volume: q.volume,
             enclosed_volume: report.enclosed_volume,
             volume_percent: 100.0 * q.volume / report.enclosed_volume,
@@ -157,6 +162,11 @@ impl fmt::Display for PrepStats {
             self.min_dihedral_deg, self.max_dihedral_deg
         )?;
         writeln!(f, "non-positive     {} tets", self.non_positive_tets)?;
+        writeln!(
+            f,
+            "node order       median index spread {:.4} of the node count",
+            self.median_index_spread
+        )?;
         writeln!(
             f,
             "volume           {:.6e} of {:.6e} enclosed ({:.3} %)",
