@@ -440,7 +440,7 @@ impl VulkanBackend {
     /// Reads the divergence status frame slot `k` copied to the host; on flags, names the
     /// frame, the first bad node, the fastest speed and the cause (all from the status: no
     /// state read-back, which with frames in flight would show a later frame).
-    fn check_status(&mut self, k: usize) -> Result<()> {
+    fn check_status(&self, k: usize) -> Result<()> {
         let words: [u32; 4] = {
             let bytes = self.slots[k].status_readback.mapped()?;
             let b = bytes

@@ -5,9 +5,10 @@
 //! extras (progress and mesh files; timing and position samples; pictures).
 //!
 //! [`Simulation::advance_frames`] does the same for many frames with several in flight
-//! ([`Backend::frames_in_flight`]): on `vulkan` it queues frame N + 1 before it reads frame
-//! N's volume, so a headless run never leaves the GPU idle while the host waits on a fence
-//! and reads the measures. Both give the same frames, bit for bit (`tests/frame_driver.rs`).
+//! ([`Backend::frames_in_flight`]): on `vulkan` it queues frame N + 1 before it waits for
+//! frame N and reads its volume, so the GPU has the next frame while the host reads the
+//! last. Both give the same frames, bit for bit (`tests/frame_driver.rs` on the CPU,
+//! `tests/gpu_frames_in_flight.rs` on `vulkan`).
 
 use std::collections::VecDeque;
 use std::time::Instant;
