@@ -370,13 +370,6 @@ impl VulkanBackend {
         self.ctx.validation_messages()
     }
 
-    /// The device-local position buffer (vec4 per node: xyz [m], w = inverse mass [1/kg]),
-    /// for drawing in place (`crate::render`). Holds the last finished frame's positions
-    /// once [`Backend::step_frame`] has returned.
-    pub fn positions(&self) -> &Buffer {
-        &self.buffers.positions
-    }
-
     /// This backend's positions (those of the last finished frame once
     /// [`Backend::step_frame`] has returned) with the model's tets, rest volumes and springs,
     /// for drawing in place.

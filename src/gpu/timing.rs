@@ -135,11 +135,6 @@ impl Timer {
         self.frames
     }
 
-    /// Average GPU time per submission of each pass, in first-recorded order.
-    pub fn per_frame(&self) -> Vec<PassTime> {
-        Self::per_frame_of(&[self])
-    }
-
     /// The GPU time per frame of every pass over all frames `timers` collected (the
     /// timers of the frame slots that take turns, each timing its own frames), in the first
     /// timer's pass order.
