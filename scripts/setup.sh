@@ -19,6 +19,11 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
 command -v cargo >/dev/null || { echo "setup: cargo not found; install Rust (rustup) first" >&2; exit 1; }
+# scripts/test.sh runs clippy first.
+if ! cargo clippy --version >/dev/null 2>&1; then
+  echo "setup: installing clippy" >&2
+  rustup component add clippy
+fi
 venv="$(dirname "$0")/../target/py"
 if ! "$venv/bin/python" -c "import meshio" 2>/dev/null; then
   echo "setup: creating $venv with meshio 5.3.5" >&2

@@ -7,4 +7,7 @@ cd "$(dirname "$0")/.."
 scripts/setup.sh
 # The Python with meshio that setup.sh made (tests/mesh_readers.rs).
 [ -x target/py/bin/python ] && export TETRASIM_PYTHON="$PWD/target/py/bin/python"
+# The house rules (Cargo.toml's [workspace.lints], ARCHITECTURE.md): any warning fails.
+# Release mode shares the build of shaderc with the tests below.
+cargo clippy --workspace --release -- -D warnings
 cargo test --workspace --release "$@"

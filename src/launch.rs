@@ -5,11 +5,11 @@
 
 use glam::DVec3;
 
-use crate::error::{Error, Result};
-use crate::model::{Model, ModelBuilder};
-use crate::params::SimParams;
-use crate::runner::load_mesh;
 use crate::scene::Scene;
+use tetrasim::error::{Error, Result};
+use tetrasim::model::{Model, ModelBuilder};
+use tetrasim::params::SimParams;
+use tetrasim::sim::load_mesh;
 
 /// A scene made ready to run.
 #[derive(Debug, Clone)]

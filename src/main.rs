@@ -1,15 +1,15 @@
-//! `tetrasim` command line: parses arguments and hands them to [`tetrasim::cli::execute`].
+//! `tetrasim` command line: parses arguments and hands them to [`tetrasim_cli::cli::execute`].
 
 use clap::Parser;
 
 fn main() -> std::process::ExitCode {
-    let cli = tetrasim::cli::Cli::parse();
-    match tetrasim::cli::execute(cli) {
+    let cli = tetrasim_cli::cli::Cli::parse();
+    match tetrasim_cli::cli::execute(cli) {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
             // A diverged run exits with 3 (docs/STABILITY.md); other failures with 1.
-            let diverged = e.downcast_ref::<tetrasim::cli::DivergedRun>().is_some()
+            let diverged = e.downcast_ref::<tetrasim_cli::cli::DivergedRun>().is_some()
                 || matches!(e.downcast_ref(), Some(tetrasim::Error::Diverged(_)));
             if diverged {
                 std::process::ExitCode::from(3)

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::params::{Placement, SimParams, SEED_FRAMES};
+use tetrasim::params::{Placement, SimParams, SEED_FRAMES};
 
 /// The names accepted by `--preset`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
@@ -46,7 +46,7 @@ impl Preset {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::params::MassMode;
+    use tetrasim::params::MassMode;
 
     #[test]
     fn seed_matches_physics_md() {

@@ -18,7 +18,7 @@
 //!                       # gauss-seidel, off for jacobi and chebyshev)
 //! springs = "explicit"  # the paper's forces, or "implicit" (compliant constraints)
 //! warm_start = false    # implicit springs start each step from the last multipliers
-//! atomics = "auto"    # or "ext", "cas"
+//! # (GPU choices such as --atomics, --device and --workgroup-size are flags, not scene keys)
 //! epsilon = 1e-20     # skip a constraint whose denominator A is at or below this
 //! gravity = 9.81      # m/s^2, along -Y
 //! frames = 400
@@ -52,10 +52,10 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 use serde::Deserialize;
 
-use crate::error::{Error, Result};
-use crate::params::{
-    MaterialOverrides, Method, Placement, SimParams, SolverOverrides, SEED_FRAMES,
-};
+use crate::overrides::{MaterialOverrides, SolverOverrides};
+
+use tetrasim::error::{Error, Result};
+use tetrasim::params::{Method, Placement, SimParams, SEED_FRAMES};
 
 /// A whole scene as read from a file (paths already resolved against the file's folder).
 #[derive(Debug, Clone, PartialEq, Deserialize)]
@@ -387,7 +387,7 @@ fn line_of(text: &str, at: usize) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::params::MassMode;
+    use tetrasim::params::MassMode;
 
     const MINIMAL: &str = "[[object]]\nmesh = \"meshes/sphere\"\n";
 

@@ -4,8 +4,9 @@
 
 mod gpu_support;
 
+use tetrasim::backend::vulkan::{AtomicsMode, EngineOptions};
 use tetrasim::gpu::AtomicsPath;
-use tetrasim::params::{AtomicsMode, Method, SimParams, Solver, SpringKind};
+use tetrasim::params::{Method, SimParams, Solver, SpringKind};
 use tetrasim::Backend;
 
 /// Largest position difference allowed between the paths after the run, as a fraction of
@@ -34,11 +35,15 @@ fn ext_and_cas_paths_agree_for_every_scatter_method() {
                 method,
                 springs,
                 solver,
-                atomics,
                 ..SimParams::default()
             };
             // Small workgroups: many run at once, so the atomics really contend.
-            let mut gpu = gpu_support::validated_with(&model, &params, Some(32));
+            let options = EngineOptions {
+                workgroup_size: Some(32),
+                atomics,
+                ..EngineOptions::default()
+            };
+            let mut gpu = gpu_support::validated_with(&model, &params, options);
             for _ in 0..150 {
                 gpu.step_frame().unwrap();
             }

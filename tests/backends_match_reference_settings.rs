@@ -14,7 +14,7 @@
 mod gpu_support;
 
 use glam::DVec3;
-use tetrasim::cpu::ReferenceBackend;
+use tetrasim::backend::cpu::ReferenceBackend;
 use tetrasim::mesh::grid::grid_tets;
 use tetrasim::params::{ConstraintCombine, MassMode, Method, Placement, Solver, SpringKind};
 use tetrasim::{Backend, Model, ModelBuilder, SimParams};

@@ -8,21 +8,22 @@ use std::path::Path;
 use std::process::Command;
 
 use common::box_mesh;
-use tetrasim::bench::report::equal_work_pairs;
-use tetrasim::bench::scaling::{self, ScalingOptions};
-use tetrasim::bench::suite::write_json;
-use tetrasim::bench::tradeoff::SolverSetting;
-use tetrasim::bench::tradeoff_files::{write_outputs, OUTPUT_FILES};
-use tetrasim::bench::{
-    run_suite, run_tradeoff, Backends, BenchMesh, BenchOptions, BenchRecord, ReferenceSettings,
-    SimulateOptions, SweepSpec, TradeoffOptions, TradeoffRecord,
-};
-use tetrasim::engine::EngineOptions;
+use tetrasim::backend::vulkan::EngineOptions;
 use tetrasim::mesh::io::write_tetgen;
 use tetrasim::metrics::RunRecord;
 use tetrasim::params::{Method, Placement, SimParams};
-use tetrasim::runner::{build_model, run, RunOptions};
+use tetrasim::sim::build_model;
 use tetrasim::Model;
+use tetrasim_cli::bench::report::equal_work_pairs;
+use tetrasim_cli::bench::scaling::{self, ScalingOptions};
+use tetrasim_cli::bench::suite::write_json;
+use tetrasim_cli::bench::tradeoff::SolverSetting;
+use tetrasim_cli::bench::tradeoff_files::{write_outputs, OUTPUT_FILES};
+use tetrasim_cli::bench::{
+    run_suite, run_tradeoff, Backends, BenchMesh, BenchOptions, BenchRecord, ReferenceSettings,
+    SimulateOptions, SweepSpec, TradeoffOptions, TradeoffRecord,
+};
+use tetrasim_cli::runner::{run, RunOptions};
 
 /// Touching the floor from the first frame, so the volume changes at once.
 fn placement() -> Placement {
@@ -350,7 +351,7 @@ fn tradeoff_writes_files_and_measures_against_its_reference() {
     for png in ["cost_vs_volume_error.png", "cost_vs_position_error.png"] {
         assert_eq!(
             png_size(&dir.path().join(png)),
-            tetrasim::bench::plot::PLOT_SIZE
+            tetrasim_cli::bench::plot::PLOT_SIZE
         );
     }
 }
@@ -400,7 +401,7 @@ fn scaling_writes_files_with_consistent_costs() {
     );
     assert_eq!(
         png_size(&dir.path().join("scaling.png")),
-        tetrasim::bench::plot::PLOT_SIZE
+        tetrasim_cli::bench::plot::PLOT_SIZE
     );
 }
 

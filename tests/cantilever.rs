@@ -23,7 +23,7 @@
 //! (local volume constraints only: the global one would hold the total for both).
 
 use glam::DVec3;
-use tetrasim::cpu::{ParallelBackend, ReferenceBackend};
+use tetrasim::backend::cpu::{ParallelBackend, ReferenceBackend};
 use tetrasim::mesh::grid::box_tets;
 use tetrasim::params::{MassMode, Method, Placement, SpringKind};
 use tetrasim::{Backend, Model, ModelBuilder, SimParams};

@@ -9,7 +9,7 @@ use std::process::{Command, Output};
 use common::ball_mesh;
 use tetrasim::mesh::io::write_tetgen;
 use tetrasim::metrics::RunRecord;
-use tetrasim::scene::Scene;
+use tetrasim_cli::scene::Scene;
 
 fn tetrasim(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_tetrasim"))
@@ -119,7 +119,7 @@ fn without_fitting_the_mesh_keeps_its_size_and_is_only_lifted() {
         prefix.display().to_string()
     );
     let scene = Scene::parse(&text).unwrap();
-    let staged = tetrasim::launch::stage(&scene).unwrap();
+    let staged = tetrasim_cli::launch::stage(&scene).unwrap();
     let lowest = mesh.nodes.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
     for (p, q) in mesh.nodes.iter().zip(&staged.model.positions) {
         assert_eq!((p.x, p.z), (q.x, q.z));
@@ -145,7 +145,7 @@ fn objects_of_one_scene_may_have_different_materials() {
     let path = dir.path().join("two.toml");
     std::fs::write(&path, text).unwrap();
     let scene = Scene::load(&path).unwrap();
-    let staged = tetrasim::launch::stage(&scene).unwrap();
+    let staged = tetrasim_cli::launch::stage(&scene).unwrap();
     let material = staged.model.material.as_ref().unwrap();
     let half = material.spring_stiffness.len() / 2;
     let ratio = material.spring_stiffness[half] / material.spring_stiffness[0];

@@ -7,8 +7,8 @@ mod common;
 
 use common::{bare_params, model_in_place, noise, noise3, single_tet};
 use glam::DVec3;
+use tetrasim::backend::cpu::{ParallelBackend, ReferenceBackend};
 use tetrasim::backend::{Backend, State};
-use tetrasim::cpu::{ParallelBackend, ReferenceBackend};
 use tetrasim::params::Method;
 use tetrasim::physics::{distance_constraint, implicit_lambda, volume_constraint};
 

@@ -9,8 +9,8 @@
 mod common;
 
 use common::{ball_mesh, max_distance, run_frames};
+use tetrasim::backend::cpu::{ParallelBackend, ReferenceBackend};
 use tetrasim::backend::Backend;
-use tetrasim::cpu::{ParallelBackend, ReferenceBackend};
 use tetrasim::params::{Method, Placement};
 use tetrasim::{ModelBuilder, SimParams};
 

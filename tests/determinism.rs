@@ -12,7 +12,7 @@
 mod gpu_support;
 
 use gpu_support::{bundled_sphere, jittered};
-use tetrasim::cpu::ParallelBackend;
+use tetrasim::backend::cpu::ParallelBackend;
 use tetrasim::params::{Placement, SimParams, Solver};
 use tetrasim::{Backend, Model, ModelBuilder};
 

@@ -6,11 +6,11 @@
 mod common;
 
 use common::{box_mesh, seed_model};
+use tetrasim::backend::cpu::ReferenceBackend;
 use tetrasim::backend::Backend;
-use tetrasim::cpu::ReferenceBackend;
 use tetrasim::params::{ConstraintCombine, Method, Solver};
-use tetrasim::runner::{run, RunOptions};
 use tetrasim::{Error, SimParams};
+use tetrasim_cli::runner::{run, RunOptions};
 
 fn summed(method: Method) -> SimParams {
     SimParams {

@@ -7,8 +7,8 @@
 mod gpu_support;
 
 use gpu_support::bundled_sphere;
+use tetrasim::backend::cpu::{ParallelBackend, ReferenceBackend};
 use tetrasim::backend::State;
-use tetrasim::cpu::{ParallelBackend, ReferenceBackend};
 use tetrasim::params::{Method, Placement};
 use tetrasim::{Backend, Model, ModelBuilder, SimParams};
 

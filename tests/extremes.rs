@@ -11,8 +11,8 @@ use glam::DVec3;
 use tetrasim::mesh::TetMesh;
 use tetrasim::metrics::RunRecord;
 use tetrasim::params::{Method, Placement, SimParams};
-use tetrasim::runner::{run, RunOptions};
 use tetrasim::{Model, ModelBuilder};
+use tetrasim_cli::runner::{run, RunOptions};
 
 /// What a case must do.
 #[derive(Debug, Clone, Copy)]
@@ -455,7 +455,7 @@ fn fully_pinned_mesh_does_not_move_at_all() {
     let model = ModelBuilder::new(&cube).pinned(0..n).build().unwrap();
     for backend in backends() {
         let mut b =
-            tetrasim::runner::create_backend(backend, &model, &params(Method::Volume)).unwrap();
+            tetrasim::sim::create_backend(backend, &model, &params(Method::Volume)).unwrap();
         for _ in 0..20 {
             b.step_frame().unwrap();
         }
@@ -479,7 +479,7 @@ fn far_from_origin_falls_like_near_origin() {
         for p in &mut model.positions {
             *p += DVec3::splat(offset);
         }
-        let mut b = tetrasim::runner::create_backend(backend, &model, &params).unwrap();
+        let mut b = tetrasim::sim::create_backend(backend, &model, &params).unwrap();
         for _ in 0..100 {
             b.step_frame().unwrap();
         }

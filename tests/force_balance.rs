@@ -6,8 +6,8 @@ mod common;
 
 use common::{box_mesh, jittered_state, max_distance, model_in_place, run_frames, seed_model};
 use glam::DVec3;
+use tetrasim::backend::cpu::{ParallelBackend, ReferenceBackend};
 use tetrasim::backend::Backend;
-use tetrasim::cpu::{ParallelBackend, ReferenceBackend};
 use tetrasim::params::{ConstraintCombine, Method};
 use tetrasim::SimParams;
 

@@ -1,4 +1,4 @@
-//! The one frame driver (`runner::Simulation`) that run, bench and render step through: the
+//! The one frame driver (`tetrasim::sim::Simulation`) that run, bench and render step through: the
 //! series it keeps, the time axis, sampling on demand, and a divergence turned into a stop
 //! after which nothing more is stepped.
 
@@ -6,7 +6,7 @@ mod common;
 
 use common::{ball_mesh, seed_model};
 use tetrasim::params::{Method, SimParams};
-use tetrasim::runner::{create_backend, Advance, Simulation};
+use tetrasim::sim::{create_backend, Advance, Simulation};
 
 #[test]
 fn series_follow_the_sampled_frames() {

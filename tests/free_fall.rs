@@ -9,8 +9,8 @@ mod common;
 
 use common::{box_mesh, centre_of_mass, jittered_state, run_frames};
 use glam::DVec3;
+use tetrasim::backend::cpu::{ParallelBackend, ReferenceBackend};
 use tetrasim::backend::{Backend, State};
-use tetrasim::cpu::{ParallelBackend, ReferenceBackend};
 use tetrasim::params::{ConstraintCombine, MassMode, Method, Placement};
 use tetrasim::{ModelBuilder, SimParams};
 

@@ -7,7 +7,7 @@ mod gpu_support;
 
 use gpu_support::{assert_no_validation_messages, box_model, jittered, validated};
 use tetrasim::params::{Method, SimParams};
-use tetrasim::runner::{Advance, Simulation};
+use tetrasim::sim::{Advance, Simulation};
 use tetrasim::Backend;
 
 const FRAMES: u32 = 90;
@@ -19,7 +19,7 @@ fn both_ways(
     params: &SimParams,
     frames: u32,
     sample: &dyn Fn(u32) -> bool,
-) -> [(Simulation, tetrasim::engine::VulkanBackend); 2] {
+) -> [(Simulation, tetrasim::backend::vulkan::VulkanBackend); 2] {
     let mut stepped = validated(model, params);
     let mut one = Simulation::new(model, params);
     for n in 1..=frames {

@@ -12,8 +12,9 @@
 mod common;
 mod gpu_support;
 
-use tetrasim::cpu::ReferenceBackend;
-use tetrasim::params::{AtomicsMode, Method, SimParams, Solver};
+use tetrasim::backend::cpu::ReferenceBackend;
+use tetrasim::backend::vulkan::{AtomicsMode, EngineOptions};
+use tetrasim::params::{Method, SimParams, Solver};
 use tetrasim::Backend;
 
 /// Largest allowed per-frame difference of the volume percentage [percentage points].
@@ -44,7 +45,6 @@ fn every_method_and_atomic_path_matches_the_reference() {
         let params = SimParams {
             method,
             solver,
-            atomics,
             global_volume: Some(global),
             ..SimParams::default()
         };
@@ -65,7 +65,11 @@ fn every_method_and_atomic_path_matches_the_reference() {
             "{method}: the reference never deformed (largest local error {deformed} %)"
         );
         {
-            let mut gpu = gpu_support::validated(&model, &params);
+            let options = EngineOptions {
+                atomics,
+                ..EngineOptions::default()
+            };
+            let mut gpu = gpu_support::validated_with(&model, &params, options);
             let mut worst_volume = 0.0f64;
             for (frame, want) in expected.iter().enumerate() {
                 gpu.step_frame().unwrap();

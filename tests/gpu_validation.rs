@@ -6,7 +6,7 @@ mod gpu_support;
 use std::sync::Arc;
 
 use ash::vk;
-use tetrasim::engine::VulkanBackend;
+use tetrasim::backend::vulkan::VulkanBackend;
 use tetrasim::gpu::{Context, ContextOptions};
 use tetrasim::params::{Method, SimParams};
 use tetrasim::Backend;

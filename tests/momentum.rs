@@ -20,7 +20,7 @@ mod gpu_support;
 
 use glam::DVec3;
 use gpu_support::{bundled_sphere, for_each_backend, jittered, momenta};
-use tetrasim::cpu::{ParallelBackend, ReferenceBackend};
+use tetrasim::backend::cpu::{ParallelBackend, ReferenceBackend};
 use tetrasim::params::{ConstraintCombine, Method, Placement, Solver, SpringKind};
 use tetrasim::{Backend, Model, ModelBuilder, SimParams, TetMesh};
 
@@ -268,8 +268,7 @@ fn bunny_resting_on_a_frictionless_floor_does_not_slide() {
     let Some(dir) = gpu_support::shared_meshes() else {
         return;
     };
-    let loaded =
-        tetrasim::runner::load_mesh(&dir.join("bun_zipper_res2.ply"), Some(20_000)).unwrap();
+    let loaded = tetrasim::sim::load_mesh(&dir.join("bun_zipper_res2.ply"), Some(20_000)).unwrap();
     let model = seed_model(&loaded.mesh);
     assert!(
         (15_000..25_000).contains(&model.tets.len()),

@@ -18,8 +18,8 @@ use prep_fixtures::scan;
 use tetrasim::metrics::RunRecord;
 use tetrasim::params::{MassMode, Method, Placement, SpringKind};
 use tetrasim::prep::{prep_file, PrepOptions};
-use tetrasim::runner::{run, RunOptions};
 use tetrasim::{Model, ModelBuilder, SimParams};
+use tetrasim_cli::runner::{run, RunOptions};
 
 fn horse() -> Option<Model> {
     let path = scan("horse.ply")?;

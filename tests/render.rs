@@ -8,14 +8,14 @@ mod gpu_support;
 
 use std::sync::Arc;
 
-use tetrasim::engine::{DrawBuffers, VulkanBackend};
+use tetrasim::backend::vulkan::{DrawBuffers, EngineOptions, VulkanBackend};
 use tetrasim::gpu::{Buffer, Context, ContextOptions};
 use tetrasim::params::{Method, SimParams};
 use tetrasim::render::legend::LegendLayout;
-use tetrasim::render::session::RenderJob;
 use tetrasim::render::style::{BACKGROUND_RGB, FLOOR_RGB, GRID_RGB};
-use tetrasim::render::{render_methods, ColourMode, Image, Outputs, RenderOptions, Renderer};
+use tetrasim::render::{ColourMode, Image, RenderOptions, Renderer};
 use tetrasim::{Backend, Model};
+use tetrasim_cli::render_session::{render_methods, Outputs, RenderJob};
 
 const W: u32 = 160;
 const H: u32 = 120;
@@ -260,7 +260,10 @@ fn render_methods_writes_frames_gif_and_sheet() {
             sheet_columns: 3,
             meshes: None,
         },
-        workgroup_size: Some(64),
+        engine: EngineOptions {
+            workgroup_size: Some(64),
+            ..EngineOptions::default()
+        },
         progress: false,
     };
     let params = SimParams {

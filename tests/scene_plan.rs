@@ -12,15 +12,16 @@ use std::process::Command;
 
 use common::box_mesh;
 use glam::DVec3;
-use tetrasim::engine::plan::{BufferId, EnginePlan};
-use tetrasim::engine::{EngineOptions, VulkanBackend};
-use tetrasim::launch::stage;
+use tetrasim::backend::vulkan::plan::{BufferId, EnginePlan};
+use tetrasim::backend::vulkan::{EngineOptions, VulkanBackend};
 use tetrasim::mesh::io::write_tetgen;
 use tetrasim::metrics::RunRecord;
 use tetrasim::params::{Method, SimParams};
-use tetrasim::runner::create_backend;
-use tetrasim::scene::Scene;
+use tetrasim::problem::Problem;
+use tetrasim::sim::create_backend;
 use tetrasim::Backend;
+use tetrasim_cli::launch::stage;
+use tetrasim_cli::scene::Scene;
 
 fn tetrasim() -> Command {
     Command::new(env!("CARGO_BIN_EXE_tetrasim"))
@@ -111,13 +112,8 @@ fn plan_of(text: &str) -> EnginePlan {
     let dir = tempfile::tempdir().unwrap();
     let scene = Scene::load(&scene_file(dir.path(), "s.toml", text)).unwrap();
     let staged = stage(&scene).unwrap();
-    EnginePlan::for_model(
-        &staged.model,
-        &staged.params,
-        64,
-        scene.output.json.is_some(),
-    )
-    .unwrap()
+    let problem = Problem::new(&staged.model, &staged.params).unwrap();
+    EnginePlan::of_problem(&problem, 64, scene.output.json.is_some()).unwrap()
 }
 
 const SPRINGS_ONLY: &str = "[[object]]\nmesh = \"box\"\nmethod = \"mss\"\n";

@@ -9,8 +9,9 @@ mod common;
 use common::ball_mesh;
 use tetrasim::metrics::RunRecord;
 use tetrasim::params::Method;
-use tetrasim::preset::Preset;
-use tetrasim::runner::{build_model, run_methods, RunOptions};
+use tetrasim::sim::build_model;
+use tetrasim_cli::preset::Preset;
+use tetrasim_cli::runner::{run_methods, RunOptions};
 
 fn seed_records(backend: &str) -> Vec<RunRecord> {
     seed_records_on(&ball_mesh(4.5), "ball(4.5)", backend)

@@ -6,8 +6,8 @@ mod common;
 
 use common::{bare_params, model_in_place, single_tet};
 use glam::DVec3;
+use tetrasim::backend::cpu::ReferenceBackend;
 use tetrasim::backend::{Backend, State};
-use tetrasim::cpu::ReferenceBackend;
 use tetrasim::params::Method;
 use tetrasim::physics::{spring_force, symplectic_euler};
 

@@ -9,8 +9,8 @@ use std::process::Command;
 use common::box_mesh;
 use tetrasim::mesh::io::write_tetgen;
 use tetrasim::params::{Method, SimParams};
-use tetrasim::runner::{run, RunOptions};
 use tetrasim::ModelBuilder;
+use tetrasim_cli::runner::{run, RunOptions};
 
 #[test]
 fn springs_are_stable_below_the_estimate_and_diverge_well_above_it() {

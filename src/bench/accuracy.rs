@@ -9,9 +9,9 @@
 use serde::{Deserialize, Serialize};
 
 use super::simulate::{simulate, Backends, Measured, Sample, SimulateOptions};
-use crate::error::{Error, Result};
-use crate::model::Model;
-use crate::params::{Method, SimParams};
+use tetrasim::error::{Error, Result};
+use tetrasim::model::Model;
+use tetrasim::params::{Method, SimParams};
 
 /// Whether the method runs constraint iterations (`distance`, `volume`).
 pub fn has_iterations(method: Method) -> bool {
@@ -50,7 +50,7 @@ pub struct VolumeStats {
 
 impl VolumeStats {
     /// Summarises the per-frame volume percentages (the same min and mean as
-    /// [`crate::metrics::RunRecord::summarise`]).
+    /// [`tetrasim::metrics::RunRecord::summarise`]).
     pub fn of(volume_pct: &[f64]) -> Self {
         if volume_pct.is_empty() {
             return VolumeStats::default();

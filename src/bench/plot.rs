@@ -9,7 +9,7 @@ use std::sync::OnceLock;
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};
 
-use crate::error::{Error, Result};
+use tetrasim::error::{Error, Result};
 
 /// How a series is drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -191,7 +191,7 @@ fn draw(
 /// temporary file and a rename).
 pub fn write_png(path: &Path, chart: &LogChart, size: (u32, u32)) -> Result<()> {
     let pixels = render(chart, size)?;
-    Ok(crate::mesh::io::write_atomic(path, |w| {
+    Ok(tetrasim::mesh::io::write_atomic(path, |w| {
         let mut encoder = png::Encoder::new(w, size.0, size.1);
         encoder.set_color(png::ColorType::Rgb);
         encoder.set_depth(png::BitDepth::Eight);

@@ -11,11 +11,11 @@ use super::plot::{write_png, LogChart, Series, SeriesKind, PLOT_SIZE};
 use super::simulate::{simulate, Backends, SimulateOptions};
 use super::stats::FrameTimes;
 use super::tradeoff_files::write_csv;
-use crate::error::{Error, Result};
-use crate::mesh::{shapes, voxel, TetMesh};
-use crate::model::Model;
-use crate::params::{Method, Placement, SimParams};
-use crate::runner::build_model;
+use tetrasim::error::{Error, Result};
+use tetrasim::mesh::{shapes, voxel, TetMesh};
+use tetrasim::model::Model;
+use tetrasim::params::{Method, Placement, SimParams};
+use tetrasim::sim::build_model;
 
 /// Default tet counts of the study.
 pub const DEFAULT_SIZES: [usize; 5] = [1_000, 4_000, 16_000, 64_000, 256_000];

@@ -1,16 +1,17 @@
 //! The measured frame loop of the benchmarks and the trade-off study: frames advanced by the
-//! one driver ([`crate::runner::Simulation`]), with the volume sampled every frame, plus per-frame wall times,
+//! one driver ([`tetrasim::sim::Simulation`]), with the volume sampled every frame, plus per-frame wall times,
 //! warm-up frames whose times are dropped, GPU pass times over the timed frames only, and
 //! node positions read back at chosen frames for the position error.
 
 use glam::DVec3;
 
-use crate::backend::{Backend, GpuReport};
-use crate::engine::EngineOptions;
-use crate::error::{Error, Result};
-use crate::model::Model;
-use crate::params::SimParams;
-use crate::runner::{Advance, BackendFactory, Simulation};
+use tetrasim::backend::vulkan::EngineOptions;
+use tetrasim::backend::{Backend, GpuReport};
+use tetrasim::error::{Error, Result};
+use tetrasim::model::Model;
+use tetrasim::params::SimParams;
+use tetrasim::problem::Problem;
+use tetrasim::sim::{Advance, BackendFactory, Simulation};
 
 /// The benchmarks' backends: a [`BackendFactory`] whose `vulkan` backends run without GPU
 /// timestamps and measure the volume on demand, outside the timed `step_frame` (as the CPU
@@ -43,7 +44,7 @@ impl Backends {
         model: &Model,
         params: &SimParams,
     ) -> Result<Box<dyn Backend>> {
-        self.factory.create(name, model, params)
+        self.factory.create(name, &Problem::new(model, params)?)
     }
 
     /// Device, atomics and GPU time per pass of `model` under `params`, from a separate
@@ -55,7 +56,9 @@ impl Backends {
             volume_on_demand: false,
             ..self.factory.options().clone()
         };
-        let mut gpu = self.factory.vulkan(model, params, &options)?;
+        let mut gpu = self
+            .factory
+            .vulkan(&Problem::new(model, params)?, &options)?;
         for frame in 0..5 + PASS_REPORT_FRAMES {
             if frame == 5 {
                 gpu.reset_pass_times()?;

@@ -1,7 +1,6 @@
 //! `tetrasim bench`: every mesh x method x backend, warm-up then timed frames; frame-time
 //! percentiles, throughput, GPU pass times and accuracy in one [`BenchRecord`] each.
 
-use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -10,10 +9,12 @@ use serde::{Deserialize, Serialize};
 use super::accuracy::{accuracy, element_iterations_per_frame, Reference, ReferenceSettings};
 use super::simulate::{simulate, Backends, Measured, SimulateOptions};
 use super::stats::FrameTimes;
-use crate::error::{Error, Result};
-use crate::metrics::RunRecord;
-use crate::model::Model;
-use crate::params::{Method, SimParams};
+use tetrasim::error::{Error, Result};
+use tetrasim::gpu::PassTime;
+use tetrasim::metrics::RunRecord;
+use tetrasim::model::Model;
+use tetrasim::params::{Method, SimParams};
+use tetrasim::problem::Problem;
 
 /// One mesh to benchmark: its label (path) and its model.
 #[derive(Debug, Clone)]
@@ -62,7 +63,7 @@ pub struct BenchRecord {
     /// Timed frames.
     pub timed_frames: u32,
     /// GPU time per frame of each pass over the timed frames [ms] (empty on CPU backends).
-    pub passes: BTreeMap<String, f64>,
+    pub passes: Vec<PassTime>,
     /// Largest `|V/V0 - 1|` over the frames [%].
     pub volume_error_pct: f64,
     /// RMS node distance to the reference over the bounding-box diagonal (`None` without
@@ -94,8 +95,7 @@ pub fn record(
         device: sim.gpu.as_ref().map(|g| g.device.clone()),
         atomics: sim.gpu.as_ref().map(|g| g.atomics.clone()),
         ..crate::runner::new_record(
-            model,
-            params,
+            &Problem::new(model, params)?,
             &mesh.label,
             options.total_frames(),
             &sim.backend,
@@ -106,7 +106,7 @@ pub fn record(
     let passes = sim
         .gpu
         .as_ref()
-        .map(|g| g.passes.iter().cloned().collect())
+        .map(|g| g.passes.clone())
         .unwrap_or_default();
     Ok(BenchRecord {
         run,
@@ -232,12 +232,12 @@ pub fn table(records: &[BenchRecord]) -> String {
 pub fn pass_lines(records: &[BenchRecord]) -> String {
     let mut out = String::new();
     for r in records.iter().filter(|r| !r.passes.is_empty()) {
-        let total: f64 = r.passes.values().sum();
-        let mut parts: Vec<(&String, &f64)> = r.passes.iter().collect();
-        parts.sort_by(|a, b| b.1.total_cmp(a.1));
+        let total: f64 = r.passes.iter().map(|p| p.ms_per_frame).sum();
+        let mut parts: Vec<&PassTime> = r.passes.iter().collect();
+        parts.sort_by(|a, b| b.ms_per_frame.total_cmp(&a.ms_per_frame));
         let list: Vec<String> = parts
             .iter()
-            .map(|(name, ms)| format!("{name} {ms:.3}"))
+            .map(|p| format!("{} {:.3}", p.name, p.ms_per_frame))
             .collect();
         let _ = writeln!(
             out,

@@ -11,9 +11,9 @@ use super::accuracy::{
 use super::pareto::pareto_front;
 use super::simulate::{simulate, Backends, SimulateOptions};
 use super::stats::FrameTimes;
-use crate::error::{Error, Result};
-use crate::model::Model;
-use crate::params::{Method, SimParams, Solver};
+use tetrasim::error::{Error, Result};
+use tetrasim::model::Model;
+use tetrasim::params::{Method, SimParams, Solver};
 
 /// A solver with its settings: `jacobi`, `chebyshev`, `gauss-seidel:8`,
 /// `gauss-seidel:8+global`, ... (Chebyshev with the default `rho`).
@@ -108,7 +108,7 @@ impl std::str::FromStr for SolverSetting {
                 ))
             }
             (Solver::Jacobi | Solver::Chebyshev, None) => 1,
-            (Solver::GaussSeidel, g) => g.unwrap_or(crate::params::default_groups()),
+            (Solver::GaussSeidel, g) => g.unwrap_or(tetrasim::params::default_groups()),
         };
         Ok(SolverSetting::new(solver, groups, global_volume))
     }

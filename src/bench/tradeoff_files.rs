@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use super::plot::{write_png, LogChart, Series, SeriesKind, PLOT_SIZE};
 use super::report::report;
 use super::tradeoff::{position_point, volume_point, TradeoffRecord};
-use crate::error::{Error, Result};
+use tetrasim::error::{Error, Result};
 
 fn chart(records: &[TradeoffRecord], volume: bool) -> LogChart {
     let point = if volume { volume_point } else { position_point };
@@ -109,7 +109,7 @@ pub fn write_outputs(dir: &Path, records: &[TradeoffRecord]) -> Result<Vec<PathB
 
 /// Writes serialisable rows as CSV with a header (through a temporary file and a rename).
 pub fn write_csv<T: serde::Serialize>(path: &Path, rows: &[T]) -> Result<()> {
-    Ok(crate::mesh::io::write_atomic(path, |w| {
+    Ok(tetrasim::mesh::io::write_atomic(path, |w| {
         let mut writer = csv::Writer::from_writer(w);
         for row in rows {
             writer.serialize(row).map_err(std::io::Error::other)?;

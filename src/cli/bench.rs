@@ -4,47 +4,19 @@ use std::path::PathBuf;
 
 use anyhow::Context as _;
 
+use super::gpu_args::GpuArgs;
 use crate::bench::suite::{pass_lines, table, write_json};
 use crate::bench::{
     run_suite, Backends, BenchMesh, BenchOptions, ReferenceSettings, SimulateOptions,
     BUNDLED_MESHES,
 };
-use crate::engine::EngineOptions;
-use crate::params::Method;
 use crate::preset::Preset;
-use crate::runner::{build_model, load_mesh, BACKENDS};
-
-/// GPU options shared by the study commands.
-#[derive(Debug, Clone, clap::Args)]
-pub struct GpuArgs {
-    /// GPU for the `vulkan` backend: an index or a name fragment from `tetrasim info`.
-    #[arg(long)]
-    pub device: Option<String>,
-    /// GPU workgroup size (a power of two; default from the device limits).
-    #[arg(long)]
-    pub workgroup_size: Option<u32>,
-}
-
-impl GpuArgs {
-    /// The engine options (never validation: it would distort timings).
-    pub fn options(&self) -> EngineOptions {
-        EngineOptions {
-            device: self
-                .device
-                .as_deref()
-                .unwrap_or("auto")
-                .parse()
-                .unwrap_or_default(),
-            validation: false,
-            workgroup_size: self.workgroup_size,
-            ..EngineOptions::default()
-        }
-    }
-}
+use tetrasim::params::Method;
+use tetrasim::sim::{build_model, load_mesh, BACKENDS};
 
 /// Whether a Vulkan device exists.
 pub fn vulkan_available() -> bool {
-    matches!(crate::gpu::list_devices(), Ok(d) if !d.is_empty())
+    matches!(tetrasim::gpu::list_devices(), Ok(d) if !d.is_empty())
 }
 
 /// The backends to use: `given`, or `defaults` minus `vulkan` when no device exists (with a
@@ -73,7 +45,7 @@ pub fn choose_backends(given: &[String], defaults: &[&str]) -> anyhow::Result<Ve
 }
 
 /// A bundled mesh's name as a path: `load_mesh` reads it from the working directory when it
-/// is there, else from the copy compiled into the binary (`crate::runner::bundled`).
+/// is there, else from the copy compiled into the binary (`tetrasim::sim::bundled`).
 pub fn bundled_path(prefix: &str) -> PathBuf {
     PathBuf::from(prefix)
 }
@@ -126,6 +98,7 @@ pub struct BenchArgs {
     /// Write one JSON record per (mesh, method, backend) to this file.
     #[arg(long)]
     pub json: Option<PathBuf>,
+    /// GPU options of the `vulkan` rows.
     #[command(flatten)]
     pub gpu: GpuArgs,
 }
@@ -202,7 +175,7 @@ pub fn execute(args: BenchArgs) -> anyhow::Result<()> {
             ""
         }
     );
-    let mut backends = Backends::new(args.gpu.options());
+    let mut backends = Backends::new(args.gpu.engine_options());
     let records = run_suite(&meshes, &params, &options, &mut backends, &mut |r| {
         eprintln!(
             "  {} {} {}: {:.3} ms/frame",
@@ -211,7 +184,7 @@ pub fn execute(args: BenchArgs) -> anyhow::Result<()> {
     })?;
     print!("{}", table(&records));
     let runs: Vec<_> = records.iter().map(|r| r.run.clone()).collect();
-    eprint!("{}", crate::metrics::short_run_warnings(&runs));
+    eprint!("{}", tetrasim::metrics::short_run_warnings(&runs));
     print!("{}", pass_lines(&records));
     if let Some(path) = &args.json {
         write_json(path, &records)?;

@@ -1,6 +1,6 @@
 //! `tetrasim info`: the Vulkan devices and what the engine would do on each.
 
-use crate::gpu::{device, list_devices, DeviceSelector};
+use tetrasim::gpu::{device, list_devices, DeviceSelector};
 
 /// Prints every device, marking the one `--backend vulkan` picks by default.
 pub fn execute() -> anyhow::Result<()> {

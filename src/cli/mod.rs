@@ -2,6 +2,7 @@
 //! `main.rs` only parses and dispatches to [`execute`].
 
 mod bench;
+mod gpu_args;
 mod info;
 mod plan;
 mod render;

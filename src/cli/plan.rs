@@ -1,13 +1,14 @@
 //! `tetrasim plan`: what the `vulkan` backend would build and do per frame for a scene (or
 //! `run`'s flags): passes per time step, buffers and their sizes, total device memory and
-//! the estimated bytes moved per frame. Printed from [`crate::engine::plan::EnginePlan`],
+//! the estimated bytes moved per frame. Printed from [`tetrasim::backend::vulkan::plan::EnginePlan`],
 //! the same value the engine is built from.
 
-use crate::engine::plan::EnginePlan;
-use crate::engine::{EngineOptions, VulkanBackend};
-use crate::gpu::{device, list_devices, DeviceSelector};
 use crate::launch::stage;
-use crate::params::SimParams;
+use tetrasim::backend::vulkan::plan::EnginePlan;
+use tetrasim::backend::vulkan::{EngineOptions, VulkanBackend};
+use tetrasim::gpu::{device, list_devices, DeviceSelector};
+use tetrasim::params::SimParams;
+use tetrasim::problem::Problem;
 
 use super::RunArgs;
 
@@ -20,17 +21,8 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
     let (scene, methods) = args.scene_and_methods()?;
     let staged = stage(&scene)?;
     let options = EngineOptions {
-        device: args
-            .device
-            .as_deref()
-            .unwrap_or("auto")
-            .parse()
-            .unwrap_or_default(),
-        validation: false,
-        workgroup_size: args.workgroup_size,
         volume_on_demand: args.scene.is_some() && scene.output.json.is_none(),
-        untimed: false,
-        frames_in_flight: None,
+        ..args.gpu.engine_options()
     };
     let selector: DeviceSelector = options.device.clone();
     let info = list_devices().ok().and_then(|devices| {
@@ -43,12 +35,13 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
             method,
             ..staged.params.clone()
         };
+        let problem = Problem::new(&staged.model, &params)?;
         let plan = match &info {
-            Some(info) => VulkanBackend::plan_for(info, &staged.model, &params, &options)?,
+            Some(info) => VulkanBackend::plan_for(info, &problem, &options)?,
             None => {
-                let wg = args.workgroup_size.unwrap_or(FALLBACK_WORKGROUP);
+                let wg = args.gpu.workgroup_size.unwrap_or(FALLBACK_WORKGROUP);
                 eprintln!("no Vulkan device: planning for workgroup size {wg}");
-                EnginePlan::for_model(&staged.model, &params, wg, !options.volume_on_demand)?
+                EnginePlan::of_problem(&problem, wg, !options.volume_on_demand)?
             }
         };
         print!("{}", plan.render());
@@ -58,9 +51,9 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
 }
 
 /// `run`'s flags that do nothing in a plan are refused, naming the flag.
-fn refuse_run_only_flags(args: &RunArgs) -> crate::Result<()> {
+fn refuse_run_only_flags(args: &RunArgs) -> tetrasim::Result<()> {
     if let Some(backend) = args.backend.as_deref().filter(|&b| b != "vulkan") {
-        return Err(crate::Error::param(
+        return Err(tetrasim::Error::param(
             "backend",
             format!("`plan` describes the `vulkan` backend, not `{backend}`"),
         ));
@@ -72,12 +65,12 @@ fn refuse_run_only_flags(args: &RunArgs) -> crate::Result<()> {
         ("format", args.format.is_some()),
         ("units", args.units.is_some()),
         ("frames", args.solver.frames.is_some()),
-        ("validation", args.validation),
-        ("frames-in-flight", args.frames_in_flight.is_some()),
+        ("validation", args.gpu.validation),
+        ("frames-in-flight", args.gpu.frames_in_flight.is_some()),
         ("quiet", args.quiet),
     ];
     match given.iter().find(|(_, on)| *on) {
-        Some((flag, _)) => Err(crate::Error::param(
+        Some((flag, _)) => Err(tetrasim::Error::param(
             *flag,
             "`plan` runs nothing and writes nothing; use it with `tetrasim run`",
         )),

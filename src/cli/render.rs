@@ -7,11 +7,10 @@ use std::sync::Arc;
 use anyhow::Context as _;
 
 use super::run::RunArgs;
-use crate::gpu::{Context, ContextOptions};
 use crate::launch::stage;
-use crate::render::{
-    parse_size, render_methods, Camera, ColourMode, Outputs, RenderJob, RenderOptions,
-};
+use crate::render_session::{render_methods, Outputs, RenderJob};
+use tetrasim::gpu::{Context, ContextOptions};
+use tetrasim::render::{parse_size, Camera, ColourMode, RenderOptions};
 
 /// Arguments of `tetrasim render`.
 #[derive(Debug, clap::Args)]
@@ -57,7 +56,7 @@ pub struct RenderArgs {
 pub fn execute(args: RenderArgs) -> anyhow::Result<()> {
     let run = &args.run;
     if let Some(backend) = run.backend.as_deref().filter(|&b| b != "vulkan") {
-        return Err(crate::Error::param(
+        return Err(tetrasim::Error::param(
             "backend",
             format!(
                 "`render` draws from the GPU's buffers, so it runs `vulkan` only, not `{backend}`"
@@ -68,8 +67,8 @@ pub fn execute(args: RenderArgs) -> anyhow::Result<()> {
     if run.json.is_some() {
         anyhow::bail!("--json is not written by `render`; use `tetrasim run --json FILE`");
     }
-    if run.frames_in_flight.is_some() {
-        return Err(crate::Error::param(
+    if run.gpu.frames_in_flight.is_some() {
+        return Err(tetrasim::Error::param(
             "frames-in-flight",
             "`render` draws every frame it steps from the GPU's buffers, one frame at a time; \
              the flag is `tetrasim run`'s",
@@ -77,7 +76,7 @@ pub fn execute(args: RenderArgs) -> anyhow::Result<()> {
         .into());
     }
     if run.every.is_some() && args.frames_dir.is_none() && run.out_dir.is_none() {
-        return Err(crate::Error::param(
+        return Err(tetrasim::Error::param(
             "every",
             "acts only with --frames-dir or --out-dir, and neither is given",
         )
@@ -122,14 +121,10 @@ pub fn execute(args: RenderArgs) -> anyhow::Result<()> {
         eprintln!("{note}");
     }
     let (model, params) = (&staged.model, &staged.params);
+    let engine = run.gpu.engine_options();
     let ctx = Arc::new(Context::new(&ContextOptions {
-        device: run
-            .device
-            .as_deref()
-            .unwrap_or("auto")
-            .parse()
-            .unwrap_or_default(),
-        validation: run.validation,
+        device: engine.device.clone(),
+        validation: engine.validation,
     })?);
     let job = RenderJob {
         frames: staged.frames,
@@ -144,7 +139,7 @@ pub fn execute(args: RenderArgs) -> anyhow::Result<()> {
             sheet_columns: args.sheet_frames,
             meshes: output.frames()?,
         },
-        workgroup_size: run.workgroup_size,
+        engine,
         progress: !run.quiet,
     };
     eprintln!(

@@ -5,13 +5,17 @@ use std::path::PathBuf;
 
 use anyhow::Context as _;
 
-use crate::engine::EngineOptions;
+use tetrasim::backend::vulkan::EngineOptions;
+
+use super::gpu_args::GpuArgs;
 use crate::launch::stage;
-use crate::metrics::{pass_table, short_run_warnings, table, write_json};
-use crate::params::{MaterialOverrides, Method, SimParams, Solver as SolverKind, SolverOverrides};
+use crate::overrides::{MaterialOverrides, SolverOverrides};
 use crate::preset::{Preset, PresetName};
-use crate::runner::{run_methods, OutputFormat, OutputUnits, RunOptions, DEFAULT_MESH};
+use crate::runner::{run_methods, OutputFormat, OutputUnits, RunOptions};
 use crate::scene::{Collider, Object, Output, Pin, Scene};
+use tetrasim::metrics::{pass_table, short_run_warnings, table, write_json};
+use tetrasim::params::{Method, SimParams, Solver as SolverKind};
+use tetrasim::sim::DEFAULT_MESH;
 
 /// `--method` values: one method or `all`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -44,7 +48,7 @@ impl MethodChoice {
 /// Arguments of `tetrasim run`. Every physics value defaults to the preset's.
 #[derive(Debug, clap::Args)]
 pub struct RunArgs {
-    /// A scene file (TOML, see `tetrasim::scene`): objects, colliders, solver and outputs.
+    /// A scene file (TOML, documented in src/scene.rs): objects, colliders, solver and outputs.
     /// The mesh, physics and output flags below must not be given with it.
     #[arg(long, conflicts_with_all = scene_conflicts())]
     pub scene: Option<PathBuf>,
@@ -62,25 +66,13 @@ pub struct RunArgs {
     /// (GPU).
     #[arg(long)]
     pub backend: Option<String>,
-    /// GPU for `--backend vulkan`: an index or a name fragment from `tetrasim info`
-    /// (default: discrete > integrated > virtual > CPU).
-    #[arg(long)]
-    pub device: Option<String>,
-    /// GPU workgroup size (a power of two; default from the device limits, at most 1024).
-    #[arg(long)]
-    pub workgroup_size: Option<u32>,
-    /// Turn on the Vulkan validation layer and print its messages.
-    #[arg(long)]
-    pub validation: bool,
-    /// Frames the GPU may have in flight (1 to 8; default 2: the next frame runs while the
-    /// last one's volume is read); 1 waits for every frame.
-    #[arg(long, value_name = "N")]
-    pub frames_in_flight: Option<u32>,
+    /// GPU options (`--backend vulkan` only).
+    #[command(flatten)]
+    pub gpu: GpuArgs,
     /// Parameter preset; the flags below override its values.
     #[arg(long, value_enum, default_value = "seed")]
     pub preset: PresetName,
-    /// Time stepping and solver (a scene's `[solver]`; `--atomics` acts only with
-    /// `--backend vulkan`).
+    /// Time stepping and solver (a scene's `[solver]`).
     #[command(flatten)]
     pub solver: SolverOverrides,
     /// Spring constants and mass (a scene object's `material`).
@@ -220,9 +212,9 @@ impl RunArgs {
 
     /// Refuses solver flags the chosen solver does not use (`--groups` without
     /// Gauss-Seidel, `--rho` without Chebyshev) instead of ignoring them.
-    fn check_solver_flags(&self, params: &SimParams) -> crate::Result<()> {
+    fn check_solver_flags(&self, params: &SimParams) -> tetrasim::Result<()> {
         match self.solver.misplaced(params.solver) {
-            Some((flag, needs)) => Err(crate::Error::param(
+            Some((flag, needs)) => Err(tetrasim::Error::param(
                 flag,
                 format!(
                     "acts only with --solver {needs}; the solver is {}",
@@ -249,7 +241,7 @@ impl RunArgs {
                 self.check_solver_flags(&params)?;
                 let scene = self.scene();
                 if scene.frames() == 0 {
-                    return Err(crate::Error::param("frames", "must be at least 1").into());
+                    return Err(tetrasim::Error::param("frames", "must be at least 1").into());
                 }
                 scene.output.check(|name| name.to_string(), "--out-dir")?;
                 scene.validate()?;
@@ -282,23 +274,16 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
     let (scene, methods) = args.scene_and_methods()?;
     let backend = args.backend.as_deref().unwrap_or("cpu");
     if args.scene.is_some() && args.every.is_some() {
-        return Err(crate::Error::param(
+        return Err(tetrasim::Error::param(
             "every",
             "with --scene the period of mesh files is the scene's `output.every`",
         )
         .into());
     }
     if backend != "vulkan" {
-        let gpu_only = [
-            ("device", args.device.is_some()),
-            ("atomics", args.solver.atomics.is_some()),
-            ("workgroup-size", args.workgroup_size.is_some()),
-            ("validation", args.validation),
-            ("frames-in-flight", args.frames_in_flight.is_some()),
-        ];
-        if let Some((flag, _)) = gpu_only.iter().find(|(_, given)| *given) {
-            return Err(crate::Error::param(
-                *flag,
+        if let Some(flag) = args.gpu.first_given() {
+            return Err(tetrasim::Error::param(
+                flag,
                 format!("acts only with --backend vulkan; the backend is {backend}"),
             )
             .into());
@@ -306,7 +291,7 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
     }
     if args.scene.is_none() && args.every.is_some() && args.out_dir.is_none() {
         return Err(
-            crate::Error::param("every", "acts only with --out-dir, and none is given").into(),
+            tetrasim::Error::param("every", "acts only with --out-dir, and none is given").into(),
         );
     }
     scene.output.prepare()?;
@@ -332,7 +317,7 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
         params.iterations,
         solver_label(params)
     );
-    let estimate = crate::stability::estimate(model, params);
+    let estimate = tetrasim::stability::estimate(model, params);
     if estimate.exceeded_by(params.dt) {
         eprintln!(
             "warning: dt exceeds the explicit stability bound of the springs: {}; the run will \
@@ -349,19 +334,10 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
         progress: !args.quiet,
         output,
         gpu: EngineOptions {
-            device: args
-                .device
-                .as_deref()
-                .unwrap_or("auto")
-                .parse()
-                .unwrap_or_default(),
-            validation: args.validation,
-            workgroup_size: args.workgroup_size,
             // A scene without a metrics file measures the volume only after the last frame
             // (no per-frame readback); the flags' run always prints its per-frame table.
             volume_on_demand: args.scene.is_some() && out.json.is_none(),
-            untimed: false,
-            frames_in_flight: args.frames_in_flight,
+            ..args.gpu.engine_options()
         },
     };
     let records = run_methods(model, params, &methods, &options)?;
@@ -393,12 +369,13 @@ mod tests {
     #[test]
     fn a_scene_refuses_every_parameter_flag() {
         assert!(parse(&[]).is_ok());
+        // The GPU flags are not parameters: they choose how a scene runs.
+        assert!(parse(&["--atomics", "ext", "--device", "0"]).is_ok());
         for flag in [
             &["--dt", "0.1"][..],
             &["--frames", "3"],
             &["--global-volume"],
             &["--epsilon", "0"],
-            &["--atomics", "ext"],
             &["--ks", "1"],
             &["--node-mass", "1"],
             &["--friction", "0.5"],

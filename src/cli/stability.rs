@@ -7,10 +7,11 @@ use std::path::PathBuf;
 
 use crate::bench::stability_map::plot::heat_map;
 use crate::bench::stability_map::sweep::{csv, largest_stable_dt, sweep, table, SweepConfig};
-use crate::metrics::write_json_value;
-use crate::params::SimParams;
 use crate::preset::Preset;
-use crate::runner::{build_model, load_mesh, write_atomically};
+use crate::runner::write_atomically;
+use tetrasim::metrics::write_json_value;
+use tetrasim::params::SimParams;
+use tetrasim::sim::{build_model, load_mesh};
 
 /// The paper's stiffness [N/m].
 const PAPER_KS: f64 = 5000.0;

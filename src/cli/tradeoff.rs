@@ -4,16 +4,17 @@ use std::path::PathBuf;
 
 use anyhow::Context as _;
 
-use super::bench::{choose_backends, GpuArgs};
+use super::bench::choose_backends;
+use super::gpu_args::GpuArgs;
 use crate::bench::report::{equal_cost_pairs, equal_work_pairs, front_table, verdict};
 use crate::bench::scaling::{self, ScalingOptions, DEFAULT_SIZES};
 use crate::bench::tradeoff_files::write_outputs;
 use crate::bench::{
     run_tradeoff, Backends, ReferenceSettings, SimulateOptions, SweepSpec, TradeoffOptions,
 };
-use crate::params::Method;
 use crate::preset::Preset;
-use crate::runner::{build_model, load_mesh};
+use tetrasim::params::Method;
+use tetrasim::sim::{build_model, load_mesh};
 
 /// Arguments of `tetrasim tradeoff`.
 #[derive(Debug, clap::Args)]
@@ -71,6 +72,7 @@ pub struct TradeoffArgs {
     /// A small sweep (iterations 1,5,20; substeps 1,2; omega 1.5) over 200 frames.
     #[arg(long)]
     pub quick: bool,
+    /// GPU options of the `vulkan` rows.
     #[command(flatten)]
     pub gpu: GpuArgs,
 }
@@ -152,7 +154,7 @@ pub fn execute_tradeoff(args: TradeoffArgs) -> anyhow::Result<()> {
         args.ref_substeps,
         args.ref_backend
     );
-    let mut backends = Backends::new(args.gpu.options());
+    let mut backends = Backends::new(args.gpu.engine_options());
     let mut done = 0;
     let records = run_tradeoff(
         &model,
@@ -223,6 +225,7 @@ pub struct ScalingArgs {
     /// Do not run: read an earlier scaling.json and write the CSV and plot again into --out-dir.
     #[arg(long)]
     pub from_json: Option<PathBuf>,
+    /// GPU options of the `vulkan` rows.
     #[command(flatten)]
     pub gpu: GpuArgs,
 }
@@ -260,7 +263,7 @@ pub fn execute_scaling(args: ScalingArgs) -> anyhow::Result<()> {
             sample_every: None,
         },
     };
-    let mut backends = Backends::new(args.gpu.options());
+    let mut backends = Backends::new(args.gpu.engine_options());
     let records = scaling::run_scaling(
         &preset.params,
         preset.placement,

@@ -1,16 +1,10 @@
-//! The frame loop shared by every backend: build the model, create the backend by name,
-//! step frames, sample the volume after each, time the steps, write surfaces on request, and
-//! return a [`RunRecord`]. The command line and the tests both run experiments through here.
+//! The command line's frame loop: create the backend by name, step frames through the
+//! engine's driver ([`tetrasim::sim::Simulation`]), sample the volume, time the steps, show
+//! progress, write surfaces on request, and return a [`RunRecord`]. `run`, `bench`, `render`
+//! and the tests run experiments through here.
 
-pub mod bundled;
-mod driver;
-mod factory;
-mod load;
 mod output;
 
-pub use driver::{Advance, Series, Simulation};
-pub use factory::{create_backend, create_backend_with, BackendFactory, BACKENDS};
-pub use load::{load_mesh, LoadedMesh, DEFAULT_MESH, DEFAULT_TARGET_TETS};
 pub use output::{
     create_dir, prepare_output_file, write_atomically, FrameOutput, OutputFormat, OutputUnits,
 };
@@ -19,17 +13,18 @@ use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::engine::EngineOptions;
-use crate::error::Result;
-use crate::mesh::TetMesh;
-use crate::metrics::{RecordParams, RunRecord};
-use crate::model::{Model, ModelBuilder};
-use crate::params::{Method, Placement, SimParams};
+use tetrasim::backend::vulkan::EngineOptions;
+use tetrasim::error::Result;
+use tetrasim::metrics::{RecordParams, RunRecord};
+use tetrasim::model::Model;
+use tetrasim::params::{Method, SimParams};
+use tetrasim::problem::Problem;
+use tetrasim::sim::{BackendFactory, Simulation};
 
 /// How to run one experiment, besides the model and the physics.
 #[derive(Debug, Clone)]
 pub struct RunOptions {
-    /// Backend name (see [`BACKENDS`]).
+    /// Backend name (see [`tetrasim::sim::BACKENDS`]).
     pub backend: String,
     /// Frames to simulate.
     pub frames: u32,
@@ -43,20 +38,19 @@ pub struct RunOptions {
     pub gpu: EngineOptions,
 }
 
-/// Builds the model of `mesh` with the placement and the mass mode of `params`.
-pub fn build_model(mesh: &TetMesh, params: &SimParams, placement: Placement) -> Result<Model> {
-    ModelBuilder::new(mesh)
-        .placement(placement)
-        .mass(params.mass)
-        .build()
-}
-
 /// Runs `params.method` on `model` for `options.frames` frames. A run that goes non-finite
 /// stops and comes back with `diverged: true` (not as an error); other failures are errors.
 pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<RunRecord> {
     let started = Instant::now();
-    let mut backend = create_backend_with(&options.backend, model, params, &options.gpu)?;
-    let mut record = empty_record(model, params, options, backend.name());
+    let problem = Problem::new(model, params)?;
+    let mut backend =
+        BackendFactory::new(options.gpu.clone()).create(&options.backend, &problem)?;
+    let mut record = new_record(
+        &problem,
+        &options.mesh_label,
+        options.frames,
+        backend.name(),
+    );
     let bar = progress_bar(options, params.method);
     let frame_time = params.frame_time();
     if let Some(out) = &options.output {
@@ -109,7 +103,7 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
         }
         record.device = Some(gpu.device);
         record.atomics = Some(gpu.atomics);
-        record.passes = Some(gpu.passes.into_iter().collect());
+        record.passes = Some(gpu.passes);
     }
     Ok(record)
 }
@@ -136,24 +130,15 @@ pub fn run_methods(
         .collect()
 }
 
-fn empty_record(
-    model: &Model,
-    params: &SimParams,
-    options: &RunOptions,
-    backend: &str,
-) -> RunRecord {
-    new_record(model, params, &options.mesh_label, options.frames, backend)
-}
-
-/// A record of `frames` frames of `model` under `params` on `backend`, before any frame
-/// ran (also what `bench` fills in).
+/// A record of `frames` frames of a prepared problem on `backend`, before any frame ran
+/// (also what `bench` fills in).
 pub(crate) fn new_record(
-    model: &Model,
-    params: &SimParams,
+    problem: &Problem,
     mesh_label: &str,
     frames: u32,
     backend: &str,
 ) -> RunRecord {
+    let (model, params) = (&problem.model, &problem.params);
     RunRecord {
         method: params.method.name().to_string(),
         backend: backend.to_string(),
@@ -163,7 +148,7 @@ pub(crate) fn new_record(
         springs: model.springs.len(),
         frames,
         frames_run: 0,
-        params: RecordParams::of(model, params),
+        params: RecordParams::of(problem),
         time_s: Vec::with_capacity(frames as usize),
         contact_time_s: if params.floor {
             model.floor_contact_time(params.gravity)

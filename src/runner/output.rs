@@ -1,6 +1,6 @@
 //! Files written during a run: the deformed mesh every few frames, for ParaView, MeshLab or
 //! any viewer that reads a mesh sequence. Writing goes through the mesh writers of
-//! [`crate::mesh::io`].
+//! [`tetrasim::mesh::io`].
 //!
 //! | `--format` | files | content |
 //! | --- | --- | --- |
@@ -20,13 +20,13 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
-use crate::backend::State;
-use crate::error::{Error, Result};
-use crate::mesh::io::{self, Field, FieldValues, Fields};
-use crate::mesh::{SurfaceMesh, TetMesh};
-use crate::model::{Model, Similarity};
-use crate::params::Method;
-use crate::physics::tet_volume;
+use tetrasim::backend::State;
+use tetrasim::error::{Error, Result};
+use tetrasim::mesh::io::{self, Field, FieldValues, Fields};
+use tetrasim::mesh::{SurfaceMesh, TetMesh};
+use tetrasim::model::{Model, Similarity};
+use tetrasim::params::Method;
+use tetrasim::physics::tet_volume;
 
 /// What to write.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum, serde::Deserialize)]

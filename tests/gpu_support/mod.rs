@@ -8,7 +8,7 @@
 mod skip;
 
 use glam::DVec3;
-use tetrasim::engine::{EngineOptions, VulkanBackend};
+use tetrasim::backend::vulkan::{EngineOptions, VulkanBackend};
 use tetrasim::mesh::grid::box_tets;
 use tetrasim::params::{Placement, SimParams};
 use tetrasim::{Model, ModelBuilder};
@@ -40,19 +40,14 @@ pub fn box_model(cells: [usize; 3], h: f64) -> Model {
 
 /// A backend with the validation layer on; panics on any error.
 pub fn validated(model: &Model, params: &SimParams) -> VulkanBackend {
-    validated_with(model, params, None)
+    validated_with(model, params, EngineOptions::default())
 }
 
-/// [`validated`] with a given workgroup size (`None`: the device default).
-pub fn validated_with(
-    model: &Model,
-    params: &SimParams,
-    workgroup_size: Option<u32>,
-) -> VulkanBackend {
+/// [`validated`] with other engine options (workgroup size, atomics); validation is on.
+pub fn validated_with(model: &Model, params: &SimParams, options: EngineOptions) -> VulkanBackend {
     let options = EngineOptions {
         validation: true,
-        workgroup_size,
-        ..Default::default()
+        ..options
     };
     VulkanBackend::new(model, params, &options).unwrap()
 }
@@ -76,7 +71,7 @@ pub fn for_each_backend(
     params: &SimParams,
     mut f: impl FnMut(&str, &mut dyn tetrasim::Backend),
 ) {
-    use tetrasim::cpu::{ParallelBackend, ReferenceBackend};
+    use tetrasim::backend::cpu::{ParallelBackend, ReferenceBackend};
     f(
         "cpu-ref",
         &mut ReferenceBackend::new(model, params).unwrap(),

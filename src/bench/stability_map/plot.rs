@@ -14,7 +14,7 @@ use plotters::prelude::*;
 use plotters::style::FontStyle;
 
 use super::sweep::Cell;
-use crate::error::{Error, Result};
+use tetrasim::error::{Error, Result};
 
 static FONT: Once = Once::new();
 

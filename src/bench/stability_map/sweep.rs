@@ -6,10 +6,10 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
-use crate::error::Result;
-use crate::model::Model;
-use crate::params::{Method, SimParams, SpringKind};
 use crate::runner::{run, RunOptions};
+use tetrasim::error::Result;
+use tetrasim::model::Model;
+use tetrasim::params::{Method, SimParams, SpringKind};
 
 /// What to sweep.
 #[derive(Debug, Clone)]
@@ -143,7 +143,7 @@ pub fn sweep(
                     diverged: r.diverged,
                     max_volume_error_pct: error,
                     final_volume_pct: r.volume_pct.last().copied().unwrap_or(0.0),
-                    dt_estimate: crate::stability::estimate(model, &params).dt_max,
+                    dt_estimate: tetrasim::stability::estimate(model, &params).dt_max,
                 };
                 progress(&cell);
                 cells.push(cell);

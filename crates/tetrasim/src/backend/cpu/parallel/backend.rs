@@ -1,0 +1,525 @@
+//! The `cpu` backend itself: its state in flat single-precision arrays, the step (forces,
+//! constraint sweeps, floor, integration) and the [`Backend`] interface. The sweeps' data
+//! and group solve are the parent module's.
+
+use super::*;
+
+/// The fast CPU solver (`cpu`).
+#[derive(Debug, Clone)]
+pub struct ParallelBackend {
+    method: Method,
+    /// Whether the springs act as explicit forces (else they are solved in the sweeps).
+    explicit_springs: bool,
+    substeps: u32,
+    iterations: u32,
+    floor: bool,
+    k: Coefficients,
+    mass: Vec<f32>,
+    inv_mass: Vec<f32>,
+    springs: Vec<[u32; 2]>,
+    rest_length: Vec<f32>,
+    /// Per spring: stiffness [N/m] and damping [N s/m] ([`crate::model::ElementMaterial`]).
+    spring_stiffness: Vec<f32>,
+    spring_damping: Vec<f32>,
+    /// Per spring, with implicit springs: the softness of its compliant constraint
+    /// ([`spring_softness`], computed in f64).
+    spring_softness: Vec<f32>,
+    tets: Vec<[u32; 4]>,
+    rest_volume: Vec<f32>,
+    /// Per tet, for the volume method: the softness of its volume constraint
+    /// ([`volume_softness`]; 0: hard).
+    volume_softness: Vec<f32>,
+    /// node -> `2 * spring + end` (end 0 is `springs[s][0]`).
+    node_spring_ends: Csr,
+    /// The constraint sweeps of an iteration, in order (empty for explicit springs-only
+    /// methods).
+    sweeps: Vec<Sweep>,
+    /// The global volume constraints, when solved.
+    global: Option<Global>,
+    /// The Chebyshev semi-iteration (solver `chebyshev`).
+    chebyshev: Option<Chebyshev>,
+    /// The current constraint iteration of the step (0-based).
+    iteration: usize,
+    /// The floor's normal force on each node in the current step [N] (`>= 0`).
+    floor_force: Vec<f32>,
+    x: Vec<Vec3A>,
+    v: Vec<Vec3A>,
+    /// Total force of the current step [N].
+    f: Vec<Vec3A>,
+    /// Per explicit spring: force on the spring's end 0 (end 1 gets its negation); for
+    /// warm-started implicit springs, the warm start's force.
+    spring_out: Vec<Vec3A>,
+    /// With warm-started implicit springs: per spring, its multiplier at the end of the
+    /// last step (empty otherwise).
+    spring_warm: Vec<f32>,
+    /// Per spring or distance constraint, in group order: force on the spring's end 0
+    /// (end 1 gets its negation).
+    pair_out: Vec<Vec3A>,
+    /// Per volume constraint, in group order: force on each corner.
+    tet_out: Vec<[Vec3A; 4]>,
+    frame: u32,
+    /// Divergence speed limit [m/s] ([`crate::stability::speed_limit`]).
+    speed_limit: f32,
+    /// The likely cause printed on divergence.
+    likely: String,
+}
+
+impl ParallelBackend {
+    /// A solver at the model's initial positions and velocities. Fails on invalid parameters.
+    pub fn new(model: &Model, params: &SimParams) -> Result<Self> {
+        Ok(Self::from_problem(&Problem::new(model, params)?))
+    }
+
+    /// A solver for a prepared problem (rounded to f32), at its model's initial positions
+    /// and velocities.
+    pub fn from_problem(problem: &Problem) -> Self {
+        let (model, params) = (&problem.model, &problem.params);
+        let n = model.node_count();
+        let ns = &model.node_springs;
+        let mut ends = Csr {
+            offsets: ns.offsets.clone(),
+            items: Vec::with_capacity(ns.items.len()),
+        };
+        for i in 0..n {
+            for &s in ns.row(i) {
+                let end = u32::from(model.springs[s as usize][0] as usize != i);
+                ends.items.push(2 * s + end);
+            }
+        }
+        let to32 = |v: &[f64]| v.iter().map(|&a| a as f32).collect::<Vec<f32>>();
+        let material = &problem.material;
+        let sweeps: Vec<Sweep> = (problem.sweeps.iter().cloned())
+            .map(|sweep| Sweep::new(model, params, sweep))
+            .collect();
+        let has = |kind: ConstraintKind| sweeps.iter().any(|s| s.kind == kind);
+        let explicit_springs = params.springs == SpringKind::Explicit;
+        let dt = params.dt;
+        ParallelBackend {
+            method: params.method,
+            explicit_springs,
+            substeps: params.substeps,
+            iterations: params.iterations,
+            floor: params.floor,
+            k: Coefficients {
+                dt: params.dt as f32,
+                omega: params.omega as f32,
+                friction: params.friction as f32,
+                epsilon: params.constraint_epsilon as f32,
+                gravity: Vec3A::new(0.0, -params.gravity as f32, 0.0),
+            },
+            mass: to32(&model.mass),
+            inv_mass: to32(&model.inv_mass),
+            springs: model.springs.clone(),
+            rest_length: to32(&model.rest_length),
+            spring_stiffness: to32(&material.spring_stiffness),
+            spring_damping: to32(&material.spring_damping),
+            spring_softness: if has(ConstraintKind::Spring) {
+                (material.spring_stiffness.iter())
+                    .zip(&material.spring_damping)
+                    .map(|(&k, &kd)| spring_softness(k, kd, dt) as f32)
+                    .collect()
+            } else {
+                Vec::new()
+            },
+            tets: model.tets.clone(),
+            rest_volume: to32(&model.rest_volume),
+            volume_softness: if has(ConstraintKind::Volume) {
+                (material.volume_compliance.iter())
+                    .map(|&alpha| volume_softness(alpha, dt) as f32)
+                    .collect()
+            } else {
+                Vec::new()
+            },
+            node_spring_ends: ends,
+            global: (problem.global.clone()).map(|data| Global::new(model, data)),
+            chebyshev: (params.solver == Solver::Chebyshev).then(|| Chebyshev {
+                weights: chebyshev_weights(params.rho, params.iterations)
+                    .into_iter()
+                    .map(|w| w as f32)
+                    .collect(),
+                before_f: vec![Vec3A::ZERO; n],
+                before_n: vec![0.0; n],
+            }),
+            iteration: 0,
+            floor_force: vec![0.0; n],
+            x: model
+                .positions
+                .iter()
+                .map(|&p| Vec3A::from_dvec3(p))
+                .collect(),
+            v: model
+                .velocities
+                .iter()
+                .map(|&v| Vec3A::from_dvec3(v))
+                .collect(),
+            f: vec![Vec3A::ZERO; n],
+            spring_out: if (explicit_springs || params.warm_start)
+                && params.method != Method::MssNode
+            {
+                vec![Vec3A::ZERO; model.springs.len()]
+            } else {
+                Vec::new()
+            },
+            spring_warm: if params.warm_start {
+                vec![0.0; model.springs.len()]
+            } else {
+                Vec::new()
+            },
+            pair_out: if has(ConstraintKind::Spring) || has(ConstraintKind::Distance) {
+                vec![Vec3A::ZERO; model.springs.len()]
+            } else {
+                Vec::new()
+            },
+            tet_out: if has(ConstraintKind::Volume) {
+                vec![[Vec3A::ZERO; 4]; model.tets.len()]
+            } else {
+                Vec::new()
+            },
+            sweeps,
+            frame: 0,
+            speed_limit: problem.speed_limit as f32,
+            likely: problem.likely_cause.clone(),
+        }
+    }
+
+    /// Replaces positions and velocities (rounded to f32).
+    pub fn set_state(&mut self, state: &State) -> Result<()> {
+        check_state(self.x.len(), state)?;
+        self.x = state
+            .positions
+            .iter()
+            .map(|&p| Vec3A::from_dvec3(p))
+            .collect();
+        self.v = state
+            .velocities
+            .iter()
+            .map(|&p| Vec3A::from_dvec3(p))
+            .collect();
+        self.spring_warm.fill(0.0);
+        Ok(())
+    }
+
+    /// Pass `springs`: `F = m g + spring forces`, each spring with its own stiffness and
+    /// damping (`F = m g` alone with implicit springs, which the sweeps solve, plus their
+    /// last multipliers' forces `-lambda grad C` when warm-started). `mss-node` evaluates
+    /// each spring at both ends inside one node-centric gather; every other method
+    /// evaluates each spring once and gathers the results.
+    fn spring_pass(&mut self) {
+        let (x, v, k) = (&self.x, &self.v, self.k);
+        let (springs, rest, mass) = (&self.springs, &self.rest_length, &self.mass);
+        let (ks, kd) = (&self.spring_stiffness, &self.spring_damping);
+        let ends = &self.node_spring_ends;
+        let warm = &self.spring_warm;
+        if !self.explicit_springs && !warm.is_empty() {
+            self.spring_out
+                .par_iter_mut()
+                .enumerate()
+                .with_min_len(CHUNK)
+                .for_each(|(s, out)| {
+                    let [i, j] = springs[s].map(|a| a as usize);
+                    let (_, grad) = spring_constraint(x[i], x[j], rest[s]);
+                    *out = grad[0] * -warm[s];
+                });
+        } else if !self.explicit_springs {
+            self.f
+                .par_iter_mut()
+                .zip(mass.par_iter())
+                .with_min_len(CHUNK)
+                .for_each(|(f, &m)| *f = k.gravity * m);
+            return;
+        }
+        if self.method == Method::MssNode {
+            self.f
+                .par_iter_mut()
+                .enumerate()
+                .with_min_len(CHUNK)
+                .for_each(|(i, f)| {
+                    let mut sum = k.gravity * mass[i];
+                    for &e in ends.row(i) {
+                        let s = (e >> 1) as usize;
+                        let j = springs[s][1 - (e & 1) as usize] as usize;
+                        sum += spring_force(x[i], x[j], v[i], v[j], rest[s], ks[s], kd[s]);
+                    }
+                    *f = sum;
+                });
+            return;
+        }
+        if self.explicit_springs {
+            self.spring_out
+                .par_iter_mut()
+                .enumerate()
+                .with_min_len(CHUNK)
+                .for_each(|(s, out)| {
+                    let [i, j] = springs[s].map(|a| a as usize);
+                    *out = spring_force(x[i], x[j], v[i], v[j], rest[s], ks[s], kd[s]);
+                });
+        }
+        let out = &self.spring_out;
+        self.f
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(CHUNK)
+            .for_each(|(i, f)| {
+                *f = k.gravity * mass[i] + gather(out)(ends.row(i));
+            });
+    }
+
+    /// One Jacobi sweep of group `g` of `sweep` (each constraint's multiplier against the
+    /// current `F`, [`solve_group`]), then the per-node gather of the group's results into
+    /// `F` and the floor's solve.
+    fn sweep_pass(&mut self, sweep: &mut Sweep, g: usize) {
+        let n = self.x.len();
+        let on = Nodes {
+            x: &self.x,
+            v: &self.v,
+            f: &self.f,
+            w: &self.inv_mass,
+            a_scale: &sweep.a_scale[g * n..(g + 1) * n],
+            k: self.k,
+        };
+        let range = sweep.range(g);
+        let members = &sweep.members.items[range.clone()];
+        let so_far = &mut sweep.multipliers[range.clone()];
+        let (rest, tets_rest) = (&self.rest_length, &self.rest_volume);
+        match sweep.kind {
+            ConstraintKind::Spring => {
+                let (softness, damping) = (&self.spring_softness, &self.spring_damping);
+                let out = &mut self.pair_out[range];
+                solve_group(out, so_far, members, &self.springs, on, |s, [xi, xj]| {
+                    let (c, grad) = spring_constraint(xi, xj, rest[s]);
+                    (c, grad, softness[s], damping[s])
+                });
+            }
+            ConstraintKind::Distance => {
+                let out = &mut self.pair_out[range];
+                solve_group(out, so_far, members, &self.springs, on, |s, [xi, xj]| {
+                    let (c, grad) = distance_constraint(xi, xj, rest[s]);
+                    (c, grad, 0.0, 0.0)
+                });
+            }
+            ConstraintKind::Volume => {
+                let softness = &self.volume_softness;
+                let out = &mut self.tet_out[range];
+                solve_group(out, so_far, members, &self.tets, on, |t, p| {
+                    let (c, grad) = volume_constraint(p, tets_rest[t]);
+                    (c, grad, softness[t], 0.0)
+                });
+            }
+        }
+        self.apply_group(sweep, g);
+    }
+
+    /// Per node `i`: `F += apply * (i's results in group g of sweep)` (springs' or tets'),
+    /// the Chebyshev extrapolation when it is on, then the floor's solve.
+    fn apply_group(&mut self, sweep: &Sweep, g: usize) {
+        let ParallelBackend {
+            f,
+            floor_force,
+            x,
+            v,
+            inv_mass,
+            floor,
+            k,
+            chebyshev,
+            iteration,
+            pair_out,
+            tet_out,
+            ..
+        } = self;
+        let contact = floor.then_some((&x[..], &v[..], &inv_mass[..], k.dt));
+        let chebyshev = chebyshev.as_mut().map(|c| c.state(*iteration));
+        match sweep.kind {
+            ConstraintKind::Volume => apply_results(
+                f,
+                floor_force,
+                contact,
+                chebyshev,
+                sweep,
+                g,
+                gather(tet_out),
+            ),
+            _ => apply_results(
+                f,
+                floor_force,
+                contact,
+                chebyshev,
+                sweep,
+                g,
+                gather(pair_out),
+            ),
+        }
+    }
+
+    /// Pass `integrate`: the floor's final solve, symplectic Euler with floor friction.
+    /// Returns the first node that is non-finite or faster than the speed limit.
+    fn integrate_pass(&mut self) -> Option<(usize, Bad)> {
+        let (w, k) = (&self.inv_mass, self.k);
+        let limit2 = self.speed_limit * self.speed_limit;
+        let (on, dt) = (self.floor, self.k.dt);
+        self.x
+            .par_iter_mut()
+            .zip(self.v.par_iter_mut())
+            .zip(self.f.par_iter_mut().zip(self.floor_force.par_iter_mut()))
+            .enumerate()
+            .with_min_len(CHUNK)
+            .filter_map(|(i, ((x, v), (f, n)))| {
+                if on {
+                    (*f, *n) = floor_solve(*f, *n, x.y, v.y, w[i], dt);
+                }
+                let (x1, v1) = integrate_node(*x, *v, *f, w[i], k.dt, *n > 0.0, k.friction);
+                (*x, *v) = (x1, v1);
+                *n = 0.0;
+                if !(x1.is_finite() && v1.is_finite()) {
+                    Some((i, Bad::NonFinite))
+                } else if v1.length_squared() > limit2 {
+                    Some((i, Bad::TooFast(f64::from(v1.length()))))
+                } else {
+                    None
+                }
+            })
+            .min_by_key(|(i, _)| *i)
+    }
+
+    /// One time step (physics.md steps 1-3).
+    fn step(&mut self) -> Option<(usize, Bad)> {
+        self.spring_pass();
+        let mut global = self.global.take();
+        if let Some(global) = &mut global {
+            global.prepare(&self.x);
+        }
+        if let Some(c) = &mut self.chebyshev {
+            c.before_f.clone_from(&self.f);
+            c.before_n.clone_from(&self.floor_force);
+        }
+        if !self.sweeps.is_empty() {
+            let mut sweeps = std::mem::take(&mut self.sweeps);
+            for sweep in &mut sweeps {
+                match (sweep.kind, self.spring_warm.is_empty()) {
+                    (ConstraintKind::Spring, false) => {
+                        let warm = &self.spring_warm;
+                        for (m, &s) in sweep.multipliers.iter_mut().zip(&sweep.members.items) {
+                            *m = warm[s as usize];
+                        }
+                    }
+                    _ => sweep.multipliers.fill(0.0),
+                }
+            }
+            for iteration in 0..self.iterations as usize {
+                self.iteration = iteration;
+                for sweep in &mut sweeps {
+                    for g in 0..sweep.len() {
+                        self.sweep_pass(sweep, g);
+                    }
+                }
+                if let Some(global) = &global {
+                    self.global_pass(global);
+                }
+            }
+            if !self.spring_warm.is_empty() {
+                for sweep in sweeps.iter().filter(|s| s.kind == ConstraintKind::Spring) {
+                    for (&m, &s) in sweep.multipliers.iter().zip(&sweep.members.items) {
+                        self.spring_warm[s as usize] = m;
+                    }
+                }
+            }
+            self.sweeps = sweeps;
+        }
+        self.global = global;
+        self.integrate_pass()
+    }
+
+    /// One iteration's global volume constraints against the current `F`, then the floor's
+    /// solve of the surface nodes.
+    fn global_pass(&mut self, global: &Global) {
+        let (v, w, dt) = (&self.v, &self.inv_mass, self.k.dt);
+        for (o, object) in global.data.objects.iter().enumerate() {
+            let range =
+                object.node_first as usize..(object.node_first + object.node_count) as usize;
+            let nodes = &global.data.nodes[range.clone()];
+            let grad = &global.grad[range];
+            let f = &self.f;
+            // Fixed chunks summed in order: the same result on every run.
+            let partial: Vec<f32> = nodes
+                .par_chunks(CHUNK)
+                .zip(grad.par_chunks(CHUNK))
+                .map(|(nodes, grad)| {
+                    let (mut a, mut b) = (0.0f32, 0.0f32);
+                    for (&i, &g) in nodes.iter().zip(grad) {
+                        let i = i as usize;
+                        implicit_accumulate(&mut a, &mut b, g, w[i], 1.0, v[i], f[i], dt);
+                    }
+                    b
+                })
+                .collect();
+            let b: f32 = partial.iter().sum();
+            let (c, a) = global.c_and_a[o];
+            let lambda = implicit_multiplier(c, a, b, dt, self.k.epsilon).unwrap_or(0.0);
+            for (&i, &g) in nodes.iter().zip(grad) {
+                let i = i as usize;
+                self.f[i] -= g * lambda;
+                if self.floor {
+                    let n = &mut self.floor_force[i];
+                    (self.f[i], *n) = floor_solve(self.f[i], *n, self.x[i].y, v[i].y, w[i], dt);
+                }
+            }
+        }
+    }
+}
+
+impl Backend for ParallelBackend {
+    fn name(&self) -> &'static str {
+        "cpu"
+    }
+
+    fn step_frame(&mut self) -> Result<()> {
+        for substep in 0..self.substeps {
+            if let Some((node, bad)) = self.step() {
+                return Err(diverged(
+                    self.frame,
+                    substep,
+                    self.method,
+                    node as u32,
+                    bad,
+                    f64::from(self.speed_limit),
+                    &self.likely,
+                ));
+            }
+        }
+        self.frame += 1;
+        Ok(())
+    }
+
+    fn volume(&mut self) -> Result<VolumeSample> {
+        let x = &self.x;
+        let (volume, inverted, local_error) = self
+            .tets
+            .par_iter()
+            .zip(self.rest_volume.par_iter())
+            .with_min_len(CHUNK)
+            .map(|(t, &rest)| {
+                let v = tet_volume(t.map(|i| x[i as usize]));
+                (
+                    f64::from(v),
+                    u32::from(v <= 0.0),
+                    f64::from((v - rest).abs()),
+                )
+            })
+            .reduce(|| (0.0, 0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2));
+        Ok(VolumeSample {
+            volume,
+            inverted,
+            local_error,
+        })
+    }
+
+    fn state(&mut self) -> Result<State> {
+        Ok(State {
+            positions: self.x.iter().map(|p| p.to_dvec3()).collect(),
+            velocities: self.v.iter().map(|p| p.to_dvec3()).collect(),
+        })
+    }
+
+    fn set_state(&mut self, state: &State) -> Result<()> {
+        ParallelBackend::set_state(self, state)
+    }
+}

@@ -1,0 +1,346 @@
+//! Backend `cpu`: single precision on every core (rayon), written to be a fair, strong CPU
+//! competitor for the Vulkan engine. No locks and no atomics: each pass computes per-element
+//! results in parallel (one spring, one tet), then a per-node pass gathers them through CSR
+//! adjacency (node -> spring ends, node -> tet corners). Data is packed in flat arrays of
+//! 16-byte SIMD vectors ([`Vec3A`]); parallel loops run in chunks of at least [`CHUNK`].
+//! Every constraint sweep (implicit springs, distance, hard or compliant volume) runs through
+//! one generic group solve ([`solve_group`]) and one gather.
+
+use glam::Vec3A;
+use rayon::prelude::*;
+
+use super::{check_state, diverged, Bad};
+use crate::backend::{Backend, State, VolumeSample};
+use crate::error::Result;
+use crate::model::{ConstraintKind, Csr, GlobalVolume, Model};
+use crate::params::{chebyshev_weights, Method, SimParams, Solver, SpringKind};
+use crate::physics::{
+    compliant_multiplier, distance_constraint, face_volume, floor_solve, implicit_accumulate,
+    implicit_multiplier, integrate_node, spring_constraint, spring_force, spring_softness,
+    tet_volume, volume_constraint, volume_softness, Vector,
+};
+use crate::problem::Problem;
+
+mod backend;
+
+pub use backend::ParallelBackend;
+
+/// Smallest number of elements one parallel task handles.
+pub const CHUNK: usize = 1024;
+
+/// The parameters of a step, in single precision.
+#[derive(Debug, Clone, Copy)]
+struct Coefficients {
+    dt: f32,
+    omega: f32,
+    friction: f32,
+    epsilon: f32,
+    gravity: Vec3A,
+}
+
+/// One constraint sweep of an iteration ([`Model::constraint_sweeps`]): its constraints in
+/// the groups solved one after another, with everything they read, in single precision.
+#[derive(Debug, Clone)]
+struct Sweep {
+    kind: ConstraintKind,
+    /// Row `g`: the constraints of group `g` (their positions in `items` index the
+    /// per-constraint results).
+    members: Csr,
+    /// Row `g * n + i`: node `i`'s result slots in group `g` (`2 p + end` for springs,
+    /// `4 p + corner` for tets; [`crate::model::ConstraintGroups::node_slots`]).
+    slots: Csr,
+    /// Per group and node (`g * n + i`): the scale of the node's inverse mass in `A` (its
+    /// degree within the group for the momentum-conserving scaling, else 1).
+    a_scale: Vec<f32>,
+    /// Per group and node: `omega` times the combine mode's apply weight.
+    apply: Vec<f32>,
+    /// Per constraint (position in `members.items`): the multiplier a compliant constraint
+    /// has gathered so far in this step (zero at its start; unused by hard ones).
+    multipliers: Vec<f32>,
+}
+
+impl Sweep {
+    fn new(model: &Model, params: &SimParams, sweep: crate::model::Sweep) -> Self {
+        let (kind, groups) = (sweep.kind, sweep.groups);
+        let n = model.node_count();
+        let slots = match kind {
+            ConstraintKind::Volume => groups.node_slots(&model.tets, n),
+            _ => groups.node_slots(&model.springs, n),
+        };
+        let factors: Vec<(f64, f64)> = groups
+            .degree
+            .iter()
+            .map(|&d| params.combine.node_factors(d))
+            .collect();
+        Sweep {
+            kind,
+            multipliers: vec![0.0; groups.members.items.len()],
+            members: groups.members,
+            slots,
+            a_scale: factors.iter().map(|f| f.0 as f32).collect(),
+            apply: factors
+                .iter()
+                .map(|f| (f.1 * params.omega) as f32)
+                .collect(),
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.members.offsets.len() - 1
+    }
+
+    /// Positions (into `members.items`) of group `g`.
+    fn range(&self, g: usize) -> std::ops::Range<usize> {
+        self.members.offsets[g] as usize..self.members.offsets[g + 1] as usize
+    }
+}
+
+/// The global volume constraints and what a step's iterations share: positions stay at
+/// `x(t)` during the iterations, so each object's `C` and `A` and each surface node's
+/// gradient are computed once per step.
+#[derive(Debug, Clone)]
+struct Global {
+    data: GlobalVolume,
+    inv_mass: Vec<f32>,
+    /// Per surface node (position in `data.nodes`): `grad_k C_g` of its object [m^2].
+    grad: Vec<Vec3A>,
+    /// Per object: `C_g` [m^3] and `A = sum_k w_k |grad_k C_g|^2`.
+    c_and_a: Vec<(f32, f32)>,
+}
+
+impl Global {
+    fn new(model: &Model, data: GlobalVolume) -> Self {
+        Global {
+            grad: vec![Vec3A::ZERO; data.nodes.len()],
+            c_and_a: vec![(0.0, 0.0); data.objects.len()],
+            inv_mass: data
+                .nodes
+                .iter()
+                .map(|&i| model.inv_mass[i as usize] as f32)
+                .collect(),
+            data,
+        }
+    }
+
+    /// `C_g`, `A` and the gradients at positions `x`; the reference point of the face
+    /// volumes is each object's first surface node.
+    fn prepare(&mut self, x: &[Vec3A]) {
+        let d = &self.data;
+        let face_terms: Vec<(f32, [Vec3A; 3])> = d
+            .faces
+            .par_iter()
+            .enumerate()
+            .with_min_len(CHUNK)
+            .map(|(f, face)| {
+                let object = d.objects.partition_point(|o| o.face_first as usize <= f) - 1;
+                let o = x[d.nodes[d.objects[object].node_first as usize] as usize];
+                face_volume(face.map(|i| x[i as usize]), o)
+            })
+            .collect();
+        self.grad
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(CHUNK)
+            .for_each(|(k, g)| {
+                *g = d
+                    .node_faces
+                    .row(k)
+                    .iter()
+                    .map(|&e| face_terms[e as usize / 3].1[e as usize % 3])
+                    .sum();
+            });
+        for (o, object) in d.objects.iter().enumerate() {
+            let faces =
+                object.face_first as usize..(object.face_first + object.face_count) as usize;
+            let volume: f64 = face_terms[faces].iter().map(|t| f64::from(t.0)).sum();
+            let nodes =
+                object.node_first as usize..(object.node_first + object.node_count) as usize;
+            let a: f32 = self.grad[nodes.clone()]
+                .iter()
+                .zip(&self.inv_mass[nodes])
+                .map(|(g, &w)| w * g.length_squared())
+                .sum();
+            self.c_and_a[o] = ((volume - object.rest_volume) as f32, a);
+        }
+    }
+}
+
+/// What the floor's solve reads: positions, velocities, inverse masses and `dt`.
+type Contact<'a> = (&'a [Vec3A], &'a [Vec3A], &'a [f32], f32);
+
+/// Per node `i`: `F += apply * gather(i's slots in group g)`, then the floor's solve
+/// (`contact`: when there is a floor).
+fn apply_results(
+    f: &mut [Vec3A],
+    floor_force: &mut [f32],
+    contact: Option<Contact<'_>>,
+    chebyshev: Option<ChebyshevState<'_>>,
+    sweep: &Sweep,
+    g: usize,
+    gather: impl Fn(&[u32]) -> Vec3A + Sync,
+) {
+    let n = f.len();
+    let apply = &sweep.apply[g * n..(g + 1) * n];
+    let update = |i: usize, f: &mut Vec3A| {
+        *f += gather(sweep.slots.row(g * n + i)) * apply[i];
+    };
+    let floor = |i: usize, f: &mut Vec3A, fl: &mut f32| {
+        if let Some((x, v, w, dt)) = contact {
+            (*f, *fl) = floor_solve(*f, *fl, x[i].y, v[i].y, w[i], dt);
+        }
+    };
+    match chebyshev {
+        None => f
+            .par_iter_mut()
+            .zip(floor_force.par_iter_mut())
+            .enumerate()
+            .with_min_len(CHUNK)
+            .for_each(|(i, (f, fl))| {
+                update(i, f);
+                floor(i, f, fl);
+            }),
+        Some((before_f, before_n, w)) => f
+            .par_iter_mut()
+            .zip(floor_force.par_iter_mut())
+            .zip(before_f.par_iter_mut().zip(before_n.par_iter_mut()))
+            .enumerate()
+            .with_min_len(CHUNK)
+            .for_each(|(i, ((f, fl), (bf, bn)))| {
+                let (f0, n0) = (*f, *fl);
+                update(i, f);
+                if w != 1.0 {
+                    *f = (*f - *bf) * w + *bf;
+                    *fl = (*fl - *bn) * w + *bn;
+                }
+                (*bf, *bn) = (f0, n0);
+                floor(i, f, fl);
+            }),
+    }
+}
+
+/// What a group's constraints read: positions, velocities, the current total force and
+/// inverse masses of every node, the group's scales of the inverse masses in `A`, and the
+/// step's coefficients.
+#[derive(Clone, Copy)]
+struct Nodes<'a> {
+    x: &'a [Vec3A],
+    v: &'a [Vec3A],
+    f: &'a [Vec3A],
+    w: &'a [f32],
+    a_scale: &'a [f32],
+    k: Coefficients,
+}
+
+/// One constraint's forces on its `K` nodes as a per-constraint result array holds them:
+/// all four for a tet; for a spring or distance constraint, whose gradients are `[n, -n]`,
+/// the force on end 0 (end 1 gets its negation), half the memory the gathers read.
+trait NodeForces<const K: usize>: Copy + Send + Sync {
+    fn from_forces(forces: [Vec3A; K]) -> Self;
+    fn corner(&self, corner: usize) -> Vec3A;
+}
+
+impl NodeForces<2> for Vec3A {
+    #[inline]
+    fn from_forces(forces: [Vec3A; 2]) -> Self {
+        forces[0]
+    }
+
+    #[inline]
+    fn corner(&self, corner: usize) -> Vec3A {
+        if corner == 0 {
+            *self
+        } else {
+            -*self
+        }
+    }
+}
+
+impl NodeForces<4> for [Vec3A; 4] {
+    #[inline]
+    fn from_forces(forces: [Vec3A; 4]) -> Self {
+        forces
+    }
+
+    #[inline]
+    fn corner(&self, corner: usize) -> Vec3A {
+        self[corner]
+    }
+}
+
+/// The per-constraint pass of one group, for any kind of constraint on `K` nodes: for the
+/// group's `members` (indices into `elements`), `constraint(e, positions)` gives the value
+/// `C`, the gradients, the softness and the damping of constraint `e`, and `out` (one
+/// entry per member) receives the forces `-delta grad_k C` on its nodes with the compliant
+/// multiplier's increment ([`compliant_multiplier`] against `B - softness * so_far`; zero
+/// where the constraint is skipped); a compliant constraint's `so_far` grows by
+/// `omega delta`.
+fn solve_group<const K: usize, R: NodeForces<K>>(
+    out: &mut [R],
+    so_far: &mut [f32],
+    members: &[u32],
+    elements: &[[u32; K]],
+    on: Nodes<'_>,
+    constraint: impl Fn(usize, [Vec3A; K]) -> (f32, [Vec3A; K], f32, f32) + Sync,
+) {
+    let Nodes {
+        x,
+        v,
+        f,
+        w,
+        a_scale,
+        k,
+    } = on;
+    out.par_iter_mut()
+        .zip(so_far.par_iter_mut())
+        .zip(members.par_iter())
+        .with_min_len(CHUNK)
+        .for_each(|((out, so_far), &e)| {
+            let e = e as usize;
+            let ids = elements[e].map(|a| a as usize);
+            let (c, grad, softness, damping) = constraint(e, ids.map(|i| x[i]));
+            let (mut a, mut b) = (0.0, 0.0);
+            for (&i, &g) in ids.iter().zip(&grad) {
+                implicit_accumulate(&mut a, &mut b, g, w[i], a_scale[i], v[i], f[i], k.dt);
+            }
+            let b = b - softness * *so_far;
+            let delta = compliant_multiplier(c, a, b, k.dt, softness, damping, k.epsilon);
+            if let (Some(d), true) = (delta, softness > 0.0) {
+                *so_far += k.omega * d;
+            }
+            *out = R::from_forces(delta.map_or([Vec3A::ZERO; K], |d| grad.map(|g| g * -d)));
+        });
+}
+
+/// The gather of per-constraint results `out` over a node's slots (`K * position + corner`;
+/// `2 * spring + end` for the explicit springs' results).
+fn gather<const K: usize, R: NodeForces<K>>(out: &[R]) -> impl Fn(&[u32]) -> Vec3A + Sync + '_ {
+    move |slots| {
+        let mut sum = Vec3A::ZERO;
+        for &e in slots {
+            sum += out[e as usize / K].corner(e as usize % K);
+        }
+        sum
+    }
+}
+
+/// The Chebyshev state of one iteration: the total and floor forces two iterations back
+/// (updated in place) and the iteration's weight.
+type ChebyshevState<'a> = (&'a mut [Vec3A], &'a mut [f32], f32);
+
+/// The Chebyshev semi-iteration's weights and the forces two iterations back.
+#[derive(Debug, Clone)]
+struct Chebyshev {
+    weights: Vec<f32>,
+    before_f: Vec<Vec3A>,
+    before_n: Vec<f32>,
+}
+
+impl Chebyshev {
+    fn state(&mut self, iteration: usize) -> ChebyshevState<'_> {
+        (
+            &mut self.before_f,
+            &mut self.before_n,
+            self.weights[iteration],
+        )
+    }
+}

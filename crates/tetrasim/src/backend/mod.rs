@@ -1,0 +1,98 @@
+//! The one interface every solver backend implements (`cpu-ref`, `cpu`, `vulkan`): same
+//! model and parameters in, same state and metrics out. Tests compare backends through it.
+
+use glam::DVec3;
+use serde::Serialize;
+
+use crate::error::Result;
+
+/// Dynamic state of one object.
+#[derive(Debug, Clone, PartialEq)]
+pub struct State {
+    /// Node positions [m].
+    pub positions: Vec<DVec3>,
+    /// Node velocities [m/s].
+    pub velocities: Vec<DVec3>,
+}
+
+/// Volume measures of one frame (physics.md, "Metrics").
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct VolumeSample {
+    /// Sum of signed tet volumes [m^3].
+    pub volume: f64,
+    /// Tets with signed volume <= 0.
+    pub inverted: u32,
+    /// Sum over tets of `|V_t - V0_t|` [m^3] (physics.md, "Local volume error").
+    pub local_error: f64,
+}
+
+/// Where and why a run diverged (defined with the error that carries it).
+pub use crate::error::Divergence;
+
+/// What a GPU backend reports about a run besides the physics (`vulkan` only).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GpuReport {
+    /// Device name.
+    pub device: String,
+    /// Float-atomic path of the scatter passes: `ext` or `cas`.
+    pub atomics: String,
+    /// Invocations per workgroup.
+    pub workgroup_size: u32,
+    /// GPU time per frame of each pass [ms], in execution order (empty without timestamps).
+    pub passes: Vec<crate::gpu::PassTime>,
+    /// Validation-layer warnings and errors (empty when validation is off).
+    pub validation_messages: Vec<String>,
+}
+
+/// A solver backend advancing one model in time.
+pub trait Backend {
+    /// Short name used on the command line and in reports (`cpu-ref`, `cpu`, `vulkan`).
+    fn name(&self) -> &'static str;
+    /// Advances one frame (`substeps` time steps).
+    fn step_frame(&mut self) -> Result<()>;
+    /// Total signed volume and inverted-tet count of the current positions.
+    fn volume(&mut self) -> Result<VolumeSample>;
+    /// Copies the current state out (a full readback on the GPU: not for every frame).
+    fn state(&mut self) -> Result<State>;
+    /// Replaces every node's position and velocity between frames (a full upload on the
+    /// GPU). Inverse masses stay the model's, so a pinned node (inverse mass 0) stays where
+    /// it is put and then moves at the velocity it is given: this is how a program drags
+    /// pinned nodes (`examples/pull.rs`). Fails unless `state` has one finite position and
+    /// velocity per node.
+    fn set_state(&mut self, state: &State) -> Result<()>;
+    /// Frames [`Backend::submit_frame`] may queue before [`Backend::collect_frame`] must
+    /// finish the oldest: 1 (the default) for a backend whose frames finish as they are
+    /// submitted; 2 for `vulkan`, whose next frame runs while the host reads the last.
+    fn frames_in_flight(&self) -> usize {
+        1
+    }
+    /// Starts the next frame: queues it (a GPU backend returns without waiting for it) or,
+    /// by default, steps it. At most [`Backend::frames_in_flight`] frames may be started and
+    /// not yet collected; [`Backend::state`], [`Backend::volume`] and
+    /// [`Backend::set_state`] first finish every started frame (without its divergence
+    /// check: collect the frames a run cares about).
+    fn submit_frame(&mut self) -> Result<()> {
+        self.step_frame()
+    }
+    /// Finishes the oldest started frame: waits for it, reports its divergence as
+    /// [`crate::Error::Diverged`], and with `sample` returns its volume measures. With no
+    /// frame started (or all finished by a state read), it only takes the sample.
+    fn collect_frame(&mut self, sample: bool) -> Result<Option<VolumeSample>> {
+        match sample {
+            true => self.volume().map(Some),
+            false => Ok(None),
+        }
+    }
+    /// Forgets the GPU pass times measured so far, so a benchmark times only the frames after
+    /// its warm-up; nothing on backends without GPU timing.
+    fn reset_timing(&mut self) -> Result<()> {
+        Ok(())
+    }
+    /// Device, atomic path and per-pass GPU times; `None` for CPU backends.
+    fn gpu_report(&mut self) -> Result<Option<GpuReport>> {
+        Ok(None)
+    }
+}
+
+pub mod cpu;
+pub mod vulkan;

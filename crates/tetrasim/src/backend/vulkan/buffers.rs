@@ -1,0 +1,423 @@
+//! The simulation's GPU buffers (the paper's Table 1 plus what each method needs), uploaded
+//! once from the [`Model`]. Exactly the buffers of the [`EnginePlan`] are created, and each
+//! one's size is checked against the plan.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use super::plan::{BufferId, EnginePlan};
+use crate::backend::State;
+use crate::gpu::layout::{vec4, GpuGlobalObject, GpuSpring};
+use crate::gpu::{Buffer, Context, Uploads};
+use crate::model::{ConstraintKind, GlobalVolume, Model, Sweep};
+use crate::problem::Problem;
+use crate::{Error, Result};
+
+/// Device-local state and rest data, plus the host-visible copy of the volume partials.
+pub(crate) struct SimBuffers {
+    /// vec4 per node: position [m], w = inverse mass [1/kg].
+    pub positions: Buffer,
+    /// vec4 per node: velocity [m/s], w = mass [kg].
+    pub velocities: Buffer,
+    /// vec4 per node: the step's force F [N] (starts as m g).
+    pub forces: Buffer,
+    /// One [`GpuSpring`] per spring (with its stiffness).
+    pub springs: Buffer,
+    /// float per spring: its damping [N s/m].
+    pub spring_damping: Buffer,
+    /// uvec4 per tet.
+    pub tets: Buffer,
+    /// float per tet: rest volume [m^3] (the volume constraints' and the local volume
+    /// error's; every method).
+    pub rest_volumes: Buffer,
+    /// float per tet: volume compliance [m^3/Pa] (`volume` only).
+    pub volume_compliance: Option<Buffer>,
+    /// float per spring: the implicit springs' multipliers so far in the step.
+    pub spring_multipliers: Option<Buffer>,
+    /// float per tet: the compliant volume constraints' multipliers so far in the step.
+    pub volume_multipliers: Option<Buffer>,
+    /// vec4 per node: one iteration's constraint sums (`distance`, `volume`).
+    pub constraint_sum: Option<Buffer>,
+    /// float per group (of every sweep) and node: its constraint count `d_k` within the
+    /// group (constraint iterations).
+    pub degrees: Option<Buffer>,
+    /// The gather path's buffers: group members, contributions, node-slot offsets and
+    /// items (Gauss-Seidel), every sweep's one after another.
+    pub gather: Option<[Buffer; 4]>,
+    /// vec4 per node: the force two Chebyshev iterations back (solver `chebyshev`).
+    pub chebyshev_before: Option<Buffer>,
+    /// The global volume constraints' buffers: objects, surface nodes, surface faces,
+    /// node-face offsets and items, the step's surface gradients and per-object state.
+    pub global: Option<[Buffer; 7]>,
+    /// Node -> springs CSR offsets and items (`mss-node`).
+    pub node_springs: Option<(Buffer, Buffer)>,
+    /// One [`crate::gpu::layout::VolumePartial`] per volume_sum workgroup (their host-visible
+    /// copies belong to the frames that write them: `super::FrameSlot`).
+    pub partials: Buffer,
+    /// Divergence status: `[flags, first bad node, speed limit (f32 bits), fastest speed of
+    /// a too-fast node (f32 bits)]`.
+    pub status: Buffer,
+}
+
+/// Initial `status`: no flags, no bad node (`u32::MAX`), the speed limit [m/s], no speed.
+pub(crate) fn initial_status(speed_limit: f32) -> [u32; 4] {
+    [0, u32::MAX, speed_limit.to_bits(), 0]
+}
+
+fn bytes<T: bytemuck::Pod>(v: &[T]) -> &[u8] {
+    bytemuck::cast_slice(v)
+}
+
+fn floats(v: &[f64]) -> Vec<f32> {
+    v.iter().map(|&x| x as f32).collect()
+}
+
+impl SimBuffers {
+    /// Overwrites positions and velocities with `state`, keeping the model's inverse masses
+    /// and masses in the `w` components (see [`crate::backend::Backend::set_state`]).
+    pub fn upload_state(&self, state: &State, inv_mass: &[f64], mass: &[f64]) -> Result<()> {
+        let positions: Vec<[f32; 4]> = state
+            .positions
+            .iter()
+            .zip(inv_mass)
+            .map(|(&p, &w)| vec4(p, w))
+            .collect();
+        let velocities: Vec<[f32; 4]> = state
+            .velocities
+            .iter()
+            .zip(mass)
+            .map(|(&v, &m)| vec4(v, m))
+            .collect();
+        let mut uploads = Uploads::default();
+        uploads.write(&self.positions, bytes(&positions))?;
+        uploads.write(&self.velocities, bytes(&velocities))?;
+        // A new state starts without warm-start multipliers (the implicit springs' stored
+        // values count in iteration 0 only with `warm_start`; zeroing is harmless otherwise).
+        if let Some(multipliers) = &self.spring_multipliers {
+            uploads.zero(multipliers);
+        }
+        uploads.submit(self.positions.context())
+    }
+
+    /// Uploads the problem's model as `plan` (made for it) says, with its constraint sweeps,
+    /// per-element material and global volume constraints; its divergence speed limit
+    /// [m/s] goes into `status`.
+    pub fn new(ctx: &Arc<Context>, problem: &Problem, plan: &EnginePlan) -> Result<Self> {
+        let (model, params) = (&problem.model, &problem.params);
+        let (sweeps, global) = (&problem.sweeps, problem.global.as_ref());
+        let speed_limit = problem.speed_limit as f32;
+        let n = model.node_count();
+        let material = &problem.material;
+        let positions: Vec<[f32; 4]> = model
+            .positions
+            .iter()
+            .zip(&model.inv_mass)
+            .map(|(&p, &w)| vec4(p, w))
+            .collect();
+        let velocities: Vec<[f32; 4]> = model
+            .velocities
+            .iter()
+            .zip(&model.mass)
+            .map(|(&v, &m)| vec4(v, m))
+            .collect();
+        let forces: Vec<[f32; 4]> = model
+            .mass
+            .iter()
+            .map(|&m| [0.0, -(params.gravity * m) as f32, 0.0, 0.0])
+            .collect();
+        let springs: Vec<GpuSpring> = model
+            .springs
+            .iter()
+            .zip(&model.rest_length)
+            .zip(&material.spring_stiffness)
+            .map(|((s, &l), &k)| GpuSpring {
+                a: s[0],
+                b: s[1],
+                rest: l as f32,
+                stiffness: k as f32,
+            })
+            .collect();
+        // Per group (of every sweep, in order) and node: its constraint count d_k within
+        // the group as a float; the shaders turn it into the A scale and apply weight of
+        // `ConstraintCombine::node_factors` (push constant `combine`).
+        let degrees = plan.has(BufferId::Degrees).then(|| {
+            sweeps
+                .iter()
+                .flat_map(|w| w.groups.degree.iter().map(|&c| c as f32))
+                .collect::<Vec<f32>>()
+        });
+        // Every initial upload goes into one batch: one staging buffer, one submit, one wait
+        // (after the struct below owns every destination buffer).
+        let mut up = Uploads::default();
+        let mut upload = |id: BufferId, data: &[u8]| up.with_data(ctx, id.name(), data);
+        let positions_buffer = upload(BufferId::Positions, bytes(&positions))?;
+        let velocities_buffer = upload(BufferId::Velocities, bytes(&velocities))?;
+        let forces_buffer = upload(BufferId::Forces, bytes(&forces))?;
+        let springs_buffer = upload(BufferId::Springs, bytes(&springs))?;
+        let spring_damping = upload(
+            BufferId::SpringDamping,
+            bytes(&floats(&material.spring_damping)),
+        )?;
+        let tets_buffer = upload(BufferId::Tets, bytes(&model.tets))?;
+        let rest_volumes = upload(BufferId::RestVolumes, bytes(&floats(&model.rest_volume)))?;
+        let status_buffer = upload(BufferId::Status, bytes(&initial_status(speed_limit)))?;
+        let degrees = match degrees {
+            Some(w) => Some(upload(BufferId::Degrees, bytes(&w))?),
+            None => None,
+        };
+        let mut optional = |id: BufferId, data: &dyn Fn() -> Vec<u8>| -> Result<Option<Buffer>> {
+            match plan.has(id) {
+                true => Ok(Some(up.with_data(ctx, id.name(), &data())?)),
+                false => Ok(None),
+            }
+        };
+        let volume_compliance = optional(BufferId::VolumeCompliance, &|| {
+            bytes(&floats(&material.volume_compliance)).to_vec()
+        })?;
+        let node_springs = match (
+            optional(BufferId::NodeSpringOffsets, &|| {
+                bytes(&model.node_springs.offsets).to_vec()
+            })?,
+            optional(BufferId::NodeSpringItems, &|| {
+                bytes(&model.node_springs.items).to_vec()
+            })?,
+        ) {
+            (Some(o), Some(i)) => Some((o, i)),
+            _ => None,
+        };
+        let mut zeroed = |id: BufferId| -> Result<Option<Buffer>> {
+            match plan.has(id) {
+                true => Ok(Some(up.zeroed(ctx, id.name(), (n * 16) as u64)?)),
+                false => Ok(None),
+            }
+        };
+        let constraint_sum = zeroed(BufferId::ConstraintSum)?;
+        let chebyshev_before = zeroed(BufferId::ChebyshevBefore)?;
+        // The multipliers need no initial values (iteration 0 writes before any read), but
+        // for warm-started implicit springs, whose first step starts from 0: zeroed.
+        let mut zeroed_floats = |id: BufferId, count: usize| -> Result<Option<Buffer>> {
+            match plan.has(id) {
+                true => Ok(Some(up.zeroed(
+                    ctx,
+                    id.name(),
+                    (4 * count).max(4) as u64,
+                )?)),
+                false => Ok(None),
+            }
+        };
+        let spring_multipliers = zeroed_floats(BufferId::SpringMultipliers, model.springs.len())?;
+        let volume_multipliers = zeroed_floats(BufferId::VolumeMultipliers, model.tets.len())?;
+        let gather = match plan.gather {
+            true => Some(gather_buffers(ctx, &mut up, model, sweeps)?),
+            false => None,
+        };
+        let global = match global.filter(|_| plan.global.is_some()) {
+            Some(g) => Some(global_buffers(ctx, &mut up, g)?),
+            None => None,
+        };
+        let partials_size = plan.buffer(BufferId::Partials).map_or(0, |b| b.bytes);
+        let buffers = SimBuffers {
+            positions: positions_buffer,
+            velocities: velocities_buffer,
+            forces: forces_buffer,
+            springs: springs_buffer,
+            spring_damping,
+            tets: tets_buffer,
+            rest_volumes,
+            volume_compliance,
+            spring_multipliers,
+            volume_multipliers,
+            constraint_sum,
+            chebyshev_before,
+            degrees,
+            gather,
+            global,
+            node_springs,
+            partials: Buffer::new(
+                ctx,
+                BufferId::Partials.name(),
+                partials_size,
+                vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+                MemoryLocation::GpuOnly,
+            )?,
+            status: status_buffer,
+        };
+        buffers.check_against(plan)?;
+        up.submit(ctx)?;
+        Ok(buffers)
+    }
+
+    /// The buffer `id`, if it was built.
+    pub fn get(&self, id: BufferId) -> Option<&Buffer> {
+        match id {
+            BufferId::Positions => Some(&self.positions),
+            BufferId::Velocities => Some(&self.velocities),
+            BufferId::Forces => Some(&self.forces),
+            BufferId::Springs => Some(&self.springs),
+            BufferId::SpringDamping => Some(&self.spring_damping),
+            BufferId::Tets => Some(&self.tets),
+            BufferId::RestVolumes => Some(&self.rest_volumes),
+            BufferId::VolumeCompliance => self.volume_compliance.as_ref(),
+            BufferId::SpringMultipliers => self.spring_multipliers.as_ref(),
+            BufferId::VolumeMultipliers => self.volume_multipliers.as_ref(),
+            BufferId::ConstraintSum => self.constraint_sum.as_ref(),
+            BufferId::Degrees => self.degrees.as_ref(),
+            BufferId::NodeSpringOffsets => self.node_springs.as_ref().map(|b| &b.0),
+            BufferId::NodeSpringItems => self.node_springs.as_ref().map(|b| &b.1),
+            BufferId::Partials => Some(&self.partials),
+            BufferId::Status => Some(&self.status),
+            BufferId::GroupMembers => self.gather.as_ref().map(|b| &b[0]),
+            BufferId::Contributions => self.gather.as_ref().map(|b| &b[1]),
+            BufferId::NodeSlotOffsets => self.gather.as_ref().map(|b| &b[2]),
+            BufferId::NodeSlotItems => self.gather.as_ref().map(|b| &b[3]),
+            BufferId::GlobalObjects => self.global.as_ref().map(|b| &b[0]),
+            BufferId::SurfaceNodes => self.global.as_ref().map(|b| &b[1]),
+            BufferId::SurfaceFaces => self.global.as_ref().map(|b| &b[2]),
+            BufferId::NodeFaceOffsets => self.global.as_ref().map(|b| &b[3]),
+            BufferId::NodeFaceItems => self.global.as_ref().map(|b| &b[4]),
+            BufferId::SurfaceGradients => self.global.as_ref().map(|b| &b[5]),
+            BufferId::GlobalState => self.global.as_ref().map(|b| &b[6]),
+            BufferId::ChebyshevBefore => self.chebyshev_before.as_ref(),
+        }
+    }
+
+    /// Device-local bytes of every buffer built (what the plan's total must equal).
+    pub fn device_bytes(&self) -> u64 {
+        ALL_BUFFERS
+            .iter()
+            .filter_map(|&id| self.get(id))
+            .map(|b| b.size)
+            .sum()
+    }
+
+    /// Fails when a buffer exists that the plan lacks, or the other way round, or when a
+    /// size differs: the plan printed by `tetrasim plan` is then wrong.
+    fn check_against(&self, plan: &EnginePlan) -> Result<()> {
+        for id in ALL_BUFFERS {
+            let built = self.get(id).map(|b| b.size);
+            let planned = plan.buffer(id).map(|b| b.bytes);
+            if built != planned {
+                return Err(Error::Gpu(format!(
+                    "engine plan mismatch for buffer `{}`: planned {planned:?} bytes, built {built:?}",
+                    id.name()
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The gather path's buffers for the constraint `sweeps`, each holding the sweeps one
+/// after another: members in group order, zeroed contributions (a vec4 per constraint
+/// corner), and the per-group node-slot CSR ([`crate::model::ConstraintGroups::node_slots`];
+/// rows numbered over all sweeps' groups, items pointing into the whole contributions
+/// buffer). The shaders find a sweep's part from the plan's
+/// [`super::plan::EnginePlan::sweep_offsets`].
+fn gather_buffers(
+    ctx: &Arc<Context>,
+    up: &mut Uploads,
+    model: &Model,
+    sweeps: &[Sweep],
+) -> Result<[Buffer; 4]> {
+    let n = model.node_count();
+    let mut members: Vec<u32> = Vec::new();
+    let mut offsets: Vec<u32> = vec![0];
+    let mut items: Vec<u32> = Vec::new();
+    let mut slot_first = 0u32;
+    for sweep in sweeps {
+        let (slots, corners) = match sweep.kind {
+            ConstraintKind::Volume => (sweep.groups.node_slots(&model.tets, n), 4),
+            ConstraintKind::Spring | ConstraintKind::Distance => {
+                (sweep.groups.node_slots(&model.springs, n), 2)
+            }
+        };
+        let item_first = items.len() as u32;
+        offsets.extend(slots.offsets[1..].iter().map(|&o| item_first + o));
+        items.extend(slots.items.iter().map(|&i| slot_first + i));
+        members.extend_from_slice(&sweep.groups.members.items);
+        slot_first += corners * sweep.groups.members.items.len() as u32;
+    }
+    Ok([
+        up.with_data(ctx, BufferId::GroupMembers.name(), bytes(&members))?,
+        up.zeroed(
+            ctx,
+            BufferId::Contributions.name(),
+            16 * u64::from(slot_first),
+        )?,
+        up.with_data(ctx, BufferId::NodeSlotOffsets.name(), bytes(&offsets))?,
+        up.with_data(ctx, BufferId::NodeSlotItems.name(), bytes(&items))?,
+    ])
+}
+
+/// The global volume constraints' buffers ([`GlobalVolume`]).
+fn global_buffers(
+    ctx: &Arc<Context>,
+    up: &mut Uploads,
+    global: &GlobalVolume,
+) -> Result<[Buffer; 7]> {
+    let objects: Vec<GpuGlobalObject> = global
+        .objects
+        .iter()
+        .map(|o| GpuGlobalObject {
+            node_first: o.node_first,
+            node_count: o.node_count,
+            face_first: o.face_first,
+            face_count: o.face_count,
+            rest_volume: o.rest_volume as f32,
+            pad: [0; 3],
+        })
+        .collect();
+    let faces: Vec<[u32; 4]> = global.faces.iter().map(|f| [f[0], f[1], f[2], 0]).collect();
+    let mut upload = |id: BufferId, data: &[u8]| up.with_data(ctx, id.name(), data);
+    Ok([
+        upload(BufferId::GlobalObjects, bytes(&objects))?,
+        upload(BufferId::SurfaceNodes, bytes(&global.nodes))?,
+        upload(BufferId::SurfaceFaces, bytes(&faces))?,
+        upload(BufferId::NodeFaceOffsets, bytes(&global.node_faces.offsets))?,
+        upload(BufferId::NodeFaceItems, bytes(&global.node_faces.items))?,
+        up.zeroed(
+            ctx,
+            BufferId::SurfaceGradients.name(),
+            (16 * global.nodes.len()) as u64,
+        )?,
+        up.zeroed(
+            ctx,
+            BufferId::GlobalState.name(),
+            (16 * global.objects.len()) as u64,
+        )?,
+    ])
+}
+
+/// Every buffer kind.
+const ALL_BUFFERS: [BufferId; 28] = [
+    BufferId::Positions,
+    BufferId::Velocities,
+    BufferId::Forces,
+    BufferId::Springs,
+    BufferId::SpringDamping,
+    BufferId::Tets,
+    BufferId::RestVolumes,
+    BufferId::VolumeCompliance,
+    BufferId::SpringMultipliers,
+    BufferId::VolumeMultipliers,
+    BufferId::ConstraintSum,
+    BufferId::Degrees,
+    BufferId::NodeSpringOffsets,
+    BufferId::NodeSpringItems,
+    BufferId::Partials,
+    BufferId::Status,
+    BufferId::GroupMembers,
+    BufferId::Contributions,
+    BufferId::NodeSlotOffsets,
+    BufferId::NodeSlotItems,
+    BufferId::GlobalObjects,
+    BufferId::SurfaceNodes,
+    BufferId::SurfaceFaces,
+    BufferId::NodeFaceOffsets,
+    BufferId::NodeFaceItems,
+    BufferId::SurfaceGradients,
+    BufferId::GlobalState,
+    BufferId::ChebyshevBefore,
+];

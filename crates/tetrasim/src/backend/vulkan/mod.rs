@@ -1,0 +1,425 @@
+//! The `vulkan` backend: the paper's solver in compute shaders.
+//!
+//! The model is uploaded once; only the buffers and pipelines the method needs are built;
+//! the frame's command buffer (substeps x passes, barriers, timestamps, the volume metric)
+//! is recorded once per frame slot and replayed. Two slots, each with its own fence, its own
+//! host-visible copies of the divergence status and the volume partials, and its own
+//! timestamps, let two frames be in flight: [`Backend::submit_frame`] queues a frame without
+//! waiting and [`Backend::collect_frame`] finishes the oldest, so the driver reads frame N's
+//! volume while frame N + 1 runs ([`crate::sim::Simulation::advance_frames`]).
+//! [`Backend::step_frame`] submits one frame and waits for it. [`Backend::volume`] only reads
+//! the few volume partials a frame copied to host-visible memory; only [`Backend::state`]
+//! reads back every node.
+
+mod buffers;
+mod frames;
+mod options;
+pub mod pass_kind;
+mod passes;
+pub mod plan;
+
+use std::collections::VecDeque;
+use std::sync::Arc;
+
+use glam::DVec3;
+
+use crate::backend::{Backend, Divergence, GpuReport, State, VolumeSample};
+use crate::error::{Error, Result};
+use crate::gpu::commands::{self, Access, Recorded};
+use crate::gpu::layout::{PushConstants, VolumePartial};
+pub use crate::gpu::AtomicsMode;
+use crate::gpu::{
+    AtomicsPath, Buffer, Context, ContextOptions, DeviceInfo, DeviceSelector, PassTime, Timer,
+};
+use crate::model::Model;
+use crate::params::SimParams;
+use crate::problem::Problem;
+use buffers::SimBuffers;
+pub use options::{EngineOptions, FRAMES_IN_FLIGHT, MAX_FRAMES_IN_FLIGHT};
+use passes::{Passes, Recorder};
+use plan::{EnginePlan, PlanCounts};
+
+/// What a renderer draws from ([`crate::render::Renderer::render`]): node positions and the
+/// model's static data, all of them the engine's own buffers, so the renderer uploads only
+/// what drawing alone needs (the surface and its adjacency).
+#[derive(Clone, Copy)]
+pub struct DrawBuffers<'a> {
+    /// vec4 per node: position [m], w = inverse mass [1/kg].
+    pub positions: &'a Buffer,
+    /// uvec4 per tet.
+    pub tets: &'a Buffer,
+    /// float per tet: rest volume [m^3].
+    pub rest_volumes: &'a Buffer,
+    /// One [`crate::gpu::layout::GpuSpring`] per spring: `a`, `b`, rest length [m] (f32
+    /// bits), stiffness.
+    pub springs: &'a Buffer,
+}
+
+/// One recorded frame with its own fence (in `frame`), timestamps and host-visible copies of
+/// the divergence status and (with per-frame metrics) the volume partials. Field order is
+/// drop order: the command buffer waits for its submission before the rest goes.
+struct FrameSlot {
+    frame: Recorded,
+    timer: Option<Timer>,
+    status_readback: Buffer,
+    partials_readback: Option<Buffer>,
+}
+
+/// The Vulkan compute backend. Field order is drop order: GPU work is waited for in
+/// `Drop`, then command buffers, pipelines and buffers go, and the context last.
+pub struct VulkanBackend {
+    slots: Vec<FrameSlot>,
+    /// Slots submitted and not yet finished, oldest first.
+    queued: VecDeque<usize>,
+    /// The slot the next frame goes to.
+    next_slot: usize,
+    /// The slot of the last finished frame, while its partials hold the volume of the
+    /// current positions.
+    fresh_slot: Option<usize>,
+    /// Most frames ever queued at once.
+    max_queued: usize,
+    measure: Recorded,
+    /// Host-visible copy of the partials of an on-demand measurement.
+    measure_readback: Buffer,
+    /// Never read after recording, but the recorded frame uses its pipelines.
+    #[allow(dead_code)]
+    passes: Passes,
+    readback: Option<(Buffer, Buffer)>,
+    buffers: SimBuffers,
+    plan: EnginePlan,
+    /// Method name and likely cause, for divergence reports.
+    method: &'static str,
+    likely: String,
+    atomics: AtomicsPath,
+    workgroup_size: u32,
+    counts: PlanCounts,
+    /// Whether `measure_readback` holds the volume of the current positions.
+    measure_fresh: bool,
+    frames: u32,
+    /// The model's inverse masses and masses, the `w` of the uploaded positions and
+    /// velocities ([`Backend::set_state`]).
+    inv_mass: Vec<f64>,
+    mass: Vec<f64>,
+    ctx: Arc<Context>,
+}
+
+impl VulkanBackend {
+    /// Creates a context per `options` and the backend on it.
+    pub fn new(model: &Model, params: &SimParams, options: &EngineOptions) -> Result<Self> {
+        Self::from_problem(&Problem::new(model, params)?, options)
+    }
+
+    /// Creates a context per `options` and the backend for a prepared problem on it.
+    pub fn from_problem(problem: &Problem, options: &EngineOptions) -> Result<Self> {
+        let ctx = Arc::new(Context::new(&ContextOptions {
+            device: options.device.clone(),
+            validation: options.validation,
+        })?);
+        Self::on_context(ctx, problem, options)
+    }
+
+    /// The backend on an existing context (several backends may share one).
+    pub fn with_context(
+        ctx: Arc<Context>,
+        model: &Model,
+        params: &SimParams,
+        workgroup_size: Option<u32>,
+    ) -> Result<Self> {
+        let options = EngineOptions {
+            workgroup_size,
+            ..Default::default()
+        };
+        Self::on_context(ctx, &Problem::new(model, params)?, &options)
+    }
+
+    /// The backend on an existing context with all options but the device.
+    pub fn with_context_and_options(
+        ctx: Arc<Context>,
+        model: &Model,
+        params: &SimParams,
+        options: &EngineOptions,
+    ) -> Result<Self> {
+        Self::on_context(ctx, &Problem::new(model, params)?, options)
+    }
+
+    /// The plan of `problem` on a device with `info` (what [`Self::from_problem`] would
+    /// build; `tetrasim plan` prints it).
+    pub fn plan_for(
+        info: &DeviceInfo,
+        problem: &Problem,
+        options: &EngineOptions,
+    ) -> Result<EnginePlan> {
+        let wg = options
+            .workgroup_size
+            .unwrap_or_else(|| info.default_workgroup_size());
+        info.check_workgroup_size(wg)?;
+        EnginePlan::of_problem(problem, wg, !options.volume_on_demand)
+    }
+
+    /// The backend for a prepared problem on an existing context, with all options but the
+    /// device.
+    pub fn on_context(
+        ctx: Arc<Context>,
+        problem: &Problem,
+        options: &EngineOptions,
+    ) -> Result<Self> {
+        let (model, params) = (&problem.model, &problem.params);
+        let depth = options.frames_in_flight.unwrap_or(FRAMES_IN_FLIGHT);
+        if !(1..=MAX_FRAMES_IN_FLIGHT).contains(&depth) {
+            return Err(Error::param(
+                "frames-in-flight",
+                format!("must be 1 to {MAX_FRAMES_IN_FLIGHT}, not {depth}"),
+            ));
+        }
+        let info = ctx.info();
+        let atomics = info.atomics_path(options.atomics)?;
+        let plan = Self::plan_for(info, problem, options)?;
+        let wg = plan.workgroup_size;
+        let counts = plan.counts;
+        let buffers = SimBuffers::new(&ctx, problem, &plan)?;
+        let passes = Passes::new(&ctx, &plan, atomics, &buffers)?;
+        let push = PushConstants::new(
+            params,
+            model.node_count(),
+            model.springs.len(),
+            model.tets.len(),
+        );
+
+        let slots = (0..depth)
+            .map(|k| {
+                let mut timer = match options.untimed {
+                    true => None,
+                    false => Timer::new(&ctx, plan.dispatches_per_frame())?,
+                };
+                let status_readback =
+                    Buffer::readback(&ctx, &format!("divergence status (readback {k})"), 16)?;
+                let partials_readback = match plan.metrics {
+                    true => Some(Buffer::readback(
+                        &ctx,
+                        &format!("volume partials (readback {k})"),
+                        buffers.partials.size,
+                    )?),
+                    false => None,
+                };
+                let frame = Recorded::begin(&ctx, &format!("frame {k}"), false)?;
+                Recorder {
+                    ctx: &ctx,
+                    cmd: frame.cmd,
+                    push: &push,
+                    timer: timer.as_mut(),
+                }
+                .record_frame(
+                    &plan,
+                    &passes,
+                    &buffers,
+                    &status_readback,
+                    partials_readback.as_ref(),
+                )?;
+                frame.end()?;
+                Ok(FrameSlot {
+                    frame,
+                    timer,
+                    status_readback,
+                    partials_readback,
+                })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let measure = Recorded::begin(&ctx, "volume measure", false)?;
+        let measure_readback =
+            Buffer::readback(&ctx, "volume partials (measure)", buffers.partials.size)?;
+        Recorder {
+            ctx: &ctx,
+            cmd: measure.cmd,
+            push: &push,
+            timer: None,
+        }
+        .record_volume_sum(&passes, &buffers, &measure_readback)?;
+        measure.end()?;
+        Ok(VulkanBackend {
+            slots,
+            queued: VecDeque::new(),
+            next_slot: 0,
+            fresh_slot: None,
+            max_queued: 0,
+            measure,
+            measure_readback,
+            passes,
+            readback: None,
+            buffers,
+            plan,
+            method: params.method.name(),
+            likely: problem.likely_cause.clone(),
+            atomics,
+            workgroup_size: wg,
+            counts,
+            measure_fresh: false,
+            frames: 0,
+            inv_mass: model.inv_mass.clone(),
+            mass: model.mass.clone(),
+            ctx,
+        })
+    }
+
+    /// The float-atomic path the scatter passes use.
+    pub fn atomics(&self) -> AtomicsPath {
+        self.atomics
+    }
+
+    /// The device in use.
+    pub fn device(&self) -> &DeviceInfo {
+        self.ctx.info()
+    }
+
+    /// Invocations per workgroup.
+    pub fn workgroup_size(&self) -> u32 {
+        self.workgroup_size
+    }
+
+    /// What this backend built and records per frame.
+    pub fn plan(&self) -> &EnginePlan {
+        &self.plan
+    }
+
+    /// Device-local bytes of the simulation buffers actually created.
+    pub fn device_bytes(&self) -> u64 {
+        self.buffers.device_bytes()
+    }
+
+    /// Frames completed on the GPU so far.
+    pub fn frames(&self) -> u32 {
+        self.frames
+    }
+
+    /// The most frames that were ever in flight at once (1 when every frame was waited
+    /// for before the next was submitted).
+    pub fn max_frames_in_flight(&self) -> usize {
+        self.max_queued
+    }
+
+    /// GPU time per frame of every pass, averaged over the frames so far (empty when the
+    /// device has no timestamps). Waits for the frames in flight.
+    pub fn pass_times(&mut self) -> Result<Vec<PassTime>> {
+        self.settle()?;
+        let timers: Vec<&Timer> = self.slots.iter().filter_map(|s| s.timer.as_ref()).collect();
+        Ok(Timer::per_frame_of(&timers))
+    }
+
+    /// Forgets the pass times measured so far (e.g. after warm-up frames).
+    pub fn reset_pass_times(&mut self) -> Result<()> {
+        self.settle()?;
+        for t in self.slots.iter_mut().filter_map(|s| s.timer.as_mut()) {
+            t.reset_totals();
+        }
+        Ok(())
+    }
+
+    /// Validation-layer warnings and errors so far (empty when validation is off).
+    pub fn validation_messages(&self) -> Vec<String> {
+        self.ctx.validation_messages()
+    }
+
+    /// This backend's positions (those of the last finished frame once
+    /// [`Backend::step_frame`] has returned) with the model's tets, rest volumes and springs,
+    /// for drawing in place.
+    pub fn draw_buffers(&self) -> DrawBuffers<'_> {
+        DrawBuffers {
+            positions: &self.buffers.positions,
+            tets: &self.buffers.tets,
+            rest_volumes: &self.buffers.rest_volumes,
+            springs: &self.buffers.springs,
+        }
+    }
+
+    /// The context (shared with other backends or tests).
+    pub fn context(&self) -> &Arc<Context> {
+        &self.ctx
+    }
+
+    /// Waits for the oldest frame in flight and collects its timestamps; returns its slot
+    /// (`None`: nothing was in flight).
+    fn finish_oldest(&mut self) -> Result<Option<usize>> {
+        let Some(k) = self.queued.pop_front() else {
+            return Ok(None);
+        };
+        let slot = &mut self.slots[k];
+        slot.frame.wait()?;
+        if let Some(t) = slot.timer.as_mut() {
+            t.collect()?;
+        }
+        self.frames += 1;
+        self.fresh_slot = (self.queued.is_empty() && slot.partials_readback.is_some()).then_some(k);
+        Ok(Some(k))
+    }
+
+    /// Waits for every frame in flight (without checking their divergence status: that is
+    /// [`Backend::collect_frame`]'s and [`Backend::step_frame`]'s).
+    fn settle(&mut self) -> Result<()> {
+        while self.finish_oldest()?.is_some() {}
+        Ok(())
+    }
+
+    /// The volume measures of the partials a frame or a measurement copied to `readback`.
+    fn read_partials(&self, readback: &Buffer) -> Result<VolumeSample> {
+        let bytes = readback.mapped()?;
+        let groups = self.counts.tets.div_ceil(self.workgroup_size) as usize;
+        let partials: &[VolumePartial] = bytes
+            .get(..groups * std::mem::size_of::<VolumePartial>())
+            .and_then(|b| bytemuck::try_cast_slice(b).ok())
+            .ok_or_else(|| {
+                Error::Gpu(format!(
+                    "volume partials readback holds {} bytes, {groups} partials expected",
+                    bytes.len()
+                ))
+            })?;
+        Ok(VolumeSample {
+            volume: partials.iter().map(|p| f64::from(p.volume)).sum(),
+            inverted: partials.iter().map(|p| p.inverted).sum(),
+            local_error: partials.iter().map(|p| f64::from(p.local_error)).sum(),
+        })
+    }
+
+    /// Reads the divergence status frame slot `k` copied to the host; on flags, names the
+    /// frame, the first bad node, the fastest speed and the cause (all from the status: no
+    /// state read-back, which with frames in flight would show a later frame).
+    fn check_status(&self, k: usize) -> Result<()> {
+        let words: [u32; 4] = {
+            let bytes = self.slots[k].status_readback.mapped()?;
+            let b = bytes
+                .get(..16)
+                .ok_or_else(|| Error::Gpu("divergence status readback is short".into()))?;
+            bytemuck::pod_read_unaligned(b)
+        };
+        let [flags, node, limit, fastest] = words;
+        if flags == 0 {
+            return Ok(());
+        }
+        let frame = self.frames.saturating_sub(1);
+        let limit = f32::from_bits(limit);
+        let node = (node != u32::MAX).then_some(node);
+        let what = match (flags & 1 != 0, node) {
+            (true, _) => "a position or velocity became non-finite".to_string(),
+            (false, _) => format!(
+                "the fastest node's speed {:.3e} m/s exceeds the divergence limit {limit:.3e} m/s",
+                f32::from_bits(fastest)
+            ),
+        };
+        Err(Error::Diverged(Box::new(Divergence {
+            frame,
+            substep: None,
+            method: self.method.to_string(),
+            node,
+            cause: format!("{what}; {}", self.likely),
+        })))
+    }
+}
+
+impl Drop for VulkanBackend {
+    fn drop(&mut self) {
+        // Buffers and pipelines may only go once the GPU is done with them; the fields then
+        // drop in declaration order, the context last.
+        for slot in &mut self.slots {
+            let _ = slot.frame.wait();
+        }
+        let _ = self.measure.wait();
+    }
+}

@@ -1,0 +1,116 @@
+//! Element counts and sizes a plan is made from: the model's, the global volume
+//! constraints', the constraint sweeps', and the published bandwidths of some GPUs.
+
+use crate::backend::vulkan::pass_kind::PassKind;
+use crate::model::{ConstraintKind, Sweep};
+
+/// Element counts of a model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PlanCounts {
+    /// Nodes.
+    pub nodes: u32,
+    /// Springs.
+    pub springs: u32,
+    /// Tetrahedra.
+    pub tets: u32,
+}
+
+impl PlanCounts {
+    /// The counts of `model` (an error when one exceeds the engine's u32 indices).
+    pub fn of(model: &crate::model::Model) -> crate::Result<Self> {
+        let count = |what: &str, n: usize| {
+            u32::try_from(n).map_err(|_| {
+                crate::Error::Mesh(format!("{n} {what} exceed the GPU engine's u32 indices"))
+            })
+        };
+        Ok(PlanCounts {
+            nodes: count("nodes", model.node_count())?,
+            springs: count("springs", model.springs.len())?,
+            tets: count("tets", model.tets.len())?,
+        })
+    }
+}
+
+/// Peak memory bandwidth of some GPUs [bytes/s], from the vendors' data sheets, for the
+/// memory-bound estimate `tetrasim plan` prints.
+pub const PEAK_BANDWIDTH: [(&str, f64); 4] = [
+    ("NVIDIA H100 SXM5 80GB", 3.35e12),
+    ("NVIDIA A100 SXM4 80GB", 2.039e12),
+    ("NVIDIA GeForce RTX 4090", 1.008e12),
+    ("NVIDIA GeForce RTX 3060", 360e9),
+];
+
+/// Sizes of the global volume constraints ([`crate::model::GlobalVolume`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct GlobalCounts {
+    /// Objects (one constraint and one workgroup each).
+    pub objects: u32,
+    /// Surface nodes of all objects.
+    pub nodes: u32,
+    /// Boundary faces of all objects.
+    pub faces: u32,
+}
+
+impl GlobalCounts {
+    /// The sizes of `global`.
+    pub fn of(global: &crate::model::GlobalVolume) -> Self {
+        GlobalCounts {
+            objects: global.objects.len() as u32,
+            nodes: global.nodes.len() as u32,
+            faces: global.faces.len() as u32,
+        }
+    }
+}
+
+/// One constraint sweep of an iteration ([`Model::constraint_sweeps`](crate::model::Model::constraint_sweeps)):
+/// its kind and the sizes of its groups.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SweepPlan {
+    /// What the constraints are.
+    pub kind: ConstraintKind,
+    /// Constraints per group, solved one group after another.
+    pub groups: Vec<u32>,
+}
+
+impl SweepPlan {
+    /// The kind and group sizes of `sweep`.
+    pub fn of(sweep: &Sweep) -> Self {
+        SweepPlan {
+            kind: sweep.kind,
+            groups: sweep.groups.sizes(),
+        }
+    }
+
+    /// The pass that solves it.
+    pub fn pass(&self) -> PassKind {
+        match self.kind {
+            ConstraintKind::Spring => PassKind::SpringConstraint,
+            ConstraintKind::Distance => PassKind::Distance,
+            ConstraintKind::Volume => PassKind::Volume,
+        }
+    }
+
+    /// Nodes per constraint (contribution slots per constraint on the gather path).
+    pub fn corners(&self) -> u64 {
+        match self.kind {
+            ConstraintKind::Volume => 4,
+            ConstraintKind::Spring | ConstraintKind::Distance => 2,
+        }
+    }
+
+    /// Constraints of all its groups.
+    pub fn constraints(&self) -> u64 {
+        self.groups.iter().map(|&g| u64::from(g)).sum()
+    }
+}
+
+/// Where one sweep's data starts in the buffers that hold every sweep one after another.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct SweepOffsets {
+    /// Its first group, counted over all sweeps (degrees, slot rows).
+    pub group: u32,
+    /// Its first position in the group members.
+    pub member: u32,
+    /// Its first slot in the contributions.
+    pub slot: u32,
+}

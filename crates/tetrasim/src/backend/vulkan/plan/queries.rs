@@ -1,0 +1,141 @@
+//! What a plan holds and moves: buffer and pass look-ups, dispatches, bytes per frame.
+
+use super::*;
+
+impl EnginePlan {
+    /// Whether buffer `id` is built.
+    pub fn has(&self, id: BufferId) -> bool {
+        self.buffers.iter().any(|b| b.id == id)
+    }
+
+    /// The plan of buffer `id`, if it is built.
+    pub fn buffer(&self, id: BufferId) -> Option<&BufferPlan> {
+        self.buffers.iter().find(|b| b.id == id)
+    }
+
+    /// Whether pass `name` is part of the frame.
+    pub fn has_pass(&self, name: &str) -> bool {
+        PassKind::from_name(name).is_some_and(|k| self.runs(k))
+    }
+
+    /// Whether `pass` is part of the frame.
+    pub fn runs(&self, pass: PassKind) -> bool {
+        self.passes.iter().any(|p| p.kind == pass)
+    }
+
+    /// How many times `pass` runs in a frame.
+    pub fn runs_per_frame(&self, pass: &PassPlan) -> u32 {
+        match pass.repeat {
+            Repeat::Substep => self.substeps,
+            Repeat::Iteration => self.substeps * self.iterations * self.groups_of(pass),
+            Repeat::IterationEnd => self.substeps * self.iterations,
+            Repeat::Frame => 1,
+        }
+    }
+
+    /// Constraint groups solved one after another per iteration, over all sweeps (at
+    /// least 1).
+    pub fn group_count(&self) -> u32 {
+        self.groups.len().max(1) as u32
+    }
+
+    /// The groups a per-iteration pass runs for in one iteration: its sweep's, or every
+    /// sweep's for a pass of no sweep (at least 1).
+    fn groups_of(&self, pass: &PassPlan) -> u32 {
+        match pass.sweep.and_then(|s| self.sweeps.get(s)) {
+            Some(sweep) => sweep.groups.len().max(1) as u32,
+            None => self.group_count(),
+        }
+    }
+
+    /// Where sweep `index`'s groups, members and slots start in the buffers that hold every
+    /// sweep one after another (degrees, group members, contributions, node-slot CSR).
+    pub fn sweep_offsets(&self, index: usize) -> SweepOffsets {
+        let mut at = SweepOffsets::default();
+        for sweep in &self.sweeps[..index.min(self.sweeps.len())] {
+            at.group += sweep.groups.len() as u32;
+            at.member += sweep.constraints() as u32;
+            at.slot += (sweep.corners() * sweep.constraints()) as u32;
+        }
+        at
+    }
+
+    /// Dispatches of one frame (the timestamp count).
+    pub fn dispatches_per_frame(&self) -> u32 {
+        self.passes.iter().map(|p| self.runs_per_frame(p)).sum()
+    }
+
+    /// Labels of every pass in execution order: one time step's (the iteration group
+    /// written `N x (a, b)`), then the frame's.
+    pub fn pass_list(&self) -> Vec<String> {
+        let mut out = self.step_list();
+        out.extend(
+            self.passes
+                .iter()
+                .filter(|p| p.repeat == Repeat::Frame)
+                .map(PassPlan::label),
+        );
+        out
+    }
+
+    /// Device-local bytes of all buffers.
+    pub fn device_bytes(&self) -> u64 {
+        self.buffers.iter().map(|b| b.bytes).sum()
+    }
+
+    /// Host-visible bytes copied back every frame.
+    pub fn readback_bytes(&self) -> u64 {
+        self.buffers.iter().map(|b| b.readback_bytes).sum()
+    }
+
+    /// Bytes `pass` moves per run, estimated as every bound buffer streamed once per read
+    /// and once per write (gathers through indices make the real traffic larger). A pass run
+    /// once per constraint group streams only its group's share of its sweep's element
+    /// buffers and of the buffers that hold every sweep's groups (degrees, members,
+    /// contributions, slots).
+    pub fn pass_bytes(&self, pass: &PassPlan) -> u64 {
+        let all_groups = u64::from(self.group_count());
+        let sweep_groups = u64::from(self.groups_of(pass));
+        pass.bindings
+            .iter()
+            .map(|(id, access)| {
+                let size = self.buffer(*id).map_or(0, |b| b.bytes);
+                let size = match (pass.repeat, id) {
+                    (
+                        Repeat::Iteration,
+                        BufferId::Tets
+                        | BufferId::RestVolumes
+                        | BufferId::VolumeCompliance
+                        | BufferId::VolumeMultipliers
+                        | BufferId::Springs
+                        | BufferId::SpringMultipliers
+                        | BufferId::SpringDamping,
+                    ) => size / sweep_groups,
+                    (
+                        Repeat::Iteration,
+                        BufferId::Degrees
+                        | BufferId::GroupMembers
+                        | BufferId::Contributions
+                        | BufferId::NodeSlotOffsets
+                        | BufferId::NodeSlotItems,
+                    ) => size / all_groups,
+                    _ => size,
+                };
+                match access {
+                    Access::Read | Access::Write => size,
+                    Access::ReadWrite => 2 * size,
+                }
+            })
+            .sum()
+    }
+
+    /// Estimated bytes moved per frame: every pass run plus the host copies.
+    pub fn bytes_per_frame(&self) -> u64 {
+        let passes: u64 = self
+            .passes
+            .iter()
+            .map(|p| u64::from(self.runs_per_frame(p)) * self.pass_bytes(p))
+            .sum();
+        passes + 2 * self.readback_bytes()
+    }
+}

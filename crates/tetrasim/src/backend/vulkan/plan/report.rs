@@ -1,0 +1,156 @@
+//! The plan as text: what `tetrasim plan` prints.
+
+use std::fmt::Write as _;
+
+use super::*;
+
+impl EnginePlan {
+    /// The plan as text (what `tetrasim plan` prints).
+    pub fn render(&self) -> String {
+        let mut out = String::new();
+        let c = self.counts;
+        let springs = match (self.springs, self.warm_start) {
+            (SpringKind::Explicit, _) => "",
+            (SpringKind::Implicit, false) => " with implicit springs",
+            (SpringKind::Implicit, true) => " with warm-started implicit springs",
+        };
+        let _ = writeln!(
+            out,
+            "method {}{springs}: {} nodes, {} springs, {} tets; {} substeps x {} iterations, \
+             workgroup {}",
+            self.method,
+            c.nodes,
+            c.springs,
+            c.tets,
+            self.substeps,
+            self.iterations,
+            self.workgroup_size
+        );
+        let _ = writeln!(out, "per time step: {}", self.step_list().join(" -> "));
+        let frame: Vec<String> = self
+            .passes
+            .iter()
+            .filter(|p| p.repeat == Repeat::Frame)
+            .map(PassPlan::label)
+            .collect();
+        let _ = writeln!(
+            out,
+            "per frame, after the last step: {} -> copy {} B to the host",
+            frame.join(" -> "),
+            self.readback_bytes()
+        );
+        let _ = writeln!(
+            out,
+            "{:<22} {:>14} {:>10}",
+            "buffer", "device bytes", "readback"
+        );
+        for b in &self.buffers {
+            let _ = writeln!(
+                out,
+                "{:<22} {:>14} {:>10}",
+                b.id.name(),
+                b.bytes,
+                b.readback_bytes
+            );
+        }
+        let _ = writeln!(
+            out,
+            "total device memory {} B ({:.2} MiB); dispatches per frame {}",
+            self.device_bytes(),
+            self.device_bytes() as f64 / (1024.0 * 1024.0),
+            self.dispatches_per_frame()
+        );
+        let _ = writeln!(out, "{:<22} {:>6} {:>14}", "pass", "runs", "bytes per run");
+        for p in &self.passes {
+            let _ = writeln!(
+                out,
+                "{:<22} {:>6} {:>14}",
+                p.label(),
+                self.runs_per_frame(p),
+                self.pass_bytes(p)
+            );
+        }
+        let _ = writeln!(
+            out,
+            "estimated bytes moved per frame {} ({:.2} MiB)",
+            self.bytes_per_frame(),
+            self.bytes_per_frame() as f64 / (1024.0 * 1024.0)
+        );
+        let _ = writeln!(
+            out,
+            "memory-bound time per frame at peak bandwidth (bytes / bandwidth; dispatch and \
+             latency costs come on top):"
+        );
+        for (gpu, bandwidth) in PEAK_BANDWIDTH {
+            let _ = writeln!(
+                out,
+                "  {gpu:<28} {:>7.0} GB/s {:>10.1} us",
+                bandwidth / 1e9,
+                1e6 * self.bytes_per_frame() as f64 / bandwidth
+            );
+        }
+        out
+    }
+
+    /// `10 x (a, b)`, `10 x 8 groups x (a, b)` with several constraint groups,
+    /// `10 x (8 groups x (a, b), c)` with passes after the groups, and one such part per
+    /// sweep, `10 x (8 groups x (s, b), 8 groups x (a, b), c)`: each sweep's pass followed
+    /// by the passes of no sweep.
+    fn iteration_label(&self, passes: &[&PassPlan], after: &[String]) -> String {
+        let shared: Vec<String> = passes
+            .iter()
+            .filter(|p| p.sweep.is_none())
+            .map(|p| p.label())
+            .collect();
+        let parts: Vec<(usize, String)> = self
+            .sweeps
+            .iter()
+            .enumerate()
+            .map(|(index, sweep)| {
+                let mut labels: Vec<String> = passes
+                    .iter()
+                    .filter(|p| p.sweep == Some(index))
+                    .map(|p| p.label())
+                    .collect();
+                labels.extend(shared.iter().cloned());
+                let text = match sweep.groups.len() {
+                    0 | 1 => labels.join(", "),
+                    k => format!("{k} groups x ({})", labels.join(", ")),
+                };
+                (sweep.groups.len(), text)
+            })
+            .collect();
+        let it = self.iterations;
+        match (parts.as_slice(), after.is_empty()) {
+            ([(0 | 1, part)], true) => format!("{it} x ({part})"),
+            ([(_, part)], true) => format!("{it} x {part}"),
+            _ => {
+                let mut items: Vec<String> = parts.into_iter().map(|(_, text)| text).collect();
+                items.extend(after.iter().cloned());
+                format!("{it} x ({})", items.join(", "))
+            }
+        }
+    }
+
+    /// Labels of one time step's passes (the iteration group written `N x (a, b)`).
+    pub(super) fn step_list(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let mut group: Vec<&PassPlan> = Vec::new();
+        let mut after: Vec<String> = Vec::new();
+        for p in self.passes.iter().filter(|p| p.repeat != Repeat::Frame) {
+            match p.repeat {
+                Repeat::Iteration => group.push(p),
+                Repeat::IterationEnd => after.push(p.label()),
+                _ => {
+                    if !group.is_empty() {
+                        out.push(self.iteration_label(&group, &after));
+                        group.clear();
+                        after.clear();
+                    }
+                    out.push(p.label());
+                }
+            }
+        }
+        out
+    }
+}

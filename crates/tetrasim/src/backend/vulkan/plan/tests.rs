@@ -1,0 +1,148 @@
+//! The plan's unit tests: what a scene builds, and what it leaves out.
+
+use super::*;
+
+const COUNTS: PlanCounts = PlanCounts {
+    nodes: 10,
+    springs: 30,
+    tets: 12,
+};
+
+fn plan(params: &SimParams, sweeps: &[SweepPlan]) -> EnginePlan {
+    EnginePlan::new(COUNTS, params, 64, false, sweeps, None)
+}
+
+#[test]
+fn implicit_springs_sweep_before_the_volumes_and_share_the_gather_buffers() {
+    let params = SimParams {
+        springs: SpringKind::Implicit,
+        global_volume: Some(false),
+        ..SimParams::default()
+    };
+    let sweeps = [
+        SweepPlan {
+            kind: ConstraintKind::Spring,
+            groups: vec![20, 10],
+        },
+        SweepPlan {
+            kind: ConstraintKind::Volume,
+            groups: vec![5, 4, 3],
+        },
+    ];
+    let p = plan(&params, &sweeps);
+    assert_eq!(
+        p.pass_list(),
+        [
+            "10 x (2 groups x (spring_constraint#gather, constraint_apply#gather[floor]), \
+             3 groups x (volume#gather, constraint_apply#gather[floor]))",
+            "integrate[floor]",
+            "check",
+        ]
+    );
+    assert!(!p.runs(PassKind::SpringGather) && !p.runs(PassKind::SpringScatter));
+    assert!(!p.has(BufferId::NodeSpringOffsets));
+    let (n, s, t) = (10, 30, 12);
+    for (id, bytes) in [
+        (BufferId::Degrees, 4 * 5 * n),
+        (BufferId::GroupMembers, 4 * (s + t)),
+        (BufferId::Contributions, 16 * (2 * s + 4 * t)),
+        (BufferId::NodeSlotOffsets, 4 * (5 * n + 1)),
+        (BufferId::NodeSlotItems, 4 * (2 * s + 4 * t)),
+        (BufferId::SpringDamping, 4 * s),
+        (BufferId::VolumeCompliance, 4 * t),
+        (BufferId::SpringMultipliers, 4 * s),
+        (BufferId::VolumeMultipliers, 4 * t),
+    ] {
+        assert_eq!(p.buffer(id).map(|b| b.bytes), Some(bytes), "{id:?}");
+    }
+    assert_eq!(p.sweep_offsets(0), SweepOffsets::default());
+    assert_eq!(
+        p.sweep_offsets(1),
+        SweepOffsets {
+            group: 2,
+            member: 30,
+            slot: 60
+        }
+    );
+    // Per iteration: 2 spring groups and 3 volume groups, each with its apply.
+    assert_eq!(p.dispatches_per_frame(), 10 * 2 * 5 + 2);
+}
+
+#[test]
+fn implicit_springs_alone_are_a_jacobi_sweep_without_a_force_pass() {
+    let params = SimParams {
+        method: Method::Mss,
+        springs: SpringKind::Implicit,
+        solver: Solver::Jacobi,
+        ..SimParams::default()
+    };
+    let sweeps = [SweepPlan {
+        kind: ConstraintKind::Spring,
+        groups: vec![30],
+    }];
+    let p = plan(&params, &sweeps);
+    assert_eq!(
+        p.pass_list(),
+        [
+            "10 x (spring_constraint, constraint_apply#sums[floor])",
+            "integrate[floor]",
+            "check"
+        ]
+    );
+    assert_eq!(p.buffer(BufferId::Degrees).map(|b| b.bytes), Some(40));
+    assert!(p.has(BufferId::ConstraintSum) && !p.has(BufferId::VolumeCompliance));
+    assert_eq!(
+        p.buffer(BufferId::SpringMultipliers).map(|b| b.bytes),
+        Some(4 * 30)
+    );
+    assert!(!p.has(BufferId::VolumeMultipliers));
+    assert!(p.render().starts_with("method mss with implicit springs:"));
+}
+
+#[test]
+fn warm_started_implicit_springs_gather_their_stored_forces_before_the_iterations() {
+    let params = SimParams {
+        method: Method::Mss,
+        springs: SpringKind::Implicit,
+        warm_start: true,
+        solver: Solver::Jacobi,
+        ..SimParams::default()
+    };
+    let sweeps = [SweepPlan {
+        kind: ConstraintKind::Spring,
+        groups: vec![30],
+    }];
+    let p = plan(&params, &sweeps);
+    assert!(p.warm_start);
+    assert_eq!(
+        p.pass_list(),
+        [
+            "spring_warm_start",
+            "10 x (spring_constraint, constraint_apply#sums[floor])",
+            "integrate[floor]",
+            "check"
+        ]
+    );
+    assert_eq!(
+        p.buffer(BufferId::NodeSpringOffsets).map(|b| b.bytes),
+        Some(4 * 11)
+    );
+    assert_eq!(
+        p.buffer(BufferId::NodeSpringItems).map(|b| b.bytes),
+        Some(4 * 60)
+    );
+    assert!(!p.runs(PassKind::SpringGather) && !p.runs(PassKind::SpringScatter));
+    assert_eq!(p.dispatches_per_frame(), 1 + 10 * 2 + 2);
+    assert!(p
+        .render()
+        .starts_with("method mss with warm-started implicit springs:"));
+    // Warm start means nothing to explicit springs.
+    let explicit = plan(
+        &SimParams {
+            springs: SpringKind::Explicit,
+            ..params
+        },
+        &[],
+    );
+    assert!(!explicit.warm_start && !explicit.runs(PassKind::SpringWarmStart));
+}

@@ -1,0 +1,424 @@
+//! Run metrics (physics.md, "Metrics"): volume percentage and inverted tets per frame, their
+//! minimum and average over a run, timings, and the JSON record and table of a run.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::backend::VolumeSample;
+use crate::error::{Error, Result};
+use crate::gpu::PassTime;
+use crate::params::{ConstraintCombine, Solver, SpringKind};
+use crate::problem::Problem;
+
+/// The paper's average volume percentages over all its models, for comparison:
+/// `(method, percent)`.
+pub const PAPER_AVG_VOLUME_PCT: [(&str, f64); 3] =
+    [("mss", 68.21), ("distance", 89.64), ("volume", 98.70)];
+
+/// The paper's average volume percentage for `method` (`mss-node` shares `mss`'s).
+pub fn paper_avg_volume_pct(method: &str) -> Option<f64> {
+    let key = if method == "mss-node" { "mss" } else { method };
+    PAPER_AVG_VOLUME_PCT
+        .iter()
+        .find(|(m, _)| *m == key)
+        .map(|(_, v)| *v)
+}
+
+/// `100 * V / V0` for a sample against the total rest volume `rest` [m^3].
+pub fn volume_pct(sample: VolumeSample, rest: f64) -> f64 {
+    100.0 * sample.volume / rest
+}
+
+/// The local volume error of a sample in percent of the rest volume `rest` [m^3]:
+/// `100 sum_t |V_t - V0_t| / sum_t V0_t` (physics.md, "Local volume error").
+pub fn local_error_pct(sample: VolumeSample, rest: f64) -> f64 {
+    100.0 * sample.local_error / rest
+}
+
+/// The parameters a [`RunRecord`] reports, as they acted in the run; built by
+/// [`RecordParams::of`] only.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RecordParams {
+    /// Time step [s].
+    pub dt: f64,
+    /// Time steps per frame.
+    pub substeps: u32,
+    /// Constraint iterations per time step.
+    pub iterations: u32,
+    /// Relaxation factor.
+    pub omega: f64,
+    /// Spring stiffness [N/m].
+    pub ks: f64,
+    /// Spring damping [N s/m].
+    pub kd: f64,
+    /// Floor friction.
+    pub friction: f64,
+    /// Constraint combination (`scaled`, `sum` or `average`).
+    pub combine: ConstraintCombine,
+    /// Constraint solver (`jacobi`, `gauss-seidel` or `chebyshev`; records older than the
+    /// field were `jacobi`).
+    #[serde(default = "jacobi")]
+    pub solver: Solver,
+    /// Colour groups solved in sequence per iteration (1 for `jacobi`).
+    #[serde(default = "one")]
+    pub groups: u32,
+    /// Whether a global volume constraint per object was solved too.
+    #[serde(default)]
+    pub global_volume: bool,
+    /// Explicit springs (the paper) or implicit (compliant constraints); `--springs` (the
+    /// record's `springs` is the spring count).
+    #[serde(default = "crate::params::default_springs")]
+    pub spring_kind: SpringKind,
+    /// Young's modulus [Pa] of the material, when the springs come from one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub youngs_modulus: Option<f64>,
+    /// Poisson's ratio of that material (absent: incompressible).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub poisson_ratio: Option<f64>,
+    /// Its damping time [s].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<f64>,
+}
+
+impl RecordParams {
+    /// What a run of a prepared problem reports.
+    pub fn of(problem: &Problem) -> Self {
+        let params = &problem.params;
+        RecordParams {
+            dt: params.dt,
+            substeps: params.substeps,
+            iterations: params.iterations,
+            omega: params.omega,
+            ks: params.ks,
+            kd: params.kd,
+            friction: params.friction,
+            combine: params.combine,
+            solver: params.solver,
+            groups: problem.groups(),
+            global_volume: params.solves_global_volume(),
+            spring_kind: params.springs,
+            youngs_modulus: params.youngs_modulus,
+            poisson_ratio: params.poisson_ratio,
+            damping: params.youngs_modulus.map(|_| {
+                params
+                    .damping
+                    .unwrap_or(crate::params::DEFAULT_DAMPING_TIME)
+            }),
+        }
+    }
+}
+
+/// Everything recorded about one method's run; serialised as one JSON object. Never holds a
+/// NaN: a run that goes non-finite stops, keeps the frames before, and sets `diverged`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RunRecord {
+    /// Method name (`mss`, `mss-node`, `distance`, `volume`).
+    pub method: String,
+    /// Backend name (`cpu-ref`, `cpu`, `vulkan`).
+    pub backend: String,
+    /// Mesh path or label.
+    pub mesh: String,
+    /// Node count.
+    pub nodes: usize,
+    /// Tetrahedron count.
+    pub tets: usize,
+    /// Spring count.
+    pub springs: usize,
+    /// Frames requested.
+    pub frames: u32,
+    /// Frames completed (less than `frames` when the run diverged).
+    pub frames_run: u32,
+    /// The parameters of the run (their keys sit at the top level of the JSON object).
+    #[serde(flatten)]
+    pub params: RecordParams,
+    /// Simulated time at the end of each completed frame [s] (the time axis of the
+    /// per-frame series; empty in records older than the field).
+    #[serde(default)]
+    pub time_s: Vec<f64>,
+    /// When the body first reaches the floor falling from its start [s]
+    /// ([`crate::model::Model::floor_contact_time`]); `None` without a floor or when it
+    /// never does.
+    #[serde(default)]
+    pub contact_time_s: Option<f64>,
+    /// Volume percentage after each completed frame.
+    pub volume_pct: Vec<f64>,
+    /// Inverted tets after each completed frame.
+    pub inverted_tets: Vec<u32>,
+    /// Local volume error after each completed frame [%] (`100 sum_t |V_t - V0_t| /
+    /// sum_t V0_t`; empty in records older than the field).
+    #[serde(default)]
+    pub local_error_pct: Vec<f64>,
+    /// Minimum of `volume_pct` (0 when no frame completed).
+    pub min_volume_pct: f64,
+    /// Average of `volume_pct` (0 when no frame completed).
+    pub avg_volume_pct: f64,
+    /// Inverted tets at the worst frame (the one with the most).
+    pub max_inverted_tets: u32,
+    /// Average of `local_error_pct` (0 when no frame completed).
+    #[serde(default)]
+    pub avg_local_error_pct: f64,
+    /// Maximum of `local_error_pct` (0 when no frame completed).
+    #[serde(default)]
+    pub max_local_error_pct: f64,
+    /// Mean wall time of one frame's simulation (`step_frame`, no volume sampling) [ms].
+    pub ms_per_frame: f64,
+    /// Wall time of the whole run, sampling and output included [s].
+    pub wall_s: f64,
+    /// The run went non-finite and stopped.
+    pub diverged: bool,
+    /// Where and why it diverged.
+    pub divergence: Option<String>,
+    /// GPU device name (`vulkan` only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub device: Option<String>,
+    /// Float-atomic path, `ext` or `cas` (`vulkan` only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub atomics: Option<String>,
+    /// GPU time per frame of each pass, in execution order (`vulkan` only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub passes: Option<Vec<PassTime>>,
+}
+
+fn jacobi() -> Solver {
+    Solver::Jacobi
+}
+
+fn one() -> u32 {
+    1
+}
+
+impl RunRecord {
+    /// The contact time, when the run ended before it: its volume figures then measure a
+    /// free fall, not the drop the paper's column is about.
+    pub fn ends_before_contact(&self) -> Option<f64> {
+        let end = f64::from(self.frames_run) * self.params.dt * f64::from(self.params.substeps);
+        self.contact_time_s.filter(|&t| end < t)
+    }
+
+    /// Recomputes `min_volume_pct`, `avg_volume_pct`, `max_inverted_tets` and `frames_run`
+    /// from the per-frame series.
+    pub fn summarise(&mut self) {
+        let n = self.volume_pct.len();
+        self.frames_run = n as u32;
+        if n == 0 {
+            self.min_volume_pct = 0.0;
+            self.avg_volume_pct = 0.0;
+        } else {
+            self.min_volume_pct = self
+                .volume_pct
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min);
+            self.avg_volume_pct = self.volume_pct.iter().sum::<f64>() / n as f64;
+        }
+        self.max_inverted_tets = self.inverted_tets.iter().copied().max().unwrap_or(0);
+        let local = &self.local_error_pct;
+        self.avg_local_error_pct = match local.len() {
+            0 => 0.0,
+            n => local.iter().sum::<f64>() / n as f64,
+        };
+        self.max_local_error_pct = local.iter().copied().fold(0.0, f64::max);
+    }
+}
+
+/// The paper-style table: per run, min and average volume %, the local volume error's
+/// average and maximum, inverted tets at the worst frame, ms per frame, and the paper's
+/// average for the method.
+pub fn table(records: &[RunRecord]) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{:<9} {:<8} {:>10} {:>10} {:>11} {:>11} {:>9} {:>9} {:>10}  note",
+        "method",
+        "backend",
+        "min vol %",
+        "avg vol %",
+        "avg local %",
+        "max local %",
+        "inverted",
+        "ms/frame",
+        "paper avg"
+    );
+    for r in records {
+        let paper = paper_avg_volume_pct(&r.method).map_or("-".to_string(), |p| format!("{p:.2}"));
+        let note = if r.diverged {
+            format!("diverged after {} frames", r.frames_run)
+        } else if let Some(t) = r.ends_before_contact() {
+            format!("ended before reaching the floor (at {t:.3} s): not the paper's experiment")
+        } else {
+            String::new()
+        };
+        let _ = writeln!(
+            out,
+            "{:<9} {:<8} {:>10.2} {:>10.2} {:>11.3} {:>11.3} {:>9} {:>9.3} {:>10}  {note}",
+            r.method,
+            r.backend,
+            r.min_volume_pct,
+            r.avg_volume_pct,
+            r.avg_local_error_pct,
+            r.max_local_error_pct,
+            r.max_inverted_tets,
+            r.ms_per_frame,
+            paper
+        );
+    }
+    out
+}
+
+/// A warning for each record whose run ended before the body reached the floor, saying
+/// how many frames the drop needs; empty when every run reached it.
+pub fn short_run_warnings(records: &[RunRecord]) -> String {
+    let mut out = String::new();
+    for r in records {
+        if let Some(t) = r.ends_before_contact() {
+            let frame_time = r.params.dt * f64::from(r.params.substeps);
+            let _ = writeln!(
+                out,
+                "warning: {} on {} ({}) ran {} frames ({:.3} s) and ended before the body reached \
+                 the floor (at {t:.3} s, frame {}): its volume figures are those of a free fall, \
+                 not of the paper's drop",
+                r.method,
+                r.backend,
+                r.mesh,
+                r.frames_run,
+                f64::from(r.frames_run) * frame_time,
+                (t / frame_time).ceil()
+            );
+        }
+    }
+    out
+}
+
+/// Per-pass GPU time of every run that has it: ms per frame and share of the frame's GPU
+/// time; empty when no run does.
+pub fn pass_table(records: &[RunRecord]) -> String {
+    let mut out = String::new();
+    for r in records {
+        let Some(passes) = &r.passes else { continue };
+        let total: f64 = passes.iter().map(|p| p.ms_per_frame).sum();
+        let _ = writeln!(
+            out,
+            "{} on {} (atomics {}): GPU {total:.3} ms/frame",
+            r.method,
+            r.device.as_deref().unwrap_or("?"),
+            r.atomics.as_deref().unwrap_or("-")
+        );
+        for PassTime {
+            name,
+            ms_per_frame: ms,
+        } in passes
+        {
+            let share = if total > 0.0 { 100.0 * ms / total } else { 0.0 };
+            let _ = writeln!(out, "  {name:<17} {ms:>9.3} ms {share:>6.1} %");
+        }
+    }
+    out
+}
+
+/// Writes `records` as a pretty JSON array to `path` (through a temporary file and a rename,
+/// so a failed write leaves no half-written file).
+pub fn write_json(path: &Path, records: &[RunRecord]) -> Result<()> {
+    let text = serde_json::to_string_pretty(records)
+        .map_err(|e| Error::param("metrics", format!("cannot serialise the run records: {e}")))?;
+    Ok(crate::mesh::io::write_atomic(path, |w| {
+        w.write_all(text.as_bytes())
+    })?)
+}
+
+/// Writes any serialisable value as pretty JSON to `path` (temporary file, then rename).
+pub fn write_json_value<T: Serialize + ?Sized>(path: &Path, value: &T) -> Result<()> {
+    let text = serde_json::to_string_pretty(value)
+        .map_err(|e| Error::param("json", format!("cannot serialise {}: {e}", path.display())))?;
+    Ok(crate::mesh::io::write_atomic(path, |w| {
+        w.write_all(text.as_bytes())
+    })?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn record(pct: Vec<f64>, inverted: Vec<u32>) -> RunRecord {
+        let mut r = RunRecord {
+            method: "volume".into(),
+            backend: "cpu-ref".into(),
+            mesh: "box".into(),
+            nodes: 8,
+            tets: 6,
+            springs: 19,
+            frames: 4,
+            frames_run: 0,
+            params: RecordParams {
+                dt: 1e-3,
+                substeps: 1,
+                iterations: 10,
+                omega: 1.0,
+                ks: 5000.0,
+                kd: 15.0,
+                friction: 0.0,
+                combine: ConstraintCombine::Scaled,
+                solver: Solver::GaussSeidel,
+                groups: 8,
+                global_volume: false,
+                spring_kind: SpringKind::Explicit,
+                youngs_modulus: None,
+                poisson_ratio: None,
+                damping: None,
+            },
+            local_error_pct: pct.iter().map(|p| (100.0 - p) / 2.0).collect(),
+            time_s: (1..=pct.len()).map(|f| 1e-3 * f as f64).collect(),
+            contact_time_s: None,
+            volume_pct: pct,
+            inverted_tets: inverted,
+            min_volume_pct: f64::NAN,
+            avg_volume_pct: f64::NAN,
+            max_inverted_tets: 0,
+            avg_local_error_pct: f64::NAN,
+            max_local_error_pct: f64::NAN,
+            ms_per_frame: 0.5,
+            wall_s: 0.01,
+            diverged: false,
+            divergence: None,
+            device: None,
+            atomics: None,
+            passes: None,
+        };
+        r.summarise();
+        r
+    }
+
+    #[test]
+    fn summary_takes_min_mean_and_worst_frame() {
+        let r = record(vec![100.0, 96.0, 98.0, 94.0], vec![0, 3, 1, 2]);
+        assert_eq!(
+            (
+                r.min_volume_pct,
+                r.avg_volume_pct,
+                r.max_inverted_tets,
+                r.frames_run
+            ),
+            (94.0, 97.0, 3, 4)
+        );
+        assert_eq!((r.avg_local_error_pct, r.max_local_error_pct), (1.5, 3.0));
+        let text = table(&[r]);
+        assert!(
+            text.contains("94.00") && text.contains("97.00") && text.contains("98.70"),
+            "{text}"
+        );
+        assert!(text.contains("1.500") && text.contains("3.000"), "{text}");
+    }
+
+    #[test]
+    fn empty_run_has_no_nan_in_json() {
+        let r = record(vec![], vec![]);
+        let json = serde_json::to_string(&r).unwrap();
+        assert!(
+            json.contains("\"min_volume_pct\":0.0") && json.contains("\"avg_volume_pct\":0.0"),
+            "{json}"
+        );
+        assert_eq!((r.min_volume_pct, r.avg_volume_pct), (0.0, 0.0));
+        assert_eq!((r.avg_local_error_pct, r.max_local_error_pct), (0.0, 0.0));
+    }
+}

@@ -1,0 +1,523 @@
+//! Solver parameters: one struct with documented units and defaults, shared by the CLI,
+//! scene files and every backend (the GPU push-constant block is derived from it). What a
+//! user may set is listed once, in the command line's `SolverOverrides` and
+//! `MaterialOverrides` (`tetrasim_cli::overrides`: the flags and the scene keys).
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+
+/// The simulation method (physics.md, "Methods").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// Springs only, spring-centric scatter.
+    Mss,
+    /// Springs only, node-centric gather (same physics as `mss`).
+    MssNode,
+    /// Springs plus an implicit distance constraint on every spring.
+    Distance,
+    /// Springs plus an implicit volume constraint on every tetrahedron.
+    Volume,
+}
+
+impl Method {
+    /// Every method, in the paper's order.
+    pub const ALL: [Method; 4] = [
+        Method::Mss,
+        Method::MssNode,
+        Method::Distance,
+        Method::Volume,
+    ];
+
+    /// The name used on the command line, in JSON and in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Mss => "mss",
+            Method::MssNode => "mss-node",
+            Method::Distance => "distance",
+            Method::Volume => "volume",
+        }
+    }
+}
+
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// How node masses are assigned.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", tag = "mode")]
+pub enum MassMode {
+    /// Every node has the same mass [kg] (the `seed` preset: 1 kg).
+    PerNode {
+        /// The mass of every node [kg].
+        mass: f64,
+    },
+    /// Lumped mass from material density [kg/m^3]: each tet gives a quarter of its rest
+    /// volume times density to each of its nodes.
+    Density {
+        /// The material's density [kg/m^3].
+        density: f64,
+    },
+}
+
+/// How the forces of one iteration's constraints are combined per node (physics.md,
+/// "Momentum-conserving scaling" and "Iterations, relaxation and substeps").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
+pub enum ConstraintCombine {
+    /// Momentum-conserving scaling (the default): each constraint's `A` weighs node `k`'s
+    /// inverse mass by `d_k`, the number of constraints of that kind touching it, and its
+    /// forces are applied whole, so they sum to zero and conserve linear and angular momentum.
+    Scaled,
+    /// Plain Jacobi summation, the paper's literal reading (`d_k = 1`; conserves momentum but
+    /// diverges on real meshes at omega 1).
+    Sum,
+    /// The first edition's per-node averaging: each node's sum is divided by `d_k`. Kept only
+    /// as a comparison: it does not conserve momentum (a body on a frictionless floor slides).
+    Average,
+}
+
+impl ConstraintCombine {
+    /// The name used on the command line, in scene files and in records.
+    pub fn name(self) -> &'static str {
+        match self {
+            ConstraintCombine::Scaled => "scaled",
+            ConstraintCombine::Sum => "sum",
+            ConstraintCombine::Average => "average",
+        }
+    }
+
+    /// The two per-node factors of a node touched by `degree` constraints of one kind,
+    /// `(a_scale, apply_weight)`: node `k`'s inverse mass enters a constraint's
+    /// `A = sum_k a_scale_k w_k |grad_k C|^2`, and the node's summed constraint forces are
+    /// multiplied by `apply_weight` (before `omega`). Every backend uses this function.
+    pub fn node_factors(self, degree: u32) -> (f64, f64) {
+        let d = f64::from(degree.max(1));
+        match self {
+            ConstraintCombine::Scaled => (d, 1.0),
+            ConstraintCombine::Sum => (1.0, 1.0),
+            ConstraintCombine::Average => (1.0, 1.0 / d),
+        }
+    }
+}
+
+/// How each iteration sweeps the constraints (physics.md, "Faster convergence at equal
+/// cost").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
+pub enum Solver {
+    /// The paper's method: every constraint reads the same forces, their sums are added at
+    /// the end of the sweep.
+    Jacobi,
+    /// Gauss-Seidel by colour groups: constraints coloured at load time (no two of a colour
+    /// share a node), colours merged into `groups` groups solved one after another, each
+    /// against the forces the previous groups left.
+    GaussSeidel,
+    /// Jacobi sweeps with Chebyshev semi-iteration (Wang 2015): iteration `k`'s forces are
+    /// `F_k = w_k (Fhat_k - F_(k-2)) + F_(k-2)`, `Fhat_k` the plain Jacobi update, with
+    /// weights from the spectral radius estimate `rho` (see `chebyshev_weights`).
+    Chebyshev,
+}
+
+impl Solver {
+    /// Every solver.
+    pub const ALL: [Solver; 3] = [Solver::Jacobi, Solver::GaussSeidel, Solver::Chebyshev];
+
+    /// The name used on the command line, in scene files and in records.
+    pub fn name(self) -> &'static str {
+        match self {
+            Solver::Jacobi => "jacobi",
+            Solver::GaussSeidel => "gauss-seidel",
+            Solver::Chebyshev => "chebyshev",
+        }
+    }
+}
+
+impl std::fmt::Display for Solver {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// How the springs act (physics.md, "Compliant (implicit) springs").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
+pub enum SpringKind {
+    /// The paper's explicit forces `ks (l - L) + kd (relative velocity)`, added before the
+    /// constraint iterations; stable only for `dt < ~2 sqrt(m / ks)`.
+    Explicit,
+    /// Each spring a compliant constraint `C = |x_i - x_j| - L` with compliance `1 / ks` and
+    /// first-order implicit damping `kd`, solved in the constraint iterations (before the
+    /// method's own constraints in each iteration): stable for any mass and stiffness.
+    Implicit,
+}
+
+impl SpringKind {
+    /// The name used on the command line, in scene files and in records.
+    pub fn name(self) -> &'static str {
+        match self {
+            SpringKind::Explicit => "explicit",
+            SpringKind::Implicit => "implicit",
+        }
+    }
+}
+
+impl std::fmt::Display for SpringKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Everything the solver needs besides the model. Units are SI.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimParams {
+    /// Method to simulate.
+    pub method: Method,
+    /// Time step [s].
+    pub dt: f64,
+    /// Time steps per frame.
+    pub substeps: u32,
+    /// Constraint iterations per time step (ignored by `mss`, `mss-node`).
+    pub iterations: u32,
+    /// Relaxation factor applied to each iteration's combined constraint forces.
+    pub omega: f64,
+    /// Spring stiffness [N/m].
+    pub ks: f64,
+    /// Spring damping [N s/m].
+    pub kd: f64,
+    /// Explicit spring forces (the paper) or compliant spring constraints.
+    #[serde(default = "default_springs")]
+    pub springs: SpringKind,
+    /// Implicit springs start each step from their last step's multipliers (their forces
+    /// added to `F` at `x(t)`): the stiffness no longer depends on the iteration count in
+    /// quasi-static scenes, but a multiplier carried through an impact is wrong (physics.md,
+    /// docs/PHYSICS.md "Iterations"). Off by default.
+    #[serde(default)]
+    pub warm_start: bool,
+    /// Young's modulus [Pa]: when given, every spring's stiffness comes from it (Van Gelder:
+    /// `k_e = E sum_(t at e) V0_t / L_e^2`) instead of `ks`, and its damping is `damping k_e`
+    /// instead of `kd` (physics.md, "Material in physical units").
+    #[serde(default)]
+    pub youngs_modulus: Option<f64>,
+    /// Poisson's ratio in `[0, 0.5]` (needs `youngs_modulus`): the volume constraints become
+    /// compliant, `alpha_t = V0_t / K` with the bulk modulus `K = E / (3 (1 - 2 nu))`;
+    /// `None` or 0.5 keeps them hard (incompressible), the paper's constraint.
+    #[serde(default)]
+    pub poisson_ratio: Option<f64>,
+    /// Stiffness-proportional (Rayleigh) damping time `beta` [s] of a material given by
+    /// `youngs_modulus`: each spring's damping is `beta k_e` [N s/m]. `None`: the paper's
+    /// ratio `kd / ks` of the `seed` preset, 3 ms.
+    #[serde(default)]
+    pub damping: Option<f64>,
+    /// Gravity magnitude along -Y [m/s^2].
+    pub gravity: f64,
+    /// Whether the floor plane `y = 0` exists.
+    pub floor: bool,
+    /// Fraction of tangential velocity removed on floor contact, in `[0, 1]`.
+    pub friction: f64,
+    /// Node mass assignment.
+    pub mass: MassMode,
+    /// Per-node combination of constraint forces.
+    pub combine: ConstraintCombine,
+    /// How each iteration sweeps the constraints.
+    #[serde(default = "default_solver")]
+    pub solver: Solver,
+    /// Colour groups of the Gauss-Seidel solver (at most the number of colours; ignored by
+    /// Jacobi).
+    #[serde(default = "default_groups")]
+    pub groups: u32,
+    /// One global volume constraint per object, solved after the local constraints in
+    /// every iteration (methods `distance` and `volume`; ignored by the springs-only ones).
+    /// `None`: the solver's default, on for Gauss-Seidel and off for Jacobi (the paper's
+    /// method).
+    #[serde(default)]
+    pub global_volume: Option<bool>,
+    /// Spectral radius estimate of the Chebyshev solver, in `(0, 1)` (ignored by the others).
+    #[serde(default = "default_rho")]
+    pub rho: f64,
+    /// A constraint is skipped when its `A = sum_k w_k |grad_k C|^2` is at or below this
+    /// (units of `A`: 1/kg m^2 for distance, 1/kg m^4 for volume constraints); guards
+    /// collapsed elements, whose multiplier would be unbounded. Not in physics.md.
+    #[serde(default = "default_constraint_epsilon")]
+    pub constraint_epsilon: f64,
+}
+
+impl Default for SimParams {
+    /// The `seed` preset's physics (physics.md, "The paper's experiment").
+    fn default() -> Self {
+        SimParams {
+            method: Method::Volume,
+            dt: 1e-3,
+            substeps: 1,
+            iterations: 10,
+            omega: 1.0,
+            ks: 5000.0,
+            kd: 15.0,
+            springs: default_springs(),
+            warm_start: false,
+            youngs_modulus: None,
+            poisson_ratio: None,
+            damping: None,
+            gravity: 9.81,
+            floor: true,
+            friction: 0.0,
+            mass: MassMode::PerNode { mass: 1.0 },
+            combine: ConstraintCombine::Scaled,
+            solver: default_solver(),
+            groups: default_groups(),
+            global_volume: None,
+            rho: default_rho(),
+            constraint_epsilon: default_constraint_epsilon(),
+        }
+    }
+}
+
+impl SimParams {
+    /// Simulated time of one frame: `dt * substeps` [s].
+    pub fn frame_time(&self) -> f64 {
+        self.dt * f64::from(self.substeps)
+    }
+
+    /// Whether the time step solves constraints in iterations: a constraint method, or
+    /// implicit springs.
+    pub fn has_constraints(&self) -> bool {
+        matches!(self.method, Method::Distance | Method::Volume)
+            || self.springs == SpringKind::Implicit
+    }
+
+    /// Whether the global volume constraints are solved: asked for (by default with
+    /// Gauss-Seidel), and a method with constraint iterations.
+    pub fn solves_global_volume(&self) -> bool {
+        self.global_volume_on() && matches!(self.method, Method::Distance | Method::Volume)
+    }
+
+    /// Whether the global volume constraints are asked for: `global_volume`, else the
+    /// solver's default (on for Gauss-Seidel, off for Jacobi).
+    pub fn global_volume_on(&self) -> bool {
+        self.global_volume
+            .unwrap_or(self.solver == Solver::GaussSeidel)
+    }
+
+    /// Checks every value's range; the error names the offending key.
+    pub fn validate(&self) -> Result<()> {
+        fn positive_finite(key: &str, v: f64) -> Result<()> {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(Error::param(
+                    key,
+                    format!("must be a finite number > 0, got {v}"),
+                ))
+            }
+        }
+        fn non_negative_finite(key: &str, v: f64) -> Result<()> {
+            if v.is_finite() && v >= 0.0 {
+                Ok(())
+            } else {
+                Err(Error::param(
+                    key,
+                    format!("must be a finite number >= 0, got {v}"),
+                ))
+            }
+        }
+        positive_finite("dt", self.dt)?;
+        if self.substeps == 0 {
+            return Err(Error::param("substeps", "must be at least 1"));
+        }
+        if self.iterations == 0 {
+            return Err(Error::param("iterations", "must be at least 1"));
+        }
+        positive_finite("omega", self.omega)?;
+        non_negative_finite("ks", self.ks)?;
+        non_negative_finite("kd", self.kd)?;
+        if !self.gravity.is_finite() {
+            return Err(Error::param(
+                "gravity",
+                format!("must be finite, got {}", self.gravity),
+            ));
+        }
+        if !(0.0..=1.0).contains(&self.friction) {
+            return Err(Error::param(
+                "friction",
+                format!("must be in [0, 1], got {}", self.friction),
+            ));
+        }
+        if self.groups == 0 {
+            return Err(Error::param("groups", "must be at least 1"));
+        }
+        if !(self.rho > 0.0 && self.rho < 1.0) {
+            return Err(Error::param(
+                "rho",
+                format!("must be in (0, 1), got {}", self.rho),
+            ));
+        }
+
+        if let Some(e) = self.youngs_modulus {
+            positive_finite("youngs_modulus", e)?;
+        }
+        for (key, value) in [
+            ("poisson_ratio", self.poisson_ratio),
+            ("damping", self.damping),
+        ] {
+            if value.is_some() && self.youngs_modulus.is_none() {
+                return Err(Error::param(
+                    key,
+                    "describes a material given by its Young's modulus; give youngs_modulus \
+                     too (or use ks and kd)",
+                ));
+            }
+        }
+        if let Some(nu) = self.poisson_ratio {
+            if !(0.0..=0.5).contains(&nu) {
+                return Err(Error::param(
+                    "poisson_ratio",
+                    format!("must be in [0, 0.5], got {nu}"),
+                ));
+            }
+        }
+        if let Some(beta) = self.damping {
+            non_negative_finite("damping", beta)?;
+        }
+        if self.warm_start && self.springs != SpringKind::Implicit {
+            return Err(Error::param(
+                "warm_start",
+                "acts only with implicit springs (springs = implicit)",
+            ));
+        }
+        if self.springs == SpringKind::Implicit {
+            match self.method {
+                Method::MssNode | Method::Distance => {
+                    return Err(Error::param(
+                        "springs",
+                        format!(
+                            "implicit springs act with the methods mss and volume; {} {}",
+                            self.method,
+                            if self.method == Method::Distance {
+                                "already holds every spring at its rest length"
+                            } else {
+                                "gathers explicit spring forces per node (use mss)"
+                            }
+                        ),
+                    ))
+                }
+                Method::Mss | Method::Volume => {}
+            }
+            if self.solver == Solver::Chebyshev {
+                return Err(Error::param(
+                    "springs",
+                    "implicit springs are solved by jacobi or gauss-seidel, not chebyshev",
+                ));
+            }
+            if self.youngs_modulus.is_none() && self.ks <= 0.0 {
+                return Err(Error::param(
+                    "ks",
+                    "implicit springs need a stiffness > 0 (compliance 1 / ks)",
+                ));
+            }
+        }
+        non_negative_finite("constraint_epsilon", self.constraint_epsilon)?;
+        match self.mass {
+            MassMode::PerNode { mass } => positive_finite("mass", mass)?,
+            MassMode::Density { density } => positive_finite("density", density)?,
+        }
+        Ok(())
+    }
+}
+
+/// Default of [`SimParams::springs`]: the paper's explicit springs.
+pub fn default_springs() -> SpringKind {
+    SpringKind::Explicit
+}
+
+/// Default of [`SimParams::damping`] [s]: the `seed` preset's `kd / ks` (15 / 5000).
+pub const DEFAULT_DAMPING_TIME: f64 = 15.0 / 5000.0;
+
+/// Default of [`SimParams::solver`].
+pub fn default_solver() -> Solver {
+    Solver::GaussSeidel
+}
+
+/// Default of [`SimParams::rho`] (physics.md's prototype: 0.95 on the bunny).
+pub fn default_rho() -> f64 {
+    0.95
+}
+
+/// The Chebyshev weights of iterations `1..=iterations` for spectral radius `rho`
+/// (physics.md, Wang 2015): `w_1 = 1`, `w_2 = 2 / (2 - rho^2)`,
+/// `w_(k+1) = 4 / (4 - rho^2 w_k)`. Every backend uses this function.
+pub fn chebyshev_weights(rho: f64, iterations: u32) -> Vec<f64> {
+    let r2 = rho * rho;
+    let mut out: Vec<f64> = Vec::with_capacity(iterations as usize);
+    for k in 0..iterations as usize {
+        let w = match k {
+            0 => 1.0,
+            1 => 2.0 / (2.0 - r2),
+            _ => 4.0 / (4.0 - r2 * out[k - 1]),
+        };
+        out.push(w);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chebyshev_weights_follow_the_recurrence_down_to_the_optimal_limit() {
+        let rho: f64 = 0.95;
+        let w = chebyshev_weights(rho, 60);
+        assert_eq!(w[0], 1.0);
+        assert!((w[1] - 2.0 / (2.0 - rho * rho)).abs() < 1e-15);
+        assert!((w[2] - 4.0 / (4.0 - rho * rho * w[1])).abs() < 1e-15);
+        // From w_2 on the weights fall to the optimal SOR-like limit
+        // 2 / (1 + sqrt(1 - rho^2)), staying above it.
+        let limit = 2.0 / (1.0 + (1.0 - rho * rho).sqrt());
+        assert!(w[1..].windows(2).all(|p| p[1] <= p[0] && p[1] >= limit));
+        assert!((w[59] - limit).abs() < 1e-9, "{} vs {limit}", w[59]);
+    }
+}
+
+/// Default of [`SimParams::groups`].
+pub fn default_groups() -> u32 {
+    8
+}
+
+/// Default of [`SimParams::constraint_epsilon`]: far below any real element's `A` at the
+/// `seed` scale (about 1e-7 for a tet of 20k at 1 m), representable in f32.
+pub fn default_constraint_epsilon() -> f64 {
+    1e-20
+}
+
+/// Where the mesh is put before the run (physics.md, preset `seed`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Placement {
+    /// Uniformly scale so the bounding box's largest side is this many metres
+    /// (`None` keeps the mesh's own size).
+    pub fit_size: Option<f64>,
+    /// Put the lowest node this high above `y = 0`, and, when the mesh is fitted, centre it
+    /// over the origin in X and Z (`None` keeps the mesh where it is).
+    pub drop_height: Option<f64>,
+}
+
+impl Default for Placement {
+    fn default() -> Self {
+        Placement {
+            fit_size: Some(1.0),
+            drop_height: Some(0.1),
+        }
+    }
+}
+
+/// Frames of the `seed` preset.
+pub const SEED_FRAMES: u32 = 400;

@@ -1,0 +1,238 @@
+//! Optional overrides of [`SimParams`]: the one list of the parameters a user sets. Each
+//! struct is both a part of `tetrasim run`'s flags (clap, flattened into `RunArgs`; the doc
+//! comments are the `--help` text) and a table of a scene file (serde: `[solver]` and an
+//! object's `material`); `apply` writes the given values onto a [`SimParams`].
+//!
+//! A new parameter is a field of [`SimParams`] (with its default) and a field here (with its
+//! line in `apply`).
+
+use serde::Deserialize;
+
+use tetrasim::params::{ConstraintCombine, MassMode, SimParams, Solver, SpringKind};
+
+/// Time stepping and the constraint solver, shared by all objects: a scene's `[solver]`
+/// table and `run`'s solver flags. `None` keeps the base value (the preset's).
+#[derive(Debug, Clone, Default, PartialEq, clap::Args, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverOverrides {
+    /// Time step [s].
+    #[arg(long)]
+    pub dt: Option<f64>,
+    /// Time steps per frame.
+    #[arg(long)]
+    pub substeps: Option<u32>,
+    /// Constraint iterations per time step.
+    #[arg(long)]
+    pub iterations: Option<u32>,
+    /// Relaxation factor of the constraint forces.
+    #[arg(long)]
+    pub omega: Option<f64>,
+    /// How constraint forces are combined: `scaled` (momentum-conserving, default), `sum`
+    /// (the paper's literal reading), `average` (first edition, drifts; for comparison).
+    #[arg(long, value_enum)]
+    pub combine: Option<ConstraintCombine>,
+    /// How each iteration sweeps the constraints: `gauss-seidel` (colour groups, default),
+    /// `jacobi` (the paper's method) or `chebyshev` (Jacobi with Chebyshev semi-iteration).
+    #[arg(long, value_enum)]
+    pub solver: Option<Solver>,
+    /// Colour groups of the Gauss-Seidel solver (default 8).
+    #[arg(long)]
+    pub groups: Option<u32>,
+    /// One global volume constraint per object, solved after the local constraints in every
+    /// iteration: `true` (`--global-volume` alone) or `false`; default: on for
+    /// `gauss-seidel`, off for `jacobi` (the paper's method) and `chebyshev`.
+    #[arg(long, num_args = 0..=1, default_missing_value = "true", value_name = "BOOL")]
+    pub global_volume: Option<bool>,
+    /// Springs as the paper's explicit forces (`explicit`, default) or as compliant
+    /// constraints solved with the others (`implicit`: stable for any mass and stiffness;
+    /// methods mss and volume).
+    #[arg(long, value_enum)]
+    pub springs: Option<SpringKind>,
+    /// Implicit springs start each step from the last step's multipliers: stiffness
+    /// independent of the iteration count for slow, quasi-static loads (not through impacts;
+    /// default false).
+    #[arg(long, num_args = 0..=1, default_missing_value = "true", value_name = "BOOL")]
+    pub warm_start: Option<bool>,
+    /// Spectral radius estimate of the Chebyshev solver, in (0, 1) (default 0.95).
+    #[arg(long)]
+    pub rho: Option<f64>,
+    /// Skip a constraint whose denominator A is at or below this.
+    #[arg(long)]
+    pub epsilon: Option<f64>,
+    /// Gravity along -Y [m/s^2].
+    #[arg(long)]
+    pub gravity: Option<f64>,
+    /// Frames to simulate (the length of the run, not a `SimParams` value).
+    #[arg(long)]
+    pub frames: Option<u32>,
+}
+
+impl SolverOverrides {
+    /// Writes every given value onto `params` (`frames` is the caller's).
+    pub fn apply(&self, params: &mut SimParams) {
+        set(&mut params.dt, self.dt);
+        set(&mut params.substeps, self.substeps);
+        set(&mut params.iterations, self.iterations);
+        set(&mut params.omega, self.omega);
+        set(&mut params.combine, self.combine);
+        set(&mut params.solver, self.solver);
+        set(&mut params.groups, self.groups);
+        set(&mut params.global_volume, self.global_volume.map(Some));
+        set(&mut params.rho, self.rho);
+        set(&mut params.springs, self.springs);
+        set(&mut params.warm_start, self.warm_start);
+        set(&mut params.constraint_epsilon, self.epsilon);
+        set(&mut params.gravity, self.gravity);
+    }
+
+    /// Whether `key` is one of these values (a flag's id, a `[solver]` key).
+    pub fn has(key: &str) -> bool {
+        has_arg::<Self>(key)
+    }
+
+    /// A value given for a solver that does not use it, refused rather than ignored: the
+    /// key and the solver it needs (`groups` without Gauss-Seidel, `rho` without
+    /// Chebyshev), when `solver` is the one that runs.
+    pub fn misplaced(&self, solver: Solver) -> Option<(&'static str, Solver)> {
+        [
+            ("groups", self.groups.is_some(), Solver::GaussSeidel),
+            ("rho", self.rho.is_some(), Solver::Chebyshev),
+        ]
+        .into_iter()
+        .find(|&(_, given, needs)| given && solver != needs)
+        .map(|(key, _, needs)| (key, needs))
+    }
+}
+
+/// Spring constants or an elastic material, and mass, of an object: a scene object's
+/// `material` table and `run`'s material flags. `None` keeps the base value (the preset's).
+#[derive(Debug, Clone, Default, PartialEq, clap::Args, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialOverrides {
+    /// Spring stiffness [N/m].
+    #[arg(long)]
+    pub ks: Option<f64>,
+    /// Spring damping [N s/m].
+    #[arg(long)]
+    pub kd: Option<f64>,
+    /// Mass of every node [kg] (the preset: 1).
+    #[arg(long, conflicts_with = "density")]
+    pub node_mass: Option<f64>,
+    /// Lumped masses from this density [kg/m^3] instead of equal node masses.
+    #[arg(long)]
+    pub density: Option<f64>,
+    /// Young's modulus [Pa]: spring stiffnesses from the material (Van Gelder) instead of
+    /// --ks; use with --density (scene key `youngs_modulus`).
+    #[arg(long = "youngs", value_name = "PA", conflicts_with_all = ["ks", "kd"])]
+    pub youngs_modulus: Option<f64>,
+    /// Poisson's ratio in [0, 0.5] of the --youngs material: compliant volume constraints
+    /// (bulk modulus E / (3 (1 - 2 nu))); default and 0.5: incompressible (scene key
+    /// `poisson_ratio`).
+    #[arg(long = "poisson", value_name = "NU", requires = "youngs_modulus")]
+    pub poisson_ratio: Option<f64>,
+    /// Damping time [s] of the --youngs material: each spring's damping is this times its
+    /// stiffness (default 0.003, the paper's kd / ks).
+    #[arg(long, value_name = "S", requires = "youngs_modulus")]
+    pub damping: Option<f64>,
+}
+
+impl MaterialOverrides {
+    /// Whether `key` is one of these values (a flag's id, a `material` key).
+    pub fn has(key: &str) -> bool {
+        has_arg::<Self>(key)
+    }
+
+    /// Two given values that exclude each other (the flags refuse them through clap, scenes
+    /// through this): a spring constant beside a Young's modulus, or two masses.
+    pub fn conflict(&self) -> Option<(&'static str, &'static str)> {
+        let e = self.youngs_modulus.is_some();
+        [
+            (
+                "node_mass",
+                self.node_mass.is_some(),
+                "density",
+                self.density.is_some(),
+            ),
+            ("youngs_modulus", e, "ks", self.ks.is_some()),
+            ("youngs_modulus", e, "kd", self.kd.is_some()),
+        ]
+        .into_iter()
+        .find(|&(_, a, _, b)| a && b)
+        .map(|(a, _, b, _)| (a, b))
+    }
+
+    /// Writes every given value onto `params` (`density` wins over `node_mass`; the flags
+    /// and scenes refuse both). A Young's modulus replaces the base's: its Poisson's ratio
+    /// and damping are the ones given here, or the defaults.
+    pub fn apply(&self, params: &mut SimParams) {
+        set(&mut params.ks, self.ks);
+        set(&mut params.kd, self.kd);
+        if self.youngs_modulus.is_some() {
+            params.youngs_modulus = self.youngs_modulus;
+            params.poisson_ratio = self.poisson_ratio;
+            params.damping = self.damping;
+        } else {
+            set(&mut params.poisson_ratio, self.poisson_ratio.map(Some));
+            set(&mut params.damping, self.damping.map(Some));
+        }
+        set(
+            &mut params.mass,
+            self.node_mass.map(|mass| MassMode::PerNode { mass }),
+        );
+        set(
+            &mut params.mass,
+            self.density.map(|density| MassMode::Density { density }),
+        );
+    }
+}
+
+/// Whether the flags of `A` include one with id `key` (the field's name).
+fn has_arg<A: clap::Args>(key: &str) -> bool {
+    A::augment_args(clap::Command::new("keys"))
+        .get_arguments()
+        .any(|arg| arg.get_id() == key)
+}
+
+/// `*target = value` when there is one.
+fn set<T>(target: &mut T, value: Option<T>) {
+    if let Some(v) = value {
+        *target = v;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nothing_given_changes_nothing_and_each_value_lands() {
+        let base = SimParams::default();
+        let mut p = base.clone();
+        SolverOverrides::default().apply(&mut p);
+        MaterialOverrides::default().apply(&mut p);
+        assert_eq!(p, base);
+        let solver = SolverOverrides {
+            epsilon: Some(1e-9),
+            global_volume: Some(false),
+            rho: Some(0.5),
+            ..SolverOverrides::default()
+        };
+        solver.apply(&mut p);
+        MaterialOverrides {
+            density: Some(10.0),
+            ..MaterialOverrides::default()
+        }
+        .apply(&mut p);
+        assert_eq!(
+            (p.constraint_epsilon, p.global_volume, p.rho, p.mass),
+            (1e-9, Some(false), 0.5, MassMode::Density { density: 10.0 })
+        );
+        assert_eq!(
+            solver.misplaced(Solver::GaussSeidel),
+            Some(("rho", Solver::Chebyshev))
+        );
+        assert_eq!(solver.misplaced(Solver::Chebyshev), None);
+        assert!(SolverOverrides::has("global_volume") && !SolverOverrides::has("ks"));
+        assert!(MaterialOverrides::has("node_mass") && !MaterialOverrides::has("dt"));
+    }
+}
