@@ -5,12 +5,22 @@
 //! `glsl/` (e.g. `passes/integrate.comp`) to its SPIR-V bytes, and a module `file` with one
 //! constant per shader file (`file::PASSES_INTEGRATE_COMP`), so a shader named in Rust
 //! through them is checked at compile time. `#include` is resolved inside
-//! `glsl/` only (relative to the including file first, then to `glsl/`).
+//! `glsl/` only (relative to the including file first, then to `glsl/`). Every shader is
+//! compiled with the macros `B_<NAME>`, the descriptor bindings of `src/gpu/bindings.rs`
+//! (the list the host's `gpu::layout::binding` is made from).
 
 use std::{
     env, fs,
     path::{Path, PathBuf},
 };
+
+/// Turns the binding list into `BINDINGS`: `(NAME, number)` in the list's order.
+macro_rules! bindings {
+    ($($(#[$doc:meta])* $name:ident = $value:expr,)*) => {
+        const BINDINGS: &[(&str, u32)] = &[$((stringify!($name), $value)),*];
+    };
+}
+include!("src/gpu/bindings.rs");
 
 fn main() {
     let root =
@@ -18,6 +28,7 @@ fn main() {
     let glsl = root.join("glsl");
     let out = PathBuf::from(env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     println!("cargo:rerun-if-changed=glsl");
+    println!("cargo:rerun-if-changed=src/gpu/bindings.rs");
 
     let mut files = Vec::new();
     collect(&glsl, &mut files);
@@ -65,6 +76,9 @@ fn main() {
             options.set_generate_debug_info();
             for (name, value) in &defines {
                 options.add_macro_definition(name, value.as_deref());
+            }
+            for (name, value) in BINDINGS {
+                options.add_macro_definition(&format!("B_{name}"), Some(&value.to_string()));
             }
             let glsl_root = glsl.clone();
             options.set_include_callback(move |name, _ty, from, _depth| {

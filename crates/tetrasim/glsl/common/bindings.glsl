@@ -1,73 +1,16 @@
 // Descriptor bindings (set 0) and the push-constant block shared by every pass.
-// The host side is src/gpu/layout.rs (`binding::*`, `PushConstants`, `GpuSpring`,
-// `VolumePartial`); a test there checks these numbers and offsets in the compiled SPIR-V.
+// The host side is src/gpu/layout.rs (`binding::*` from src/gpu/bindings.rs, `PushConstants`,
+// `GpuSpring`, `VolumePartial`); a test there checks the bindings and offsets in the
+// compiled SPIR-V.
 #ifndef COMMON_BINDINGS_GLSL
 #define COMMON_BINDINGS_GLSL
 
-// Per node, vec4: xyz = position [m], w = inverse mass [1/kg].
-#define B_POSITIONS 0
-// Per node, vec4: xyz = velocity [m/s], w = mass [kg].
-#define B_VELOCITIES 1
-// Per node, vec4: xyz = force F of the current step [N] (float view for atomics),
-// w = the floor's normal force [N], already part of F.y (physics/integrate.glsl).
-#define B_FORCES 2
-// Per node, vec4: xyz = this iteration's summed constraint forces [N].
-#define B_CONSTRAINT_SUM 3
-// Per spring: GpuSpring.
-#define B_SPRINGS 4
-// Per tet: uvec4 node indices, positively oriented.
-#define B_TETS 5
-// Per tet: rest volume [m^3].
-#define B_REST_VOLUMES 6
-// Per node: its number of constraints of the method's kind d_k (float), for the combine
-// mode's factors (physics/implicit.glsl).
-#define B_CONSTRAINT_DEGREE 7
-// Node -> springs CSR: N + 1 offsets, then the spring indices.
-#define B_NODE_SPRING_OFFSETS 8
-#define B_NODE_SPRING_ITEMS 9
-// Per volume_sum workgroup: VolumePartial.
-#define B_VOLUME_PARTIALS 10
-// Divergence status (check.comp): flags (1 non-finite, 2 too fast), first bad node
-// (u32::MAX when none), speed limit [m/s], unused.
-#define B_STATUS 11
-// Gather path (Gauss-Seidel by colour groups, no atomics): per constraint, its index, in
-// group order (groups are contiguous ranges); per constraint corner, in the same order,
-// vec4 -lambda grad_k C; per group and node, the CSR of the node's slots in that group
-// (offsets: groups * N + 1; items: indices into the contributions). With several sweeps per
-// iteration (implicit springs, then the method's constraints) each buffer holds the sweeps
-// one after another: members and contributions from pc.member_first and pc.slot_first, the
-// groups (degrees, slot rows) numbered over all sweeps.
-#define B_GROUP_MEMBERS 12
-#define B_CONTRIBUTIONS 13
-#define B_NODE_SLOT_OFFSETS 14
-#define B_NODE_SLOT_ITEMS 15
-// Global volume constraints: per object a GlobalObject; the surface nodes (node indices,
-// object after object); the outward boundary faces (uvec4: three node indices, 0); per
-// surface node (its position in SurfaceNodes), the CSR of its face corners (3 face + corner).
-#define B_GLOBAL_OBJECTS 16
-#define B_SURFACE_NODES 17
-#define B_SURFACE_FACES 18
-#define B_NODE_FACE_OFFSETS 19
-#define B_NODE_FACE_ITEMS 20
-// Per surface node, vec4: grad_k C_g of its object at x(t) [m^2], w = its inverse mass
-// (written by global_volume_prepare once per step).
-#define B_SURFACE_GRADIENTS 21
-// Per object, vec4: C_g [m^3], A = sum_k w_k |grad_k C_g|^2, 0, 0 (global_volume_prepare).
-#define B_GLOBAL_STATE 22
-// Per node, vec4: the force two Chebyshev iterations back (w: its floor force).
-#define B_CHEBYSHEV_BEFORE 23
-// Per spring: its damping kd_e [N s/m] (its stiffness is Spring.stiffness; the spring force
-// and spring_constraint passes read both, the distance pass neither).
-#define B_SPRING_DAMPING 24
-// Per tet: the compliance alpha_t of its volume constraint [m^3/Pa], 0 = hard (method volume).
-#define B_VOLUME_COMPLIANCE 25
-// Compliant constraints' multipliers lambda accumulated over the step's iterations so far
-// (XPBD-style: B - s lambda; each read and written only by the invocation that solves its
-// constraint, treated as 0 in iteration 0, so nothing resets them): per spring (implicit
-// springs) and per tet (method volume; hard tets leave theirs unused). With pc.warm_start a
-// spring's stored value (the last step's final one) is its multiplier so far in iteration 0.
-#define B_SPRING_MULTIPLIERS 26
-#define B_VOLUME_MULTIPLIERS 27
+// The descriptor bindings B_POSITIONS, B_VELOCITIES, ... are not defined here: build.rs
+// compiles every shader with one macro B_<NAME> per entry of src/gpu/bindings.rs, the list
+// the host's binding numbers come from too (what each buffer holds is documented there).
+#if !defined(B_POSITIONS) || !defined(B_VOLUME_MULTIPLIERS)
+#error "the B_* binding macros are missing: compile through build.rs"
+#endif
 
 // Values of pc.combine (src/gpu/layout.rs, `combine`).
 #define COMBINE_SCALED 0u

@@ -7,67 +7,18 @@ use bytemuck::{Pod, Zeroable};
 
 use crate::params::{ConstraintCombine, SimParams, SpringKind};
 
-/// Descriptor binding numbers of set 0 (the `B_*` macros in glsl/common/bindings.glsl).
+/// Descriptor binding numbers of set 0, from the one list in `gpu/bindings.rs`; build.rs
+/// compiles every shader with the same numbers as the `B_*` macros.
 pub mod binding {
-    /// vec4 per node: position [m], w = inverse mass [1/kg].
-    pub const POSITIONS: u32 = 0;
-    /// vec4 per node: velocity [m/s], w = mass [kg].
-    pub const VELOCITIES: u32 = 1;
-    /// vec4 per node: the step's force F [N].
-    pub const FORCES: u32 = 2;
-    /// vec4 per node: the current iteration's summed constraint forces [N].
-    pub const CONSTRAINT_SUM: u32 = 3;
-    /// [`super::GpuSpring`] per spring.
-    pub const SPRINGS: u32 = 4;
-    /// uvec4 per tet.
-    pub const TETS: u32 = 5;
-    /// float per tet: rest volume [m^3].
-    pub const REST_VOLUMES: u32 = 6;
-    /// float per node: its number of constraints of the method's kind (`d_k`).
-    pub const CONSTRAINT_DEGREE: u32 = 7;
-    /// Node -> springs CSR offsets (N + 1).
-    pub const NODE_SPRING_OFFSETS: u32 = 8;
-    /// Node -> springs CSR items.
-    pub const NODE_SPRING_ITEMS: u32 = 9;
-    /// [`super::VolumePartial`] per volume_sum workgroup.
-    pub const VOLUME_PARTIALS: u32 = 10;
-    /// Divergence status (16 bytes): flags, first bad node, speed limit [m/s], the fastest
-    /// too-fast node's speed [m/s] (f32 bits).
-    pub const STATUS: u32 = 11;
-    /// u32 per constraint: the constraints in group order (gather path).
-    pub const GROUP_MEMBERS: u32 = 12;
-    /// vec4 per constraint corner, in group order: `-lambda grad_k C` (gather path).
-    pub const CONTRIBUTIONS: u32 = 13;
-    /// Per group and node, slot CSR offsets (`groups * N + 1`, gather path).
-    pub const NODE_SLOT_OFFSETS: u32 = 14;
-    /// Slot CSR items: indices into the contributions (gather path).
-    pub const NODE_SLOT_ITEMS: u32 = 15;
-    /// [`super::GpuGlobalObject`] per object (global volume constraints).
-    pub const GLOBAL_OBJECTS: u32 = 16;
-    /// u32 per surface node: its node index, object after object.
-    pub const SURFACE_NODES: u32 = 17;
-    /// uvec4 per boundary face: three node indices, 0.
-    pub const SURFACE_FACES: u32 = 18;
-    /// Surface node -> face corners CSR offsets.
-    pub const NODE_FACE_OFFSETS: u32 = 19;
-    /// Surface node -> face corners CSR items (`3 face + corner`).
-    pub const NODE_FACE_ITEMS: u32 = 20;
-    /// vec4 per surface node: the step's `grad_k C_g`, w = inverse mass.
-    pub const SURFACE_GRADIENTS: u32 = 21;
-    /// vec4 per object: the step's `C_g` and `A`.
-    pub const GLOBAL_STATE: u32 = 22;
-    /// vec4 per node: the force two Chebyshev iterations back.
-    pub const CHEBYSHEV_BEFORE: u32 = 23;
-    /// float per spring: its damping [N s/m] (its stiffness is [`super::GpuSpring::stiffness`]).
-    pub const SPRING_DAMPING: u32 = 24;
-    /// float per tet: the compliance of its volume constraint [m^3/Pa] (method `volume`).
-    pub const VOLUME_COMPLIANCE: u32 = 25;
-    /// float per spring: an implicit spring's multiplier accumulated over the step's
-    /// iterations so far (0 in iteration 0; read and written by its own invocation only).
-    pub const SPRING_MULTIPLIERS: u32 = 26;
-    /// float per tet: a compliant volume constraint's multiplier so far in the step (method
-    /// `volume`; like [`SPRING_MULTIPLIERS`]).
-    pub const VOLUME_MULTIPLIERS: u32 = 27;
+    /// Turns the list into one documented constant per binding and [`ALL`].
+    macro_rules! bindings {
+        ($($(#[$doc:meta])* $name:ident = $value:expr,)*) => {
+            $($(#[$doc])* pub const $name: u32 = $value;)*
+            /// Every binding, by name (`B_<NAME>` in GLSL), in the list's order.
+            pub const ALL: &[(&str, u32)] = &[$((stringify!($name), $value)),*];
+        };
+    }
+    include!("bindings.rs");
 }
 
 /// The push-constant block of every pass (`PushConstants` in bindings.glsl), 72 bytes used,
@@ -349,6 +300,15 @@ mod tests {
             module("passes/integrate.comp").array_stride("Positions"),
             Some(16)
         );
+    }
+
+    #[test]
+    fn the_binding_list_numbers_every_buffer_once() {
+        let mut numbers: Vec<u32> = binding::ALL.iter().map(|&(_, n)| n).collect();
+        numbers.sort_unstable();
+        let dense: Vec<u32> = (0..binding::ALL.len() as u32).collect();
+        assert_eq!(numbers, dense, "{:?}", binding::ALL);
+        assert!(binding::ALL.contains(&("STATUS", binding::STATUS)));
     }
 
     #[test]

@@ -1,0 +1,81 @@
+// The one list of the simulation's descriptor bindings (set 0), included as text twice:
+// `gpu::layout::binding` makes a `u32` constant of each for the host, and build.rs compiles
+// every shader with a macro `B_<NAME>` of the same value (glsl/common/bindings.glsl uses
+// them). A new buffer's binding is one entry here; neither side can drift from the other.
+// Only `///` docs and `NAME = number,` entries belong in this file.
+bindings! {
+    /// vec4 per node: position [m], w = inverse mass [1/kg].
+    POSITIONS = 0,
+    /// vec4 per node: velocity [m/s], w = mass [kg].
+    VELOCITIES = 1,
+    /// vec4 per node: the step's force F [N] (a float view for atomics), w = the floor's
+    /// normal force [N], already part of F.y (physics/integrate.glsl).
+    FORCES = 2,
+    /// vec4 per node: the current iteration's summed constraint forces [N].
+    CONSTRAINT_SUM = 3,
+    /// [`super::GpuSpring`] per spring.
+    SPRINGS = 4,
+    /// uvec4 per tet: node indices, positively oriented.
+    TETS = 5,
+    /// float per tet: rest volume [m^3].
+    REST_VOLUMES = 6,
+    /// float per node: its number of constraints of the method's kind `d_k`, for the combine
+    /// mode's factors (physics/implicit.glsl).
+    CONSTRAINT_DEGREE = 7,
+    /// Node -> springs CSR offsets (N + 1).
+    NODE_SPRING_OFFSETS = 8,
+    /// Node -> springs CSR items.
+    NODE_SPRING_ITEMS = 9,
+    /// [`super::VolumePartial`] per volume_sum workgroup.
+    VOLUME_PARTIALS = 10,
+    /// Divergence status (16 bytes, check.comp): flags (1 non-finite, 2 too fast), first bad
+    /// node (u32::MAX when none), speed limit [m/s], the fastest too-fast node's speed [m/s]
+    /// (f32 bits).
+    STATUS = 11,
+    /// u32 per constraint: the constraints in group order (gather path: Gauss-Seidel by
+    /// colour groups, no atomics; groups are contiguous ranges; with several sweeps per
+    /// iteration the sweeps lie one after another, from `pc.member_first`).
+    GROUP_MEMBERS = 12,
+    /// vec4 per constraint corner, in group order: `-lambda grad_k C` (gather path, from
+    /// `pc.slot_first`).
+    CONTRIBUTIONS = 13,
+    /// Per group and node, slot CSR offsets (`groups * N + 1`, gather path; the groups of
+    /// all sweeps numbered together).
+    NODE_SLOT_OFFSETS = 14,
+    /// Slot CSR items: indices into the contributions (gather path).
+    NODE_SLOT_ITEMS = 15,
+    /// [`super::GpuGlobalObject`] per object (global volume constraints).
+    GLOBAL_OBJECTS = 16,
+    /// u32 per surface node: its node index, object after object.
+    SURFACE_NODES = 17,
+    /// uvec4 per outward boundary face: three node indices, 0.
+    SURFACE_FACES = 18,
+    /// Surface node (its position in SurfaceNodes) -> face corners CSR offsets.
+    NODE_FACE_OFFSETS = 19,
+    /// Surface node -> face corners CSR items (`3 face + corner`).
+    NODE_FACE_ITEMS = 20,
+    /// vec4 per surface node: `grad_k C_g` of its object at x(t) [m^2], w = its inverse mass
+    /// (written by global_volume_prepare once per step).
+    SURFACE_GRADIENTS = 21,
+    /// vec4 per object: `C_g` [m^3], `A = sum_k w_k |grad_k C_g|^2`, 0, 0
+    /// (global_volume_prepare).
+    GLOBAL_STATE = 22,
+    /// vec4 per node: the force two Chebyshev iterations back (w: its floor force).
+    CHEBYSHEV_BEFORE = 23,
+    /// float per spring: its damping kd_e [N s/m] (its stiffness is
+    /// [`super::GpuSpring::stiffness`]; the spring force and spring_constraint passes read
+    /// both, the distance pass neither).
+    SPRING_DAMPING = 24,
+    /// float per tet: the compliance alpha_t of its volume constraint [m^3/Pa], 0 = hard
+    /// (method `volume`).
+    VOLUME_COMPLIANCE = 25,
+    /// float per spring: an implicit spring's multiplier lambda accumulated over the step's
+    /// iterations so far (XPBD-style: `B - s lambda`; read and written only by the
+    /// invocation that solves it, treated as 0 in iteration 0, so nothing resets it; with
+    /// `pc.warm_start` the stored value, the last step's final one, is its multiplier so far
+    /// in iteration 0).
+    SPRING_MULTIPLIERS = 26,
+    /// float per tet: a compliant volume constraint's multiplier so far in the step (method
+    /// `volume`; hard tets leave theirs unused; like [`SPRING_MULTIPLIERS`]).
+    VOLUME_MULTIPLIERS = 27,
+}
