@@ -39,7 +39,7 @@ pub use options::{EngineOptions, FRAMES_IN_FLIGHT, MAX_FRAMES_IN_FLIGHT};
 use passes::{Passes, Recorder};
 use plan::{EnginePlan, PlanCounts};
 
-/// What a renderer draws from ([`crate::render::Renderer::render`]): node positions and the
+/// What a renderer draws from (`render::Renderer::render`, feature `render`): node positions and the
 /// model's static data, all of them the engine's own buffers, so the renderer uploads only
 /// what drawing alone needs (the surface and its adjacency).
 #[derive(Clone, Copy)]

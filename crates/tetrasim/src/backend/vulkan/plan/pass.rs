@@ -43,7 +43,7 @@ pub struct PassPlan {
     pub elements: u32,
     /// Whether each dispatch covers only the current group's constraints.
     pub per_group: bool,
-    /// The sweep ([`EnginePlan::sweeps`]) whose constraints the pass solves, for the
+    /// The sweep ([`super::EnginePlan::sweeps`]) whose constraints the pass solves, for the
     /// constraint passes; `None` for the others (an [`Repeat::Iteration`] pass of no sweep
     /// follows every group of every sweep).
     pub sweep: Option<usize>,
