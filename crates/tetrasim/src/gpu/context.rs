@@ -20,10 +20,22 @@
 //!   freeing it synchronise with nothing but its owner.
 //!
 //! The compile-time assertion below keeps `Sync` a checked fact rather than an accident.
+//!
+//! # One loader, one context per device
+//!
+//! The Vulkan loader is loaded once per process and never unloaded: a driver that is
+//! unloaded and loaded again with every context (NVIDIA's) refuses new instances after a
+//! while. [`Context::shared`] hands every caller asking for the same device and validation
+//! the one live context (instance, device, queue, allocator), created under a lock, so
+//! backends made from many threads at once never create instances concurrently (the
+//! validation layer crashed doing that); the context is freed with the last backend
+//! holding it. [`live_contexts`] counts the contexts alive in the process: since every
+//! resource holds an `Arc<Context>`, a leaked buffer, kernel or pool keeps it above zero.
 
 use std::ffi::{c_void, CStr};
 use std::mem::ManuallyDrop;
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard, OnceLock, Weak};
 
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
@@ -35,7 +47,7 @@ use crate::error::{Error, Result, VkContext};
 pub const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 
 /// How to create a [`Context`].
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct ContextOptions {
     /// Which device to use.
     pub device: DeviceSelector,
@@ -102,7 +114,21 @@ pub struct Context {
     debug: Option<Debug>,
     log: Arc<MessageLog>,
     instance: ash::Instance,
-    _entry: ash::Entry,
+}
+
+/// Contexts alive in this process.
+static LIVE_CONTEXTS: AtomicUsize = AtomicUsize::new(0);
+
+/// The live context of each option set that [`Context::shared`] handed out.
+static SHARED: Mutex<Vec<(ContextOptions, Weak<Context>)>> = Mutex::new(Vec::new());
+
+/// Held while an instance or device is created or destroyed: one at a time per process.
+static LIFECYCLE: Mutex<()> = Mutex::new(());
+
+/// The number of [`Context`]s alive in this process (every Vulkan object the engine makes
+/// keeps its context alive, so this is zero once everything is freed).
+pub fn live_contexts() -> usize {
+    LIVE_CONTEXTS.load(Ordering::SeqCst)
 }
 
 // `Context` is shared between threads by design (see the module doc); this fails to
@@ -112,13 +138,20 @@ const _: fn() = || {
     assert_send_sync::<Context>();
 };
 
-fn load_entry() -> Result<ash::Entry> {
-    // SAFETY: loading the system Vulkan loader; nothing else runs during the load.
-    unsafe { ash::Entry::load() }.map_err(|e| {
+/// The Vulkan loader, loaded on first use and kept for the life of the process.
+fn load_entry() -> Result<&'static ash::Entry> {
+    static ENTRY: OnceLock<ash::Entry> = OnceLock::new();
+    if let Some(entry) = ENTRY.get() {
+        return Ok(entry);
+    }
+    // SAFETY: loading the system Vulkan loader, whose initialisation has no preconditions;
+    // a second thread racing here loads it twice and drops its copy (a reference count).
+    let entry = unsafe { ash::Entry::load() }.map_err(|e| {
         Error::Gpu(format!(
             "cannot load the Vulkan loader (libvulkan.so.1): {e}"
         ))
-    })
+    })?;
+    Ok(ENTRY.get_or_init(|| entry))
 }
 
 fn create_instance(
@@ -205,8 +238,9 @@ fn enumerate(instance: &ash::Instance) -> Result<(Vec<vk::PhysicalDevice>, Vec<D
 
 /// Lists every Vulkan device with its limits and features (for `tetrasim info`).
 pub fn list_devices() -> Result<Vec<DeviceInfo>> {
+    let _one_at_a_time = LIFECYCLE.lock().unwrap_or_else(|p| p.into_inner());
     let entry = load_entry()?;
-    let (instance, _) = create_instance(&entry, false, &Arc::new(MessageLog::default()))?;
+    let (instance, _) = create_instance(entry, false, &Arc::new(MessageLog::default()))?;
     let result = enumerate(&instance).map(|(_, infos)| infos);
     // SAFETY: nothing made from this instance is alive.
     unsafe { instance.destroy_instance(None) };
@@ -214,19 +248,38 @@ pub fn list_devices() -> Result<Vec<DeviceInfo>> {
 }
 
 impl Context {
+    /// The process's live context for `options`, created if there is none (see the module
+    /// doc). Callers that need a context of their own (e.g. to count its validation
+    /// messages alone) use [`Context::new`].
+    pub fn shared(options: &ContextOptions) -> Result<Arc<Self>> {
+        let mut shared = SHARED.lock().unwrap_or_else(|p| p.into_inner());
+        shared.retain(|(_, ctx)| ctx.strong_count() > 0);
+        if let Some(ctx) = shared
+            .iter()
+            .find(|(o, _)| o == options)
+            .and_then(|(_, ctx)| ctx.upgrade())
+        {
+            return Ok(ctx);
+        }
+        let ctx = Arc::new(Context::new(options)?);
+        shared.push((options.clone(), Arc::downgrade(&ctx)));
+        Ok(ctx)
+    }
+
     /// Creates the instance and the selected device, with float atomics enabled where the
     /// device has them.
     pub fn new(options: &ContextOptions) -> Result<Self> {
+        let _one_at_a_time = LIFECYCLE.lock().unwrap_or_else(|p| p.into_inner());
         let entry = load_entry()?;
         let log = Arc::new(MessageLog::default());
-        let (instance, has_debug_utils) = create_instance(&entry, options.validation, &log)?;
+        let (instance, has_debug_utils) = create_instance(entry, options.validation, &log)?;
         let mut ctx = PartialContext {
             instance: instance.clone(),
             debug: None,
             armed: true,
         };
         if options.validation {
-            let loader = ash::ext::debug_utils::Instance::new(&entry, &instance);
+            let loader = ash::ext::debug_utils::Instance::new(entry, &instance);
             // SAFETY: the create info's user data (the log) outlives the messenger.
             let messenger =
                 unsafe { loader.create_debug_utils_messenger(&messenger_create_info(&log), None) }
@@ -276,6 +329,7 @@ impl Context {
         };
         let names = has_debug_utils.then(|| ash::ext::debug_utils::Device::new(&instance, &device));
         let (instance, debug) = ctx.disarm();
+        LIVE_CONTEXTS.fetch_add(1, Ordering::SeqCst);
         Ok(Context {
             info,
             device,
@@ -285,7 +339,6 @@ impl Context {
             debug,
             log,
             instance,
-            _entry: entry,
         })
     }
 
@@ -389,6 +442,7 @@ impl Context {
 
 impl Drop for Context {
     fn drop(&mut self) {
+        let _one_at_a_time = LIFECYCLE.lock().unwrap_or_else(|p| p.into_inner());
         // SAFETY: every resource made from the context holds an Arc to it, so all are gone
         // (see the module doc); the order below is children before parents.
         unsafe {
@@ -402,6 +456,7 @@ impl Drop for Context {
             }
             self.instance.destroy_instance(None);
         }
+        LIVE_CONTEXTS.fetch_sub(1, Ordering::SeqCst);
     }
 }
 

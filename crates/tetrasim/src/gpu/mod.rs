@@ -17,7 +17,7 @@ pub(crate) mod spirv;
 pub mod timing;
 
 pub use buffer::{Buffer, Uploads};
-pub use context::{list_devices, Context, ContextOptions};
+pub use context::{list_devices, live_contexts, Context, ContextOptions};
 pub use descriptors::BindingLayout;
 pub use device::{AtomicsMode, AtomicsPath, DeviceInfo, DeviceSelector};
 pub use kernel::Kernel;

@@ -84,10 +84,10 @@ impl BackendFactory {
         let ctx = match &self.ctx {
             Some(ctx) => ctx.clone(),
             None => {
-                let ctx = Arc::new(Context::new(&ContextOptions {
+                let ctx = Context::shared(&ContextOptions {
                     device: self.gpu.device.clone(),
                     validation: self.gpu.validation,
-                })?);
+                })?;
                 self.ctx = Some(ctx.clone());
                 ctx
             }

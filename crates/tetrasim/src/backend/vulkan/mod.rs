@@ -104,17 +104,19 @@ pub struct VulkanBackend {
 }
 
 impl VulkanBackend {
-    /// Creates a context per `options` and the backend on it.
+    /// The backend on the shared context for `options` ([`Self::from_problem`]).
     pub fn new(model: &Model, params: &SimParams, options: &EngineOptions) -> Result<Self> {
         Self::from_problem(&Problem::new(model, params)?, options)
     }
 
-    /// Creates a context per `options` and the backend for a prepared problem on it.
+    /// The backend for a prepared problem on the process's shared context for `options`'
+    /// device and validation ([`Context::shared`]: created with the first backend, freed
+    /// with the last).
     pub fn from_problem(problem: &Problem, options: &EngineOptions) -> Result<Self> {
-        let ctx = Arc::new(Context::new(&ContextOptions {
+        let ctx = Context::shared(&ContextOptions {
             device: options.device.clone(),
             validation: options.validation,
-        })?);
+        })?;
         Self::on_context(ctx, problem, options)
     }
 
@@ -149,11 +151,15 @@ impl VulkanBackend {
         problem: &Problem,
         options: &EngineOptions,
     ) -> Result<EnginePlan> {
-        let wg = options
-            .workgroup_size
-            .unwrap_or_else(|| info.default_workgroup_size());
-        info.check_workgroup_size(wg)?;
-        EnginePlan::of_problem(problem, wg, !options.volume_on_demand)
+        let metrics = !options.volume_on_demand;
+        match options.workgroup_size {
+            Some(wg) => {
+                info.check_workgroup_size(wg)?;
+                EnginePlan::of_problem(problem, wg, metrics)
+            }
+            None => EnginePlan::of_problem(problem, info.default_workgroup_size(), metrics)
+                .map(EnginePlan::size_workgroups),
+        }
     }
 
     /// The backend for a prepared problem on an existing context, with all options but the
