@@ -1,54 +1,106 @@
 #!/usr/bin/env bash
-# Runs the GPU tests and the benchmarks on whatever Vulkan device the machine has and writes
-# the figures under docs/data/gpu-<device>/ (device name lower-cased, non-alphanumerics as
-# '-'), so a machine with a real GPU adds its own folder beside lavapipe's:
-#   info.txt        `tetrasim info`
-#   tests.txt       the GPU tests (validation layer on; any message fails them)
-#   bench-*.json    `tetrasim bench` on the bunny, per solver (jacobi, gauss-seidel:8+global)
-#   scaling/        `tetrasim scaling` up to 1M tets (volume and mss, vulkan and cpu)
-#   tradeoff/       `tetrasim tradeoff` on the bunny (solvers x iterations x substeps)
-#   plan.txt        `tetrasim plan` of the bunny (bytes per frame, bandwidth-bound times)
-# Usage: scripts/gpu-report.sh [--quick]   (needs ../shared/meshes/bun_zipper.ply)
-set -euo pipefail
-cd "$(dirname "$0")/.."
-quick=()
-sizes=1000,4000,16000,64000,256000,1000000
-if [[ "${1:-}" == "--quick" ]]; then
-    quick=(--quick)
-    sizes=1000,4000
-fi
-scripts/setup.sh
-cargo build --release --workspace
-bin=target/release
-device=$("$bin/tetrasim" info | sed -n 's/^device 0: \(.*\) \[.*/\1/p' | head -n 1)
-if [[ -z "$device" ]]; then
-    echo "gpu-report: no Vulkan device (tetrasim info lists none)" >&2
-    exit 1
-fi
-slug=$(echo "$device" | tr '[:upper:]' '[:lower:]' | sed 's/[^a-z0-9]\+/-/g; s/^-//; s/-$//')
-out="docs/data/gpu-$slug"
-mkdir -p "$out"
-echo "gpu-report: $device -> $out" >&2
-"$bin/tetrasim" info > "$out/info.txt"
-
-echo "gpu-report: GPU tests" >&2
-CI=true cargo test --release --test gpu_matches_cpu --test gpu_validation --test gpu_timing \
-    --test gpu_free_fall --test determinism --test backends_match_reference_settings \
-    -- --nocapture > "$out/tests.txt" 2>&1
-
-mesh=../shared/meshes/bun_zipper.ply
-bunny=$(mktemp -d)/bunny
-"$bin/tetprep" "$mesh" -o "$bunny" --target-tets 20000 >&2
-"$bin/tetrasim" plan --mesh "$bunny" --method volume > "$out/plan.txt"
-for solver in jacobi gauss-seidel:8+global; do
-    echo "gpu-report: bench, solver $solver" >&2
-    "$bin/tetrasim" bench "${quick[@]}" --mesh "$bunny" --backend vulkan,cpu --solver "$solver" \
-        --json "$out/bench-${solver//[:+]/-}.json" > "$out/bench-${solver//[:+]/-}.txt"
+# The device side of scripts/gpu-bundle.sh: run from the project root on a bare GPU machine
+# (no Rust, no registry, no network) with target/gpu-bundle/ present:
+#   bash target/gpu-bundle/gpu-report.sh [STEPS]
+# STEPS (default: all, in this order) picks and orders what is measured:
+#   bench     default solver and jacobi on bunny20k and horse86m (new, and old beside it
+#             when the bundle holds bin/tetrasim-old), the pass breakdown included
+#   implicit  the real-size horse with implicit springs (issue 13's scene), 400 frames
+#   tests     the GPU test binaries, one at a time, default test threads, CI=true
+#   threads   the cpu backend on 1..all cores (bin/tetrasim-cpu when bundled)
+#   tradeoff  the speed/accuracy trade on bunny20k on the GPU
+#   scaling   voxel spheres of 16k to 4M tets
+# Figures go to $OUT/gpu-<device>/ (OUT defaults to ./gpu-report), one file per step plus
+# report.log; copy that folder to docs/data/. Every step has a time limit and writes its
+# files as it goes, so a run cut short still returns what it measured.
+set -u
+b=target/gpu-bundle
+[ -d "$b/bin" ] || { echo "gpu-report.sh: $b is missing; run scripts/gpu-bundle.sh first" >&2; exit 2; }
+steps=${*:-bench implicit tests threads tradeoff scaling}
+for s in $steps; do
+  case $s in bench|implicit|tests|threads|tradeoff|scaling) ;;
+    *) echo "gpu-report.sh: unknown step \`$s\` (known: bench implicit tests threads tradeoff scaling)" >&2; exit 2 ;;
+  esac
 done
-echo "gpu-report: scaling to $sizes tets" >&2
-"$bin/tetrasim" scaling --sizes "$sizes" --out-dir "$out/scaling" > "$out/scaling.txt"
-echo "gpu-report: bunny trade-off" >&2
-"$bin/tetrasim" tradeoff "${quick[@]}" --mesh "$bunny" --methods volume \
-    --solvers jacobi,gauss-seidel:8,gauss-seidel:8+global --out-dir "$out/tradeoff" \
-    > "$out/tradeoff.txt"
-echo "gpu-report: done; figures in $out" >&2
+OUT=${OUT:-$PWD/gpu-report}
+t0=$(date +%s)
+say() { echo "== [$(( $(date +%s) - t0 )) s] $*"; }
+# The loader and libglvnd go to / (this machine is lent bare); the validation layer to its
+# own folder.
+for f in "$b"/debs/*.deb; do case $f in *validationlayers*) ;; *) dpkg -x "$f" /;; esac; done
+ldconfig 2>/dev/null
+mkdir -p /tmp/vl && dpkg -x "$b"/debs/vulkan-validationlayers_*.deb /tmp/vl
+export VK_LAYER_PATH=/tmp/vl/usr/share/vulkan/explicit_layer.d
+export LD_LIBRARY_PATH=/tmp/vl/usr/lib/x86_64-linux-gnu${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+B=$b/bin; M=$b/meshes
+"$B/tetrasim" info > /tmp/info.txt 2>&1
+grep -q '^device 0' /tmp/info.txt || export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+"$B/tetrasim" info > /tmp/info.txt 2>&1
+name=$(sed -n 's/^device 0: \(.*\) \[.*/\1/p' /tmp/info.txt | head -1)
+slug=$(echo "${name:-unknown}" | tr 'A-Z' 'a-z' | sed 's/[^a-z0-9]\+/-/g; s/^-//; s/-$//')
+R=$OUT/gpu-$slug; mkdir -p "$R"
+exec > >(tee -a "$R/report.log") 2>&1
+{ cat /tmp/info.txt; echo "commit: $(cat "$b/commit" | tr '\n' ' ')"; nvidia-smi -L 2>/dev/null; nproc; } > "$R/info.txt"
+cat "$R/info.txt"
+# The test binaries find the project at the path they were built in, ../shared beside it,
+# and the CLI where cargo built it.
+built=$(cat "$b/build-path"); mkdir -p "$(dirname "$built")"
+[ -e "$built" ] || ln -s "$PWD/$b/project" "$built"
+[ -e "$(dirname "$built")/shared" ] || ln -s "$PWD/$b/shared" "$(dirname "$built")/shared"
+tp=$(cat "$b/target-path"); mkdir -p "$tp/release" 2>/dev/null && cp "$B/tetrasim" "$B/tetprep" "$tp/release/" 2>/dev/null
+builds="new"; [ -x "$B/tetrasim-old" ] && builds="old new"
+bin_of() { case $1 in old) echo "$B/tetrasim-old";; *) echo "$B/tetrasim";; esac; }
+for step in $steps; do
+  say "$step"
+  case $step in
+  bench)
+    for v in $builds; do
+      for s in gauss-seidel:8+global jacobi; do
+        f="$R/bench_${v}_${s//[:+]/-}"
+        timeout 120 "$(bin_of $v)" bench --mesh "$M/bunny20k" --mesh "$M/horse86m" --no-bundled --method volume \
+          --backend vulkan --solver "$s" --json "$f.json" > "$f.txt" 2>&1
+        echo "$v $s:"; grep -E 'ms/frame|GPU' "$f.txt" | head -8
+      done
+    done
+    # per-pass workgroup sizes apart from the other changes: every pass at 1024
+    timeout 60 "$B/tetrasim" bench --mesh "$M/horse86m" --no-bundled --method volume --backend vulkan \
+      --workgroup-size 1024 > "$R/bench_new_wg1024.txt" 2>&1
+    grep -E 'ms/frame' "$R/bench_new_wg1024.txt" | sed 's/^/new, --workgroup-size 1024: /'
+    "$B/tetrasim" plan --mesh "$M/horse86m" --method volume > "$R/plan_horse.txt" 2>&1 ;;
+  implicit)
+    for v in $builds; do
+      timeout 90 "$(bin_of $v)" run --mesh "$M/horse86m" --no-fit --drop-height 0.1 --method volume \
+        --youngs 1e5 --poisson 0.45 --density 1050 --springs implicit --backend vulkan --frames 400 \
+        > "$R/implicit_horse_$v.txt" 2>&1
+      echo "$v:"; sed -n '2,4p' "$R/implicit_horse_$v.txt"
+    done ;;
+  tests)
+    export CI=true
+    for t in "$b"/tests/*; do
+      n=$(basename "$t")
+      (cd "$built" && timeout 150 "$OLDPWD/$t" > "$R/test_$n.txt" 2>&1); c=$?
+      echo "test $n: exit $c: $(grep -E '^test result' "$R/test_$n.txt" | tail -1)"
+    done
+    unset CI ;;
+  threads)
+    cb=$B/tetrasim; [ -x "$B/tetrasim-cpu" ] && cb=$B/tetrasim-cpu
+    n=$(nproc); list="1 2 4 8 16"; [ "$n" -gt 16 ] && list="$list $n"
+    for s in gauss-seidel:8+global jacobi; do
+      for k in $list; do
+        [ "$k" -le "$n" ] || continue
+        RAYON_NUM_THREADS=$k timeout 60 "$cb" bench --mesh "$M/bunny20k" --mesh "$M/horse86m" --no-bundled \
+          --method volume --backend cpu --solver "$s" --frames 60 --warmup 5 > "$R/threads_${s//[:+]/-}_$k.txt" 2>&1
+        echo "$s threads $k: $(grep -E 'cpu: [0-9.]+ ms/frame' "$R/threads_${s//[:+]/-}_$k.txt" | sed 's/.*\///' | tr '\n' ';')"
+      done
+    done ;;
+  tradeoff)
+    timeout 150 "$B/tetrasim" tradeoff --mesh "$M/bunny20k" --backend vulkan --methods volume \
+      --solvers gauss-seidel:1+global,gauss-seidel:2+global,gauss-seidel:4+global,gauss-seidel:8+global,chebyshev+global,jacobi+global \
+      --iterations 5,10,20 --substeps 1,2 --out-dir "$R/tradeoff" > "$R/tradeoff.txt" 2>&1
+    tail -25 "$R/tradeoff.txt" ;;
+  scaling)
+    timeout 150 "$B/tetrasim" scaling --sizes 16000,64000,256000,1000000,4000000 --out-dir "$R/scaling" > "$R/scaling.txt" 2>&1
+    tail -12 "$R/scaling.txt" ;;
+  esac
+done
+say done

@@ -163,8 +163,8 @@ fn springs_only_and_volume_with_floor_plan_differently() {
     assert!(volume.bytes_per_frame() > 5 * springs.bytes_per_frame());
 
     // The default Gauss-Seidel solver: spring forces gathered, each iteration's two passes
-    // once per colour group and then the global volume constraint (one workgroup for the one
-    // object), the gather path's buffers instead of the atomic sums.
+    // once per colour group and then the global volume constraint (its chunks' sums, then
+    // the multiplier applied), the gather path's buffers instead of the atomic sums.
     let gs = plan_of(VOLUME_FLOOR);
     let k = gs.groups.len() as u64;
     assert!(k > 1 && k <= 8, "{k} groups");
@@ -176,7 +176,7 @@ fn springs_only_and_volume_with_floor_plan_differently() {
             "global_volume_prepare".into(),
             format!(
                 "10 x ({k} groups x (volume#gather, constraint_apply#gather[floor]), \
-                 global_volume[floor])"
+                 global_volume_sum, global_volume[floor])"
             ),
             "integrate[floor]".into(),
             "check".into(),
@@ -185,7 +185,7 @@ fn springs_only_and_volume_with_floor_plan_differently() {
     );
     assert_eq!(
         gs.dispatches_per_frame() as u64,
-        1 + 1 + 10 * (2 * k + 1) + 1 + 1 + 1
+        1 + 1 + 10 * (2 * k + 2) + 1 + 1 + 1
     );
     let global = gs.global.unwrap();
     assert_eq!((global.objects, global.nodes), (1, 26));
@@ -255,8 +255,8 @@ fn plan_cli_prints_the_pass_lists() {
     assert!(
         b.contains("per time step: spring_gather -> global_volume_prepare -> 10 x (")
             && b.contains(
-                " groups x (volume#gather, constraint_apply#gather[floor]), global_volume[floor]) \
-                 -> integrate[floor]\n"
+                " groups x (volume#gather, constraint_apply#gather[floor]), global_volume_sum, \
+                 global_volume[floor]) -> integrate[floor]\n"
             ),
         "{b}"
     );

@@ -41,7 +41,11 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
             None => {
                 let wg = args.gpu.workgroup_size.unwrap_or(FALLBACK_WORKGROUP);
                 eprintln!("no Vulkan device: planning for workgroup size {wg}");
-                EnginePlan::of_problem(&problem, wg, !options.volume_on_demand)?
+                let plan = EnginePlan::of_problem(&problem, wg, !options.volume_on_demand)?;
+                match args.gpu.workgroup_size {
+                    Some(_) => plan,
+                    None => plan.size_workgroups(),
+                }
             }
         };
         print!("{}", plan.render());

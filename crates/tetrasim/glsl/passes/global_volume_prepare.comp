@@ -1,14 +1,16 @@
 #version 460
 // Pass `global_volume_prepare`: once per time step, what the iterations of the global
 // volume constraints share (physics.md, "One global volume constraint"; positions stay at
-// x(t) during the iterations). One workgroup per object: C_g = sum of its boundary faces'
-// face_volume - V0 (reference point: its first surface node), each surface node's gradient
-// grad_k C_g gathered over its faces (stored in SurfaceGradients, w = its inverse mass), and
-// A = sum_k w_k |grad_k|^2, stored with C_g in GlobalState. Mirrors Global::prepare in
-// src/cpu/parallel.rs.
+// x(t) during the iterations), reduced over the whole GPU: every chunk of an object
+// (common/global_chunk.glsl) sums its faces' face_volume (reference point: the object's
+// first surface node) and, for its surface nodes, gathers grad_k C_g over their faces
+// (stored in SurfaceGradients, w = the node's inverse mass) and sums w_k |grad_k|^2 (its
+// share of A); both partials go to its GlobalState entry, which global_volume adds up in a
+// fixed order. Mirrors Global::prepare in src/backend/cpu/parallel/mod.rs.
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "common/workgroup_sum.glsl"
+#include "common/global_chunk.glsl"
 #include "physics/volume.glsl"
 
 layout(std430, set = 0, binding = B_POSITIONS) readonly restrict buffer Positions { vec4 positions[]; };
@@ -36,25 +38,24 @@ vec3 surface_gradient(uint k, vec3 o) {
 }
 
 void main() {
-    GlobalObject object = objects[gl_WorkGroupID.x];
-    uint l = gl_LocalInvocationID.x;
-    uint stride = gl_WorkGroupSize.x;
+    GlobalObject object = objects[global_object_index()];
+    uint k = global_chunk_item();
     vec3 o = positions[surface_nodes[object.node_first]].xyz;
     float c = 0.0;
-    for (uint f = l; f < object.face_count; f += stride) {
-        uvec4 face = surface_faces[object.face_first + f];
-        c += face_volume(positions[face.x].xyz, positions[face.y].xyz, positions[face.z].xyz, o);
+    if (k < object.face_count) {
+        uvec4 face = surface_faces[object.face_first + k];
+        c = face_volume(positions[face.x].xyz, positions[face.y].xyz, positions[face.z].xyz, o);
     }
     float a = 0.0;
-    for (uint k = l; k < object.node_count; k += stride) {
+    if (k < object.node_count) {
         uint at = object.node_first + k;
         vec3 g = surface_gradient(at, o);
         float w = positions[surface_nodes[at]].w;
-        a += w * dot(g, g);
+        a = w * dot(g, g);
         surface_gradients[at] = vec4(g, w);
     }
     vec2 sums = workgroup_sum2(c, a);
-    if (l == 0u) {
-        global_state[gl_WorkGroupID.x] = vec4(sums.x - object.rest_volume, sums.y, 0.0, 0.0);
+    if (gl_LocalInvocationID.x == 0u) {
+        global_state[gl_WorkGroupID.x] = vec4(sums, 0.0, 0.0);
     }
 }

@@ -57,8 +57,10 @@ bindings! {
     /// vec4 per surface node: `grad_k C_g` of its object at x(t) [m^2], w = its inverse mass
     /// (written by global_volume_prepare once per step).
     SURFACE_GRADIENTS = 21,
-    /// vec4 per object: `C_g` [m^3], `A = sum_k w_k |grad_k C_g|^2`, 0, 0
-    /// (global_volume_prepare).
+    /// vec4 per chunk of each object (glsl/common/global_chunk.glsl): the chunk's shares of
+    /// the object's volume `sum face_volume` [m^3] and of `A = sum_k w_k |grad_k C_g|^2`
+    /// (global_volume_prepare, once per step), and of this iteration's `B`
+    /// (global_volume_sum); global_volume adds the chunks up.
     GLOBAL_STATE = 22,
     /// vec4 per node: the force two Chebyshev iterations back (w: its floor force).
     CHEBYSHEV_BEFORE = 23,

@@ -214,7 +214,7 @@ impl SimBuffers {
             false => None,
         };
         let global = match global.filter(|_| plan.global.is_some()) {
-            Some(g) => Some(global_buffers(ctx, &mut up, g)?),
+            Some(g) => Some(global_buffers(ctx, &mut up, g, plan)?),
             None => None,
         };
         let partials_size = plan.buffer(BufferId::Partials).map_or(0, |b| b.bytes);
@@ -351,12 +351,19 @@ fn gather_buffers(
     ])
 }
 
-/// The global volume constraints' buffers ([`GlobalVolume`]).
+/// The global volume constraints' buffers ([`GlobalVolume`]); the chunk partials as many as
+/// `plan` gives every object.
 fn global_buffers(
     ctx: &Arc<Context>,
     up: &mut Uploads,
     global: &GlobalVolume,
+    plan: &EnginePlan,
 ) -> Result<[Buffer; 7]> {
+    let partials = plan
+        .buffers
+        .iter()
+        .find(|b| b.id == BufferId::GlobalState)
+        .map_or(16, |b| b.bytes);
     let objects: Vec<GpuGlobalObject> = global
         .objects
         .iter()
@@ -382,11 +389,7 @@ fn global_buffers(
             BufferId::SurfaceGradients.name(),
             (16 * global.nodes.len()) as u64,
         )?,
-        up.zeroed(
-            ctx,
-            BufferId::GlobalState.name(),
-            (16 * global.objects.len()) as u64,
-        )?,
+        up.zeroed(ctx, BufferId::GlobalState.name(), partials)?,
     ])
 }
 

@@ -27,7 +27,11 @@ pub enum PassKind {
     Volume,
     /// Constraint forces applied to the nodes, then the floor.
     ConstraintApply,
-    /// The global volume constraint, after each iteration's groups.
+    /// The global volume constraint's reduction `B` over the surface, per chunk of surface
+    /// nodes, after each iteration's groups.
+    GlobalVolumeSum,
+    /// The global volume constraint's multiplier from the chunks' sums, applied to the
+    /// surface nodes, after [`PassKind::GlobalVolumeSum`].
     GlobalVolume,
     /// Velocities and positions, the floor.
     Integrate,
@@ -39,7 +43,7 @@ pub enum PassKind {
 
 impl PassKind {
     /// Every pass, in execution order.
-    pub const ALL: [PassKind; 12] = [
+    pub const ALL: [PassKind; 13] = [
         PassKind::SpringScatter,
         PassKind::SpringGather,
         PassKind::SpringWarmStart,
@@ -48,6 +52,7 @@ impl PassKind {
         PassKind::Distance,
         PassKind::Volume,
         PassKind::ConstraintApply,
+        PassKind::GlobalVolumeSum,
         PassKind::GlobalVolume,
         PassKind::Integrate,
         PassKind::Check,
@@ -65,6 +70,7 @@ impl PassKind {
             PassKind::Distance => "distance",
             PassKind::Volume => "volume",
             PassKind::ConstraintApply => "constraint_apply",
+            PassKind::GlobalVolumeSum => "global_volume_sum",
             PassKind::GlobalVolume => "global_volume",
             PassKind::Integrate => "integrate",
             PassKind::Check => "check",
@@ -83,6 +89,7 @@ impl PassKind {
             PassKind::Distance => file::PASSES_DISTANCE_COMP,
             PassKind::Volume => file::PASSES_VOLUME_COMP,
             PassKind::ConstraintApply => file::PASSES_CONSTRAINT_APPLY_COMP,
+            PassKind::GlobalVolumeSum => file::PASSES_GLOBAL_VOLUME_SUM_COMP,
             PassKind::GlobalVolume => file::PASSES_GLOBAL_VOLUME_COMP,
             PassKind::Integrate => file::PASSES_INTEGRATE_COMP,
             PassKind::Check => file::PASSES_CHECK_COMP,

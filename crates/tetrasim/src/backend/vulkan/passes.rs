@@ -58,11 +58,17 @@ impl Pass {
         ctx: &Arc<Context>,
         plan: &PassPlan,
         atomics: AtomicsPath,
-        wg: u32,
         binding: &Arc<BindingLayout>,
     ) -> Result<Self> {
         let key = plan.shader_key(atomics.name());
-        let kernel = Kernel::with_constants(ctx, plan.name(), &key, binding, wg, &plan.constants)?;
+        let kernel = Kernel::with_constants(
+            ctx,
+            plan.name(),
+            &key,
+            binding,
+            plan.workgroup_size,
+            &plan.constants,
+        )?;
         kernel.check_elements(plan.elements)?;
         Ok(Pass {
             plan: plan.clone(),
@@ -89,8 +95,7 @@ impl Passes {
         atomics: AtomicsPath,
         b: &SimBuffers,
     ) -> Result<Self> {
-        let wg = plan.workgroup_size;
-        let volume_sum_plan = volume_sum_pass(plan.counts);
+        let volume_sum_plan = volume_sum_pass(plan.counts, plan.workgroup_size);
         // The union of every pass's bindings: one buffer per binding number, so one set
         // serves all passes.
         let mut bound: Vec<(u32, &Buffer)> = Vec::new();
@@ -122,9 +127,9 @@ impl Passes {
         let frame = plan
             .passes
             .iter()
-            .map(|p| Pass::new(ctx, p, atomics, wg, &binding))
+            .map(|p| Pass::new(ctx, p, atomics, &binding))
             .collect::<Result<Vec<_>>>()?;
-        let volume_sum = Pass::new(ctx, &volume_sum_plan, atomics, wg, &binding)?;
+        let volume_sum = Pass::new(ctx, &volume_sum_plan, atomics, &binding)?;
         Ok(Passes { frame, volume_sum })
     }
 }

@@ -43,12 +43,15 @@ pub const PEAK_BANDWIDTH: [(&str, f64); 4] = [
 /// Sizes of the global volume constraints ([`crate::model::GlobalVolume`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct GlobalCounts {
-    /// Objects (one constraint and one workgroup each).
+    /// Objects (one constraint each).
     pub objects: u32,
     /// Surface nodes of all objects.
     pub nodes: u32,
     /// Boundary faces of all objects.
     pub faces: u32,
+    /// The most surface nodes or faces of one object: the global passes give every object
+    /// as many chunks (workgroups) as this needs.
+    pub largest: u32,
 }
 
 impl GlobalCounts {
@@ -58,7 +61,19 @@ impl GlobalCounts {
             objects: global.objects.len() as u32,
             nodes: global.nodes.len() as u32,
             faces: global.faces.len() as u32,
+            largest: global
+                .objects
+                .iter()
+                .map(|o| o.node_count.max(o.face_count))
+                .max()
+                .unwrap_or(0),
         }
+    }
+
+    /// Chunks (workgroups of `workgroup_size`) per object in the global passes: each
+    /// reduces its share of its object's faces and surface nodes to one partial sum.
+    pub fn chunks(&self, workgroup_size: u32) -> u32 {
+        self.largest.div_ceil(workgroup_size.max(1)).max(1)
     }
 }
 

@@ -23,10 +23,12 @@ mod queries;
 mod report;
 #[cfg(test)]
 mod tests;
+mod workgroups;
 
 pub use buffer::{Access, BufferId, BufferPlan};
 pub use counts::{GlobalCounts, PlanCounts, SweepOffsets, SweepPlan, PEAK_BANDWIDTH};
 pub use pass::{volume_sum_pass, PassPlan, Repeat, Variant};
+pub use workgroups::for_elements as workgroup_for_elements;
 
 use super::pass_kind::PassKind;
 use crate::model::ConstraintKind;
@@ -72,6 +74,17 @@ pub struct EnginePlan {
     /// frame's.
     pub passes: Vec<PassPlan>,
 }
+
+/// Invocations per workgroup of the global volume passes (at most; a smaller plan-wide size
+/// wins): chunks of 256 surface nodes spread one object over many multiprocessors.
+pub const GLOBAL_WORKGROUP: u32 = 256;
+
+/// Workgroups a pass's dispatch should have at least for every multiprocessor of a large
+/// GPU to get one (an H100 or H200 has 132), when [`EnginePlan::size_workgroups`] sizes them.
+pub const MIN_WORKGROUPS: u32 = 128;
+
+/// The smallest workgroup [`EnginePlan::size_workgroups`] picks (two subgroups of 32).
+pub const MIN_WORKGROUP_SIZE: u32 = 64;
 
 /// Size a [`crate::gpu::Buffer`] of `bytes` really has.
 fn alloc(bytes: u64) -> u64 {
@@ -176,6 +189,12 @@ impl EnginePlan {
             }
         }
         let global = global.filter(|_| params.solves_global_volume());
+        // The global passes reduce in shared memory per chunk of an object's surface.
+        let global_workgroup = workgroup_size.min(GLOBAL_WORKGROUP);
+        let global_constants =
+            |g: GlobalCounts| vec![u32::from(params.floor), g.chunks(global_workgroup)];
+        let global_elements =
+            |g: GlobalCounts| g.objects * g.chunks(global_workgroup) * global_workgroup;
         if let Some(g) = global {
             let (objects, nodes, faces) =
                 (u64::from(g.objects), u64::from(g.nodes), u64::from(g.faces));
@@ -185,7 +204,8 @@ impl EnginePlan {
             buffers.push((NodeFaceOffsets, 4 * (nodes + 1), 0));
             buffers.push((NodeFaceItems, 4 * 3 * faces, 0));
             buffers.push((SurfaceGradients, 16 * nodes, 0));
-            buffers.push((GlobalState, 16 * objects, 0));
+            let chunks = u64::from(g.chunks(global_workgroup));
+            buffers.push((GlobalState, 16 * objects * chunks, 0));
         }
         // Explicit spring forces are gathered per node for mss-node, and on the gather path
         // so that nothing in its step uses float atomics; implicit springs have no force
@@ -223,6 +243,7 @@ impl EnginePlan {
             kind,
             variant,
             constants: Vec::new(),
+            workgroup_size,
             elements,
             per_group: false,
             sweep: None,
@@ -279,10 +300,10 @@ impl EnginePlan {
             ));
         }
         if let Some(g) = global {
-            passes.push(pass(
+            let mut prepare = pass(
                 PassKind::GlobalVolumePrepare,
                 Variant::Plain,
-                g.objects * workgroup_size,
+                global_elements(g),
                 vec![
                     (Positions, Read),
                     (GlobalObjects, Read),
@@ -294,7 +315,10 @@ impl EnginePlan {
                     (GlobalState, Write),
                 ],
                 Repeat::Substep,
-            ));
+            );
+            prepare.constants = global_constants(g);
+            prepare.workgroup_size = global_workgroup;
+            passes.push(prepare);
         }
         if constrained {
             let (variant, output) = match gather {
@@ -365,10 +389,27 @@ impl EnginePlan {
             apply.constants = vec![u32::from(params.floor)];
             passes.push(apply);
             if let Some(g) = global {
+                let mut sum = pass(
+                    PassKind::GlobalVolumeSum,
+                    Variant::Plain,
+                    global_elements(g),
+                    vec![
+                        (Velocities, Read),
+                        (Forces, Read),
+                        (GlobalObjects, Read),
+                        (SurfaceNodes, Read),
+                        (SurfaceGradients, Read),
+                        (GlobalState, ReadWrite),
+                    ],
+                    Repeat::IterationEnd,
+                );
+                sum.constants = global_constants(g);
+                sum.workgroup_size = global_workgroup;
+                passes.push(sum);
                 let mut global_pass = pass(
                     PassKind::GlobalVolume,
                     Variant::Plain,
-                    g.objects * workgroup_size,
+                    global_elements(g),
                     vec![
                         (Positions, Read),
                         (Velocities, Read),
@@ -380,7 +421,8 @@ impl EnginePlan {
                     ],
                     Repeat::IterationEnd,
                 );
-                global_pass.constants = vec![u32::from(params.floor)];
+                global_pass.constants = global_constants(g);
+                global_pass.workgroup_size = global_workgroup;
                 passes.push(global_pass);
             }
         }
@@ -405,7 +447,7 @@ impl EnginePlan {
             Repeat::Frame,
         ));
         if metrics {
-            passes.push(volume_sum_pass(counts));
+            passes.push(volume_sum_pass(counts, workgroup_size));
         }
         EnginePlan {
             method,

@@ -38,6 +38,8 @@ pub struct PassPlan {
     pub variant: Variant,
     /// Specialisation constants from id 1 on (id 0 is the workgroup size).
     pub constants: Vec<u32>,
+    /// Invocations per workgroup ([`super::EnginePlan::size_workgroups`]).
+    pub workgroup_size: u32,
     /// Invocations (one per node, spring or tet; for a constraint pass of the gather path,
     /// all constraints, of which each dispatch covers one group's).
     pub elements: u32,
@@ -85,11 +87,12 @@ impl PassPlan {
 }
 
 /// The `volume_sum` pass (per frame with metrics; on demand otherwise).
-pub fn volume_sum_pass(counts: PlanCounts) -> PassPlan {
+pub fn volume_sum_pass(counts: PlanCounts, workgroup_size: u32) -> PassPlan {
     PassPlan {
         kind: PassKind::VolumeSum,
         variant: Variant::Plain,
         constants: Vec::new(),
+        workgroup_size,
         elements: counts.tets,
         per_group: false,
         sweep: None,

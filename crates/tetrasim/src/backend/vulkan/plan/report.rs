@@ -27,6 +27,15 @@ impl EnginePlan {
             self.workgroup_size
         );
         let _ = writeln!(out, "per time step: {}", self.step_list().join(" -> "));
+        let sized: Vec<String> = self
+            .passes
+            .iter()
+            .filter(|p| p.workgroup_size != self.workgroup_size)
+            .map(|p| format!("{} {}", p.label(), p.workgroup_size))
+            .collect();
+        if !sized.is_empty() {
+            let _ = writeln!(out, "workgroups sized to the work: {}", sized.join(", "));
+        }
         let frame: Vec<String> = self
             .passes
             .iter()

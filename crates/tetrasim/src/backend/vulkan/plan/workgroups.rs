@@ -1,0 +1,79 @@
+//! Workgroup sizes per pass, from the work of each dispatch: a colour group of a few
+//! thousand tets in workgroups of 1024 keeps three multiprocessors of a 132-SM GPU busy and
+//! the rest idle, so element-wise passes get the largest power of two that still gives
+//! every multiprocessor of a large GPU a workgroup ([`MIN_WORKGROUPS`]), between
+//! [`MIN_WORKGROUP_SIZE`] and the plan's size. Passes that reduce in shared memory keep
+//! theirs (`volume_sum`'s partials are sized by the plan's, the global passes have
+//! [`super::GLOBAL_WORKGROUP`]); `--workgroup-size` sets every pass and skips this.
+
+use super::{EnginePlan, PassPlan, MIN_WORKGROUPS, MIN_WORKGROUP_SIZE};
+use crate::backend::vulkan::pass_kind::PassKind;
+
+/// The size for a dispatch of `elements` invocations, at most `largest`.
+pub fn for_elements(elements: u32, largest: u32) -> u32 {
+    let wanted = (elements / MIN_WORKGROUPS).max(1);
+    let power = 1u32 << (31 - wanted.leading_zeros());
+    power.clamp(MIN_WORKGROUP_SIZE.min(largest), largest)
+}
+
+impl EnginePlan {
+    /// Invocations of one dispatch of `pass` (a constraint pass of the gather path covers
+    /// one group: its sweep's largest).
+    pub fn elements_per_dispatch(&self, pass: &PassPlan) -> u32 {
+        match (pass.per_group, pass.sweep) {
+            (true, Some(index)) => self.sweeps[index].groups.iter().copied().max().unwrap_or(0),
+            _ => pass.elements,
+        }
+    }
+
+    /// Gives every element-wise pass the workgroup size of [`for_elements`] (module doc).
+    pub fn size_workgroups(mut self) -> Self {
+        let largest = self.workgroup_size;
+        let sizes: Vec<Option<u32>> = self
+            .passes
+            .iter()
+            .map(|p| {
+                element_wise(p.kind).then(|| for_elements(self.elements_per_dispatch(p), largest))
+            })
+            .collect();
+        for (pass, size) in self.passes.iter_mut().zip(sizes) {
+            if let Some(size) = size {
+                pass.workgroup_size = size;
+            }
+        }
+        self
+    }
+}
+
+/// Whether each invocation of `kind` works alone (no shared-memory reduction).
+fn element_wise(kind: PassKind) -> bool {
+    !matches!(
+        kind,
+        PassKind::GlobalVolumePrepare
+            | PassKind::GlobalVolumeSum
+            | PassKind::GlobalVolume
+            | PassKind::Check
+            | PassKind::VolumeSum
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::for_elements;
+
+    #[test]
+    fn small_dispatches_get_small_workgroups_within_limits() {
+        // A bunny colour group (~2300 tets) spreads over 36 workgroups of 64.
+        assert_eq!(for_elements(2300, 1024), 64);
+        // The horse's nodes (24k): 189 per SM wanted, 128 given.
+        assert_eq!(for_elements(24_228, 1024), 128);
+        // All of the horse's tets (Jacobi): 512.
+        assert_eq!(for_elements(85_638, 1024), 512);
+        // Millions of tets: the plan's size at most.
+        assert_eq!(for_elements(4_000_000, 1024), 1024);
+        assert_eq!(for_elements(4_000_000, 256), 256);
+        // Tiny dispatches and tiny limits.
+        assert_eq!(for_elements(10, 1024), 64);
+        assert_eq!(for_elements(10, 32), 32);
+    }
+}
