@@ -10,9 +10,10 @@
 #   threads   the cpu backend on 1..all cores (bin/tetrasim-cpu when bundled)
 #   tradeoff  the speed/accuracy trade on bunny20k on the GPU
 #   scaling   voxel spheres of 16k to 4M tets
-# Figures go to $OUT/gpu-<device>/ (OUT defaults to ./gpu-report), one file per step plus
-# report.log; copy that folder to docs/data/. Every step has a time limit and writes its
-# files as it goes, so a run cut short still returns what it measured.
+# Figures go to gpu-<device>/ under $WORK (default /tmp/gpu-report), one file per bench,
+# test binary and sweep plus report.log, packed into $OUT/gpu-<device>.tgz after every step
+# (OUT defaults to ./gpu-report); unpack it into docs/data/. Every step has a time limit, so
+# a run cut short still returns what it measured.
 set -u
 b=target/gpu-bundle
 [ -d "$b/bin" ] || { echo "gpu-report.sh: $b is missing; run scripts/gpu-bundle.sh first" >&2; exit 2; }
@@ -22,7 +23,7 @@ for s in $steps; do
     *) echo "gpu-report.sh: unknown step \`$s\` (known: bench implicit tests threads tradeoff scaling)" >&2; exit 2 ;;
   esac
 done
-OUT=${OUT:-$PWD/gpu-report}
+OUT=${OUT:-$PWD/gpu-report}; WORK=${WORK:-/tmp/gpu-report}; mkdir -p "$OUT"
 t0=$(date +%s)
 say() { echo "== [$(( $(date +%s) - t0 )) s] $*"; }
 # The loader and libglvnd go to / (this machine is lent bare); the validation layer to its
@@ -38,7 +39,8 @@ grep -q '^device 0' /tmp/info.txt || export VK_DRIVER_FILES=/usr/local/nvidia/sh
 "$B/tetrasim" info > /tmp/info.txt 2>&1
 name=$(sed -n 's/^device 0: \(.*\) \[.*/\1/p' /tmp/info.txt | head -1)
 slug=$(echo "${name:-unknown}" | tr 'A-Z' 'a-z' | sed 's/[^a-z0-9]\+/-/g; s/^-//; s/-$//')
-R=$OUT/gpu-$slug; mkdir -p "$R"
+R=$WORK/gpu-$slug; mkdir -p "$R"
+pack() { tar czf "$OUT/gpu-$slug.tgz" -C "$WORK" "gpu-$slug"; cp "$R/report.log" "$OUT/" 2>/dev/null; }
 exec > >(tee -a "$R/report.log") 2>&1
 { cat /tmp/info.txt; echo "commit: $(cat "$b/commit" | tr '\n' ' ')"; nvidia-smi -L 2>/dev/null; nproc; } > "$R/info.txt"
 cat "$R/info.txt"
@@ -51,11 +53,12 @@ tp=$(cat "$b/target-path"); mkdir -p "$tp/release" 2>/dev/null && cp "$B/tetrasi
 builds="new"; [ -x "$B/tetrasim-old" ] && builds="old new"
 bin_of() { case $1 in old) echo "$B/tetrasim-old";; *) echo "$B/tetrasim";; esac; }
 for step in $steps; do
+  pack
   say "$step"
   case $step in
   bench)
     for v in $builds; do
-      for s in gauss-seidel:8+global jacobi; do
+      for s in gauss-seidel:8+global jacobi chebyshev+global; do
         f="$R/bench_${v}_${s//[:+]/-}"
         timeout 120 "$(bin_of $v)" bench --mesh "$M/bunny20k" --mesh "$M/horse86m" --no-bundled --method volume \
           --backend vulkan --solver "$s" --json "$f.json" > "$f.txt" 2>&1
@@ -104,3 +107,4 @@ for step in $steps; do
   esac
 done
 say done
+pack

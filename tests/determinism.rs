@@ -1,5 +1,6 @@
 //! Bit-identical reruns: the default solver (Gauss-Seidel by colour groups, the gather path
-//! without float atomics) on `vulkan` and on `cpu` gives the same positions, velocities and
+//! without float atomics; on `vulkan` Chebyshev with the global constraint as well) on
+//! `vulkan` and on `cpu` gives the same positions, velocities and
 //! per-frame volumes to the last bit when a run is repeated, on the bundled sphere jittered
 //! and dropped onto the floor (200 frames: fall, impact, rest).
 //!
@@ -95,6 +96,18 @@ fn the_default_solver_repeats_bit_for_bit_on_vulkan() {
         least < model.total_rest_volume() * (1.0 - 1e-5),
         "no deformation"
     );
+
+    // Chebyshev gathers per node too (no float atomics), with the global volume constraint
+    // reduced over chunks of the surface: it repeats as well.
+    let chebyshev = SimParams {
+        solver: Solver::Chebyshev,
+        rho: 0.9,
+        global_volume: Some(true),
+        ..params.clone()
+    };
+    let (a, b) = (vulkan(&model, &chebyshev), vulkan(&model, &chebyshev));
+    assert!(a == b, "two vulkan runs of chebyshev+global differ");
+    assert!(a != first, "chebyshev ran the default solver");
 
     let jacobi = SimParams {
         solver: Solver::Jacobi,

@@ -6,7 +6,7 @@
 // the atomics built; variant `gather` sums the node's contribution slots of group
 // pc.group in a fixed order (no atomics, bit-identical reruns); variant `chebyshev` is
 // `sums` with the Chebyshev semi-iteration (physics.md; chebyshev_weights in
-// src/params.rs): F = w (Fhat - F_before) + F_before with the iteration's weight
+// src/params.rs), `gather_chebyshev` the same on the gather path (no atomics): F = w (Fhat - F_before) + F_before with the iteration's weight
 // w = pc.chebyshev_weight and F_before, the force two iterations back (floor force in w),
 // kept per node. Then the node's floor
 // contact is solved again against the new F (the floor is a one-sided constraint solved in
@@ -14,6 +14,7 @@
 // @variant sums: SUMS
 // @variant gather: GATHER
 // @variant chebyshev: SUMS CHEBYSHEV
+// @variant gather_chebyshev: GATHER CHEBYSHEV
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/implicit.glsl"

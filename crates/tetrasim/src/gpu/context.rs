@@ -23,9 +23,13 @@
 //!
 //! # One loader, one context per device
 //!
-//! The Vulkan loader is loaded once per process and never unloaded: a driver that is
-//! unloaded and loaded again with every context (NVIDIA's) refuses new instances after a
-//! while. [`Context::shared`] hands every caller asking for the same device and validation
+//! The Vulkan loader is loaded once per process and never unloaded, and so is each of the
+//! two instances (without and with the validation layer): NVIDIA's driver (580, H200)
+//! refuses `vkCreateInstance` with `VK_ERROR_INCOMPATIBLE_DRIVER` after a few dozen instances
+//! were created and destroyed in one process, even with the loader kept loaded
+//! (`tests/gpu_lifecycle.rs` on an H200, 2026-11-26). An instance is bounded process state,
+//! not a leak: devices, messengers, allocations, pools and pipelines are freed with their
+//! context. [`Context::shared`] hands every caller asking for the same device and validation
 //! the one live context (instance, device, queue, allocator), created under a lock, so
 //! backends made from many threads at once never create instances concurrently (the
 //! validation layer crashed doing that); the context is freed with the last backend
@@ -61,7 +65,18 @@ pub struct MessageLog {
     messages: Mutex<Vec<String>>,
 }
 
+/// What the validation layer said while the validated instance was created (the context's
+/// own messenger exists only afterwards); every validated context reports it too.
+static INSTANCE_LOG: MessageLog = MessageLog::new();
+
 impl MessageLog {
+    /// An empty log.
+    pub const fn new() -> Self {
+        MessageLog {
+            messages: Mutex::new(Vec::new()),
+        }
+    }
+
     /// A copy of every message so far.
     pub fn messages(&self) -> Vec<String> {
         self.messages
@@ -113,7 +128,6 @@ pub struct Context {
     names: Option<ash::ext::debug_utils::Device>,
     debug: Option<Debug>,
     log: Arc<MessageLog>,
-    instance: ash::Instance,
 }
 
 /// Contexts alive in this process.
@@ -154,10 +168,25 @@ fn load_entry() -> Result<&'static ash::Entry> {
     Ok(ENTRY.get_or_init(|| entry))
 }
 
+/// The process's instance without or with the validation layer, and whether it has
+/// `VK_EXT_debug_utils`; created on first use (the caller holds [`LIFECYCLE`]), never
+/// destroyed (module doc).
+fn shared_instance(entry: &ash::Entry, validation: bool) -> Result<(ash::Instance, bool)> {
+    static INSTANCES: Mutex<[Option<(ash::Instance, bool)>; 2]> = Mutex::new([None, None]);
+    let mut instances = INSTANCES.lock().unwrap_or_else(|p| p.into_inner());
+    let slot = &mut instances[usize::from(validation)];
+    if let Some(made) = slot {
+        return Ok(made.clone());
+    }
+    let made = create_instance(entry, validation, &INSTANCE_LOG)?;
+    *slot = Some(made.clone());
+    Ok(made)
+}
+
 fn create_instance(
     entry: &ash::Entry,
     validation: bool,
-    log: &Arc<MessageLog>,
+    log: &'static MessageLog,
 ) -> Result<(ash::Instance, bool)> {
     // SAFETY: plain queries and instance creation with create infos that outlive the calls.
     unsafe {
@@ -209,7 +238,7 @@ fn create_instance(
     }
 }
 
-fn messenger_create_info(log: &Arc<MessageLog>) -> vk::DebugUtilsMessengerCreateInfoEXT<'static> {
+fn messenger_create_info(log: &MessageLog) -> vk::DebugUtilsMessengerCreateInfoEXT<'static> {
     vk::DebugUtilsMessengerCreateInfoEXT::default()
         .message_severity(
             vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
@@ -221,7 +250,7 @@ fn messenger_create_info(log: &Arc<MessageLog>) -> vk::DebugUtilsMessengerCreate
                 | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
         )
         .pfn_user_callback(Some(on_debug_message))
-        .user_data(Arc::as_ptr(log) as *mut c_void)
+        .user_data(log as *const MessageLog as *mut c_void)
 }
 
 fn enumerate(instance: &ash::Instance) -> Result<(Vec<vk::PhysicalDevice>, Vec<DeviceInfo>)> {
@@ -240,11 +269,8 @@ fn enumerate(instance: &ash::Instance) -> Result<(Vec<vk::PhysicalDevice>, Vec<D
 pub fn list_devices() -> Result<Vec<DeviceInfo>> {
     let _one_at_a_time = LIFECYCLE.lock().unwrap_or_else(|p| p.into_inner());
     let entry = load_entry()?;
-    let (instance, _) = create_instance(entry, false, &Arc::new(MessageLog::default()))?;
-    let result = enumerate(&instance).map(|(_, infos)| infos);
-    // SAFETY: nothing made from this instance is alive.
-    unsafe { instance.destroy_instance(None) };
-    result
+    let (instance, _) = shared_instance(entry, false)?;
+    enumerate(&instance).map(|(_, infos)| infos)
 }
 
 impl Context {
@@ -272,9 +298,8 @@ impl Context {
         let _one_at_a_time = LIFECYCLE.lock().unwrap_or_else(|p| p.into_inner());
         let entry = load_entry()?;
         let log = Arc::new(MessageLog::default());
-        let (instance, has_debug_utils) = create_instance(entry, options.validation, &log)?;
+        let (instance, has_debug_utils) = shared_instance(entry, options.validation)?;
         let mut ctx = PartialContext {
-            instance: instance.clone(),
             debug: None,
             armed: true,
         };
@@ -328,7 +353,7 @@ impl Context {
             }
         };
         let names = has_debug_utils.then(|| ash::ext::debug_utils::Device::new(&instance, &device));
-        let (instance, debug) = ctx.disarm();
+        let debug = ctx.disarm();
         LIVE_CONTEXTS.fetch_add(1, Ordering::SeqCst);
         Ok(Context {
             info,
@@ -338,7 +363,6 @@ impl Context {
             names,
             debug,
             log,
-            instance,
         })
     }
 
@@ -436,7 +460,12 @@ impl Context {
 
     /// Every validation warning and error recorded so far.
     pub fn validation_messages(&self) -> Vec<String> {
-        self.log.messages()
+        let mut messages = match self.debug.is_some() {
+            true => INSTANCE_LOG.messages(),
+            false => Vec::new(),
+        };
+        messages.extend(self.log.messages());
+        messages
     }
 }
 
@@ -454,24 +483,23 @@ impl Drop for Context {
                     .loader
                     .destroy_debug_utils_messenger(debug.messenger, None);
             }
-            self.instance.destroy_instance(None);
         }
         LIVE_CONTEXTS.fetch_sub(1, Ordering::SeqCst);
     }
 }
 
-/// Destroys the instance (and messenger) if context creation fails half-way.
+/// Destroys the messenger if context creation fails half-way (the instance stays: module
+/// doc).
 struct PartialContext {
-    instance: ash::Instance,
     debug: Option<Debug>,
     armed: bool,
 }
 
 impl PartialContext {
-    /// Hands the instance and messenger over to their final owner.
-    fn disarm(&mut self) -> (ash::Instance, Option<Debug>) {
+    /// Hands the messenger over to its final owner.
+    fn disarm(&mut self) -> Option<Debug> {
         self.armed = false;
-        (self.instance.clone(), self.debug.take())
+        self.debug.take()
     }
 }
 
@@ -480,14 +508,14 @@ impl Drop for PartialContext {
         if !self.armed {
             return;
         }
-        // SAFETY: only reached on an error path, before any device was kept.
-        unsafe {
-            if let Some(debug) = self.debug.take() {
+        if let Some(debug) = self.debug.take() {
+            // SAFETY: only reached on an error path, before any device was kept; the
+            // caller holds LIFECYCLE, which serialises use of the shared instance.
+            unsafe {
                 debug
                     .loader
-                    .destroy_debug_utils_messenger(debug.messenger, None);
-            }
-            self.instance.destroy_instance(None);
+                    .destroy_debug_utils_messenger(debug.messenger, None)
+            };
         }
     }
 }

@@ -8,7 +8,7 @@
 //! What a scene does not use is not built: no degrees without constraint iterations
 //! (`distance`, `volume` or implicit springs), atomic constraint sums only for Jacobi and the
 //! gather path's buffers (group members, contributions, node-slot CSR) only for
-//! Gauss-Seidel, no spring force pass with implicit springs (but the `spring_warm_start`
+//! Gauss-Seidel and Chebyshev, no spring force pass with implicit springs (but the `spring_warm_start`
 //! pass when they are warm-started), no node-spring adjacency without `mss-node`, the
 //! gather path of explicit springs or warm-started implicit springs, no volume compliances
 //! without `volume`, no floor test in `integrate` without a floor
@@ -58,7 +58,8 @@ pub struct EnginePlan {
     /// another in each iteration (one group per sweep for Jacobi; empty without constraint
     /// iterations). A group's index here numbers its degrees and slot rows.
     pub groups: Vec<u32>,
-    /// Whether constraint forces are gathered per node (no float atomics: Gauss-Seidel).
+    /// Whether constraint forces are gathered per node (no float atomics: every solver but
+    /// Jacobi).
     pub gather: bool,
     /// The global volume constraints' sizes, when solved.
     pub global: Option<GlobalCounts>,
@@ -132,7 +133,9 @@ impl EnginePlan {
         let method = params.method;
         let sweeps = sweeps.to_vec();
         let constrained = !sweeps.is_empty();
-        let gather = constrained && params.solver == Solver::GaussSeidel;
+        // Only the paper's Jacobi sums constraint forces with float atomics; Gauss-Seidel and
+        // Chebyshev gather them per node in a fixed order (bit-identical reruns).
+        let gather = constrained && params.solver != Solver::Jacobi;
         let chebyshev: Vec<f32> = match constrained && params.solver == Solver::Chebyshev {
             true => chebyshev_weights(params.rho, params.iterations)
                 .into_iter()
@@ -358,15 +361,17 @@ impl EnginePlan {
                 solve.sweep = Some(index);
                 passes.push(solve);
             }
+            let gathered = vec![
+                (Contributions, Read),
+                (NodeSlotOffsets, Read),
+                (NodeSlotItems, Read),
+            ];
             let (variant, input) = match gather {
-                true => (
-                    Variant::Named("gather"),
-                    vec![
-                        (Contributions, Read),
-                        (NodeSlotOffsets, Read),
-                        (NodeSlotItems, Read),
-                    ],
+                true if !chebyshev.is_empty() => (
+                    Variant::Named("gather_chebyshev"),
+                    [gathered, vec![(ChebyshevBefore, ReadWrite)]].concat(),
                 ),
+                true => (Variant::Named("gather"), gathered),
                 false if !chebyshev.is_empty() => (
                     Variant::Named("chebyshev"),
                     vec![(ConstraintSum, ReadWrite), (ChebyshevBefore, ReadWrite)],
