@@ -7,7 +7,8 @@
 #             when the bundle holds bin/tetrasim-old), the pass breakdown included
 #   implicit  the real-size horse with implicit springs (issue 13's scene), 400 frames
 #   tests     the GPU test binaries, one at a time, default test threads, CI=true
-#   threads   the cpu backend on 1..all cores (bin/tetrasim-cpu when bundled)
+#   threads   the cpu backend on 1..all cores (new: bin/tetrasim-cpu when bundled; old
+#             beside it)
 #   tradeoff  the speed/accuracy trade on bunny20k on the GPU
 #   scaling   voxel spheres of 16k to 4M tets
 # Figures go to gpu-<device>/ under $WORK (default /tmp/gpu-report), one file per bench,
@@ -86,14 +87,19 @@ for step in $steps; do
     done
     unset CI ;;
   threads)
-    cb=$B/tetrasim; [ -x "$B/tetrasim-cpu" ] && cb=$B/tetrasim-cpu
-    n=$(nproc); list="1 2 4 8 16"; [ "$n" -gt 16 ] && list="$list $n"
-    for s in gauss-seidel:8+global jacobi; do
-      for k in $list; do
-        [ "$k" -le "$n" ] || continue
-        RAYON_NUM_THREADS=$k timeout 60 "$cb" bench --mesh "$M/bunny20k" --mesh "$M/horse86m" --no-bundled \
-          --method volume --backend cpu --solver "$s" --frames 60 --warmup 5 > "$R/threads_${s//[:+]/-}_$k.txt" 2>&1
-        echo "$s threads $k: $(grep -E 'cpu: [0-9.]+ ms/frame' "$R/threads_${s//[:+]/-}_$k.txt" | sed 's/.*\///' | tr '\n' ';')"
+    n=$(nproc)
+    for v in $builds; do
+      # the old build as a baseline at a few counts, the new one at every count
+      list="1 2 4 8 16"; [ "$v" = old ] && list="1 2 16"; [ "$n" -gt 16 ] && list="$list $n"
+      cb=$(bin_of $v); [ "$v" = new ] && [ -x "$B/tetrasim-cpu" ] && cb=$B/tetrasim-cpu
+      for s in gauss-seidel:8+global jacobi; do
+        for k in $list; do
+          [ "$k" -le "$n" ] || continue
+          f="$R/threads_${v}_${s//[:+]/-}_$k.txt"
+          RAYON_NUM_THREADS=$k timeout 60 "$cb" bench --mesh "$M/bunny20k" --mesh "$M/horse86m" --no-bundled \
+            --method volume --backend cpu --solver "$s" --frames 40 --warmup 5 > "$f" 2>&1
+          echo "$v $s threads $k: $(grep -E 'cpu: [0-9.]+ ms/frame' "$f" | sed 's/.*\///' | tr '\n' ';')"
+        done
       done
     done ;;
   tradeoff)
@@ -102,7 +108,7 @@ for step in $steps; do
       --iterations 5,10,20 --substeps 1,2 --out-dir "$R/tradeoff" > "$R/tradeoff.txt" 2>&1
     tail -25 "$R/tradeoff.txt" ;;
   scaling)
-    timeout 150 "$B/tetrasim" scaling --sizes 16000,64000,256000,1000000,4000000 --out-dir "$R/scaling" > "$R/scaling.txt" 2>&1
+    timeout 120 "$B/tetrasim" scaling --sizes 16000,64000,256000,1000000,4000000 --out-dir "$R/scaling" > "$R/scaling.txt" 2>&1
     tail -12 "$R/scaling.txt" ;;
   esac
 done

@@ -17,6 +17,7 @@
 //! always there, and so are the rest volumes (the local volume error needs them).
 
 mod buffer;
+mod cost;
 mod counts;
 mod pass;
 mod queries;
@@ -26,6 +27,7 @@ mod tests;
 mod workgroups;
 
 pub use buffer::{Access, BufferId, BufferPlan};
+pub use cost::{profile as gpu_profile, GpuProfile, GPU_PROFILES};
 pub use counts::{GlobalCounts, PlanCounts, SweepOffsets, SweepPlan, PEAK_BANDWIDTH};
 pub use pass::{volume_sum_pass, PassPlan, Repeat, Variant};
 pub use workgroups::for_elements as workgroup_for_elements;

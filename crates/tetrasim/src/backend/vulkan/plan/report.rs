@@ -98,6 +98,16 @@ impl EnginePlan {
                 1e6 * self.bytes_per_frame() as f64 / bandwidth
             );
         }
+        for gpu in GPU_PROFILES {
+            let _ = writeln!(
+                out,
+                "predicted GPU time per frame on {} (cost model: {} us per dispatch, occupancy, \
+                 bytes, atomics; docs/GPU.md): {:.3} ms",
+                gpu.name,
+                gpu.dispatch_us,
+                gpu.frame_ms(self)
+            );
+        }
         out
     }
 

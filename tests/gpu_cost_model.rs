@@ -1,0 +1,144 @@
+//! The cost model that `tetrasim plan` prints ("predicted GPU time per frame on NVIDIA
+//! H200") agrees within 30 % with the frames measured on an H200
+//! (`docs/data/gpu-nvidia-h200/`, made by `scripts/gpu-report.sh` on 2026-11-26): the default
+//! solver, Jacobi and Chebyshev with the global constraint on bunny20k and horse86m, and the
+//! real-size horse with implicit springs. So a change to the step can be judged where no GPU
+//! is lent. (`--workgroup-size 1024` on the horse is outside it: predicted 63 % too slow, the
+//! model counts a 1024-wide workgroup's gathers as serial on its multiprocessor.)
+//!
+//! Needs `../shared/meshes` (the scans, meshed here as the bundle meshed them); without it
+//! the test fails under `CI=true`.
+
+#[path = "common/prep.rs"]
+mod prep_fixtures;
+#[allow(clippy::duplicate_mod)]
+#[path = "common/skip.rs"]
+mod skip;
+
+use std::path::{Path, PathBuf};
+
+use prep_fixtures::scan;
+use tetrasim::backend::vulkan::plan::{gpu_profile, EnginePlan};
+use tetrasim::params::{MassMode, Method, Solver, SpringKind};
+use tetrasim::prep::{prep_file, PrepOptions};
+use tetrasim::problem::Problem;
+use tetrasim::{ModelBuilder, SimParams, TetMesh};
+
+fn data() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/data/gpu-nvidia-h200")
+}
+
+/// The measured ms per frame of `mesh` in a bench JSON of `data()`, with its node and tet
+/// counts.
+fn measured(file: &str, mesh: &str) -> (f64, usize, usize) {
+    let text = std::fs::read_to_string(data().join(file)).unwrap();
+    let records: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let record = records
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["mesh"].as_str().is_some_and(|m| m.ends_with(mesh)))
+        .unwrap_or_else(|| panic!("{file} has no record of {mesh}"));
+    let number = |key: &str| record[key].as_f64().unwrap();
+    (
+        number("ms_per_frame"),
+        number("nodes") as usize,
+        number("tets") as usize,
+    )
+}
+
+fn mesh(name: &str, options: &PrepOptions) -> Option<TetMesh> {
+    let path = scan(name)?;
+    Some(prep_file(&path, options, &mut |_| {}).unwrap().mesh)
+}
+
+/// Predicted ms per frame on the H200 for `mesh` under `params` (the plan `tetrasim plan`
+/// makes: the device's default workgroup size of 1024, sized per pass).
+fn predicted(mesh: &TetMesh, params: &SimParams) -> f64 {
+    let model = ModelBuilder::new(mesh).mass(params.mass).build().unwrap();
+    let problem = Problem::new(&model, params).unwrap();
+    let plan = EnginePlan::of_problem(&problem, 1024, true)
+        .unwrap()
+        .size_workgroups();
+    gpu_profile("NVIDIA H200").unwrap().frame_ms(&plan)
+}
+
+fn check(label: &str, predicted: f64, measured: f64, failures: &mut Vec<String>) {
+    let ratio = predicted / measured;
+    println!("{label}: predicted {predicted:.3} ms, measured {measured:.3} ms ({ratio:.2}x)");
+    if !(0.7..=1.3).contains(&ratio) {
+        failures.push(format!(
+            "{label}: predicted {predicted:.3} ms against {measured:.3} measured"
+        ));
+    }
+}
+
+#[test]
+fn the_h200_cost_model_predicts_the_measured_frames_within_30_percent() {
+    let bunny = mesh(
+        "bun_zipper.ply",
+        &PrepOptions {
+            target_tets: Some(20_000),
+            ..PrepOptions::default()
+        },
+    );
+    let horse = mesh(
+        "horse.ply",
+        &PrepOptions {
+            quality: None,
+            preserve_surface: true,
+            ..PrepOptions::default()
+        },
+    );
+    let (Some(bunny), Some(horse)) = (bunny, horse) else {
+        return;
+    };
+    let solvers = [
+        ("gauss-seidel-8-global", Solver::GaussSeidel, None),
+        ("jacobi", Solver::Jacobi, None),
+        ("chebyshev-global", Solver::Chebyshev, Some(true)),
+    ];
+    let mut failures = Vec::new();
+    for (name, mesh) in [("bunny20k", &bunny), ("horse86m", &horse)] {
+        for (file, solver, global_volume) in solvers {
+            let (ms, nodes, tets) = measured(&format!("bench_new_{file}.json"), name);
+            assert_eq!(
+                (mesh.nodes.len(), mesh.tets.len()),
+                (nodes, tets),
+                "{name} meshed here differs from the measured one"
+            );
+            let params = SimParams {
+                method: Method::Volume,
+                solver,
+                global_volume,
+                ..SimParams::default()
+            };
+            check(
+                &format!("{name} {file}"),
+                predicted(mesh, &params),
+                ms,
+                &mut failures,
+            );
+        }
+    }
+    // The real-size horse with implicit springs: `run`'s table, column ms/frame.
+    let text = std::fs::read_to_string(data().join("implicit_horse_new.txt")).unwrap();
+    let row = text
+        .lines()
+        .find(|l| l.starts_with("volume "))
+        .expect("implicit_horse_new.txt has the volume row");
+    let ms: f64 = row.split_whitespace().nth(7).unwrap().parse().unwrap();
+    let params = SimParams {
+        method: Method::Volume,
+        springs: SpringKind::Implicit,
+        mass: MassMode::Density { density: 1050.0 },
+        ..SimParams::default()
+    };
+    check(
+        "horse86m, implicit springs",
+        predicted(&horse, &params),
+        ms,
+        &mut failures,
+    );
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
