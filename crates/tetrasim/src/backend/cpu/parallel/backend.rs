@@ -304,8 +304,9 @@ impl ParallelBackend {
             .min_by_key(|(i, _)| *i)
     }
 
-    /// One time step (physics.md steps 1-3).
-    fn step(&mut self) -> Option<(usize, Bad)> {
+    /// One time step (physics.md steps 1-3), its constraint iterations run by `team` (the
+    /// backend's, taken out for the step).
+    fn step(&mut self, team: &Team) -> Option<(usize, Bad)> {
         self.spring_pass();
         let mut global = self.global.take();
         if let Some(global) = &mut global {
@@ -328,7 +329,7 @@ impl ParallelBackend {
                     _ => sweep.multipliers.fill(0.0),
                 }
             }
-            self.iterate(&mut sweeps, global.as_ref());
+            self.iterate(team, &mut sweeps, global.as_ref());
             if !self.spring_warm.is_empty() {
                 for sweep in sweeps.iter().filter(|s| s.kind == ConstraintKind::Spring) {
                     for (&m, &s) in sweep.multipliers.iter().zip(&sweep.members.items) {
@@ -342,9 +343,52 @@ impl ParallelBackend {
         self.integrate_pass()
     }
 
+    /// A frame's substeps on `team` (running on its threads).
+    fn frame_steps(&mut self, team: &Team) -> Result<()> {
+        for substep in 0..self.substeps {
+            if let Some((node, bad)) = self.step(team) {
+                return Err(diverged(
+                    self.frame,
+                    substep,
+                    self.method,
+                    node as u32,
+                    bad,
+                    f64::from(self.speed_limit),
+                    &self.likely,
+                ));
+            }
+        }
+        self.frame += 1;
+        Ok(())
+    }
+
+    /// The volume figures at the current positions.
+    fn volume_sample(&self) -> VolumeSample {
+        let x = &self.x;
+        let (volume, inverted, local_error) = self
+            .tets
+            .par_iter()
+            .zip(self.rest_volume.par_iter())
+            .with_min_len(CHUNK)
+            .map(|(t, &rest)| {
+                let v = tet_volume(t.map(|i| x[i as usize]));
+                (
+                    f64::from(v),
+                    u32::from(v <= 0.0),
+                    f64::from((v - rest).abs()),
+                )
+            })
+            .reduce(|| (0.0, 0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2));
+        VolumeSample {
+            volume,
+            inverted,
+            local_error,
+        }
+    }
+
     /// The step's constraint iterations (every group of every sweep, then the global
     /// volume constraints), run by the team ([`iterations::run`]).
-    fn iterate(&mut self, sweeps: &mut [Sweep], global: Option<&Global>) {
+    fn iterate(&mut self, team: &Team, sweeps: &mut [Sweep], global: Option<&Global>) {
         let mut multipliers: Vec<Vec<f32>> = (sweeps.iter_mut())
             .map(|s| std::mem::take(&mut s.multipliers))
             .collect();
@@ -372,7 +416,6 @@ impl ParallelBackend {
             floor_force,
             pair_out,
             tet_out,
-            team,
             ..
         } = self;
         let (chebyshev_weights, chebyshev) = match chebyshev {
@@ -437,44 +480,15 @@ impl Backend for ParallelBackend {
     }
 
     fn step_frame(&mut self) -> Result<()> {
-        for substep in 0..self.substeps {
-            if let Some((node, bad)) = self.step() {
-                return Err(diverged(
-                    self.frame,
-                    substep,
-                    self.method,
-                    node as u32,
-                    bad,
-                    f64::from(self.speed_limit),
-                    &self.likely,
-                ));
-            }
-        }
-        self.frame += 1;
-        Ok(())
+        // Taken out for the frame: the step borrows the rest of `self` mutably.
+        let team = std::mem::take(&mut self.team);
+        let result = team.install(|| self.frame_steps(&team));
+        self.team = team;
+        result
     }
 
     fn volume(&mut self) -> Result<VolumeSample> {
-        let x = &self.x;
-        let (volume, inverted, local_error) = self
-            .tets
-            .par_iter()
-            .zip(self.rest_volume.par_iter())
-            .with_min_len(CHUNK)
-            .map(|(t, &rest)| {
-                let v = tet_volume(t.map(|i| x[i as usize]));
-                (
-                    f64::from(v),
-                    u32::from(v <= 0.0),
-                    f64::from((v - rest).abs()),
-                )
-            })
-            .reduce(|| (0.0, 0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2));
-        Ok(VolumeSample {
-            volume,
-            inverted,
-            local_error,
-        })
+        Ok(self.team.install(|| self.volume_sample()))
     }
 
     fn state(&mut self) -> Result<State> {

@@ -55,6 +55,7 @@ pub(super) struct Outputs<'a> {
 pub(super) fn run(member: Member<'_>, inputs: &Inputs<'_>, outputs: &Outputs<'_>) {
     let n = inputs.x.len();
     let nodes = member.block(n);
+    let surface = inputs.global.map_or(Vec::new(), |g| surface_in(g, &nodes));
     for iteration in 0..inputs.iterations {
         for (s, sweep) in inputs.sweeps.iter().enumerate() {
             for g in 0..sweep.len() {
@@ -73,12 +74,26 @@ pub(super) fn run(member: Member<'_>, inputs: &Inputs<'_>, outputs: &Outputs<'_>
             }
         }
         if let Some(global) = inputs.global {
-            for o in 0..global.data.objects.len() {
+            for (o, mine) in surface.iter().enumerate() {
                 // SAFETY: the phases of `global_pass` are separated by its waits.
-                unsafe { global_pass(member, inputs, outputs, global, o, nodes.clone()) };
+                unsafe { global_pass(member, inputs, outputs, global, o, &nodes, mine) };
             }
         }
     }
+}
+
+/// Per object: the positions (in [`GlobalVolume::nodes`], in order) of its surface nodes
+/// that lie in `nodes`.
+fn surface_in(global: &Global, nodes: &std::ops::Range<usize>) -> Vec<Vec<u32>> {
+    (global.data.objects.iter())
+        .map(|object| {
+            let first = object.node_first as usize;
+            (first..first + object.node_count as usize)
+                .filter(|&k| nodes.contains(&(global.data.nodes[k] as usize)))
+                .map(|k| k as u32)
+                .collect()
+        })
+        .collect()
 }
 
 /// The solve of constraints `block` (positions in `members.items`) of group `g` of sweep
@@ -208,7 +223,8 @@ unsafe fn apply(
 /// Object `o`'s global volume constraint against the current forces, then the floor's
 /// solve of its surface nodes: the members sum `b` over fixed chunks of [`CHUNK`] surface
 /// nodes (the partial sums added in chunk order, as on one thread), each works out the
-/// same multiplier and applies it to the surface nodes in its own block of `nodes`.
+/// same multiplier and applies it to its surface nodes `mine` (positions in
+/// [`GlobalVolume::nodes`]), those in its block of nodes `nodes`.
 ///
 /// # Safety
 /// Every member must call it at the same point, between two waits.
@@ -218,7 +234,8 @@ unsafe fn global_pass(
     outputs: &Outputs<'_>,
     global: &Global,
     o: usize,
-    nodes: std::ops::Range<usize>,
+    nodes: &std::ops::Range<usize>,
+    mine: &[u32],
 ) {
     let (v, w, dt) = (inputs.v, inputs.inv_mass, inputs.k.dt);
     let object = &global.data.objects[o];
@@ -226,12 +243,12 @@ unsafe fn global_pass(
     let surface = &global.data.nodes[range.clone()];
     let grad = &global.grad[range];
     let chunks = surface.len().div_ceil(CHUNK);
-    let mine = member.block(chunks);
+    let my_chunks = member.block(chunks);
     {
         // SAFETY: partial-sum phase: nobody writes `f`; the members write disjoint chunks
         // of `partial`.
-        let (f, partial) = unsafe { (outputs.f.whole(), outputs.partial.part(mine.clone())) };
-        for (c, partial) in mine.zip(partial) {
+        let (f, partial) = unsafe { (outputs.f.whole(), outputs.partial.part(my_chunks.clone())) };
+        for (c, partial) in my_chunks.zip(partial) {
             let chunk = c * CHUNK..((c + 1) * CHUNK).min(surface.len());
             let (mut a, mut b) = (0.0f32, 0.0f32);
             for (&i, &g) in surface[chunk.clone()].iter().zip(&grad[chunk]) {
@@ -254,11 +271,11 @@ unsafe fn global_pass(
     let b: f32 = partial[..chunks].iter().sum();
     let (c, a) = global.c_and_a[o];
     let lambda = implicit_multiplier(c, a, b, dt, inputs.k.epsilon).unwrap_or(0.0);
-    for (&i, &g) in surface.iter().zip(grad) {
-        let i = i as usize;
-        if !nodes.contains(&i) {
-            continue;
-        }
+    for &k in mine {
+        let (i, g) = (
+            global.data.nodes[k as usize] as usize,
+            global.grad[k as usize],
+        );
         let (f, n) = (&mut f[i - nodes.start], &mut floor_force[i - nodes.start]);
         *f -= g * lambda;
         if inputs.floor {

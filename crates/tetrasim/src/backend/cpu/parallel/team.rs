@@ -6,7 +6,8 @@
 //! once, which a shared pool (busy with other work, or with another team's broadcast)
 //! cannot promise. Its size is rayon's thread count where the backend is built
 //! (`RAYON_NUM_THREADS`, or the pool it is built in), capped so that each thread gets
-//! enough work to outweigh its barriers. Results never depend on the size: each element
+//! enough work to outweigh its barriers. The step's other passes run on the same threads
+//! ([`Team::install`]), so that no second set of threads competes with the team. Results never depend on the size: each element
 //! is computed by exactly one thread with the same arithmetic whatever the partition.
 
 use std::ops::Range;
@@ -14,11 +15,15 @@ use std::ops::Range;
 use super::barrier::SpinBarrier;
 
 /// Fewest nodes per team member: below this a barrier costs more than the work it
-/// separates.
-pub const MIN_NODES_PER_THREAD: usize = 512;
+/// separates. Measured on 16 cores (docs/BENCHMARKS.md): with no cap at all, 16 threads
+/// were not slower than one even on the bundled 371-node box, and a cap of 512 nodes (8
+/// threads on the 4.6k-node bunny) cost the bunny a third of its 16-thread speed; this
+/// only keeps teams off toy meshes.
+pub const MIN_NODES_PER_THREAD: usize = 64;
 
-/// Fewest constraints per team member in an average group.
-pub const MIN_CONSTRAINTS_PER_THREAD: usize = 256;
+/// Fewest constraints per team member in an average group (as
+/// [`MIN_NODES_PER_THREAD`]).
+pub const MIN_CONSTRAINTS_PER_THREAD: usize = 32;
 
 /// A team of threads that run one closure together ([`Team::run`]).
 #[derive(Debug)]
@@ -57,6 +62,15 @@ impl Team {
         }
     }
 
+    /// Runs `op` on the team's pool, so that its parallel iterators use the team's threads
+    /// (on the caller, in rayon's current pool, for a team of one).
+    pub(super) fn install<R: Send>(&self, op: impl FnOnce() -> R + Send) -> R {
+        match &self.pool {
+            Some(pool) => pool.install(op),
+            None => op(),
+        }
+    }
+
     /// Runs `op` once on every member at the same time and returns when all have finished.
     /// `op` must call [`Member::wait`] the same number of times on every member; a panic
     /// in one member leaves the others waiting forever.
@@ -78,6 +92,13 @@ impl Team {
                 });
             }
         }
+    }
+}
+
+impl Default for Team {
+    /// A team of one: the caller's thread.
+    fn default() -> Self {
+        Self::with_size(1)
     }
 }
 
