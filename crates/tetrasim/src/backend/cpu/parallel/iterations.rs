@@ -56,6 +56,7 @@ pub(super) fn run(member: Member<'_>, inputs: &Inputs<'_>, outputs: &Outputs<'_>
     let n = inputs.x.len();
     let nodes = member.block(n);
     let surface = inputs.global.map_or(Vec::new(), |g| surface_in(g, &nodes));
+    let reach = reach(inputs, nodes.clone());
     for iteration in 0..inputs.iterations {
         for (s, sweep) in inputs.sweeps.iter().enumerate() {
             for g in 0..sweep.len() {
@@ -69,7 +70,10 @@ pub(super) fn run(member: Member<'_>, inputs: &Inputs<'_>, outputs: &Outputs<'_>
                 member.wait();
                 // SAFETY: apply phase: each member writes only its own block of nodes
                 // (forces, floor forces, Chebyshev state) and nobody writes the results.
-                unsafe { apply(inputs, outputs, sweep, g, iteration, nodes.clone()) };
+                unsafe {
+                    let reach = reach.as_deref();
+                    apply(inputs, outputs, sweep, g, iteration, nodes.clone(), reach)
+                };
                 member.wait();
             }
         }
@@ -154,9 +158,14 @@ unsafe fn solve(
     }
 }
 
-/// The floor's view of the nodes, when there is a floor.
-fn contact<'a>(inputs: &Inputs<'a>) -> Option<Contact<'a>> {
-    (inputs.floor).then_some((inputs.x, inputs.v, inputs.inv_mass, inputs.k.dt))
+/// Each node's [`floor_reach`] for `nodes`, when there is a floor.
+fn reach(inputs: &Inputs<'_>, nodes: std::ops::Range<usize>) -> Option<Vec<f32>> {
+    let (x, v, w, dt) = (inputs.x, inputs.v, inputs.inv_mass, inputs.k.dt);
+    (inputs.floor).then(|| {
+        nodes
+            .map(|i| floor_reach(x[i].y, v[i].y, w[i], dt))
+            .collect()
+    })
 }
 
 /// Group `g`'s results applied to the nodes `nodes` ([`apply_block`]).
@@ -171,6 +180,7 @@ unsafe fn apply(
     g: usize,
     iteration: usize,
     nodes: std::ops::Range<usize>,
+    reach: Option<&[f32]>,
 ) {
     let first = nodes.start;
     // SAFETY: `nodes` is this thread's alone (the caller's promise), here and below.
@@ -187,7 +197,6 @@ unsafe fn apply(
         )),
         _ => None,
     };
-    let contact = contact(inputs);
     match sweep.kind {
         ConstraintKind::Volume => {
             // SAFETY: nobody writes the results (the caller's promise).
@@ -196,7 +205,7 @@ unsafe fn apply(
                 first,
                 f,
                 floor_force,
-                contact,
+                reach,
                 chebyshev,
                 sweep,
                 g,
@@ -210,7 +219,7 @@ unsafe fn apply(
                 first,
                 f,
                 floor_force,
-                contact,
+                reach,
                 chebyshev,
                 sweep,
                 g,

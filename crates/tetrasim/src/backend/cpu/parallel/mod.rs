@@ -175,18 +175,35 @@ impl Global {
     }
 }
 
-/// What the floor's solve reads: positions, velocities, inverse masses and `dt`.
-type Contact<'a> = (&'a [Vec3A], &'a [Vec3A], &'a [f32], f32);
+/// The part of a node's [`floor_force`] fixed for a step, `-(y + dt vy) / (dt^2 w)` at the
+/// step's start (minus infinity for a pinned node, which gets no floor force): the floor
+/// force is `max(reach - fy_other, 0)`, the same operations in the same order as
+/// [`floor_force`], without its division in every group's apply.
+fn floor_reach(y: f32, vy: f32, w: f32, dt: f32) -> f32 {
+    if w <= 0.0 {
+        return f32::NEG_INFINITY;
+    }
+    -(y + dt * vy) / (dt * dt * w)
+}
 
-/// Per node `i` of a block of nodes starting at `first` (`f` and `floor_force` hold the
-/// block): `F += apply * gather(i's slots in group g)`, the Chebyshev extrapolation when
-/// it is on, then the floor's solve (`contact`: when there is a floor).
+/// [`floor_solve`] with the node's [`floor_reach`]: bit for bit the same `(f, n)`.
+#[inline]
+fn floor_solve_reach(f: Vec3A, n: f32, reach: f32) -> (Vec3A, f32) {
+    let other = f.y - n;
+    let n1 = (reach - other).max(0.0);
+    (f + Vec3A::Y * (n1 - n), n1)
+}
+
+/// Per node `i` of a block of nodes starting at `first` (`f`, `floor_force` and `reach`
+/// hold the block): `F += apply * gather(i's slots in group g)`, the Chebyshev
+/// extrapolation when it is on, then the floor's solve (`reach`: each node's
+/// [`floor_reach`], when there is a floor).
 #[allow(clippy::too_many_arguments)]
 fn apply_block(
     first: usize,
     f: &mut [Vec3A],
     floor_force: &mut [f32],
-    contact: Option<Contact<'_>>,
+    reach: Option<&[f32]>,
     chebyshev: Option<ChebyshevState<'_>>,
     sweep: &Sweep,
     g: usize,
@@ -198,8 +215,8 @@ fn apply_block(
         *f += gather(sweep.slots.row(g * n + i)) * apply[i];
     };
     let floor = |i: usize, f: &mut Vec3A, fl: &mut f32| {
-        if let Some((x, v, w, dt)) = contact {
-            (*f, *fl) = floor_solve(*f, *fl, x[i].y, v[i].y, w[i], dt);
+        if let Some(reach) = reach {
+            (*f, *fl) = floor_solve_reach(*f, *fl, reach[i - first]);
         }
     };
     let nodes = f.iter_mut().zip(floor_force.iter_mut());
