@@ -1,11 +1,17 @@
-//! Backend `cpu`: single precision on every core (rayon), written to be a fair, strong CPU
-//! competitor for the Vulkan engine. No locks and no atomics: each pass computes per-element
-//! results in parallel (one spring, one tet), then a per-node pass gathers them through CSR
-//! adjacency (node -> spring ends, node -> tet corners). Data is packed in flat arrays of
-//! 16-byte SIMD vectors ([`Vec3A`]); parallel loops run in chunks of at least [`CHUNK`].
-//! Every constraint sweep (implicit springs, distance, hard or compliant volume) runs through
-//! one generic group solve ([`solve_group`]) and one gather.
-
+//! Backend `cpu`: single precision on every core, written to be a fair, strong CPU
+//! competitor for the Vulkan engine. No locks and no atomics on the data: each pass computes
+//! per-element results in parallel (one spring, one tet), then a per-node pass gathers them
+//! through CSR adjacency (node -> spring ends, node -> tet corners). Data is packed in flat
+//! arrays of 16-byte SIMD vectors ([`Vec3A`]).
+//!
+//! A step's constraint iterations (every colour group of every sweep, ten times over, and
+//! the global volume constraint) run on a persistent [`team`] woken once per step: each
+//! thread solves a fixed block of each group's constraints ([`solve_block`]), waits at a
+//! spin barrier, applies the group's results to a fixed block of nodes ([`apply_block`]),
+//! waits, and so on ([`iterations`]). The step's other passes (springs, integration) are
+//! rayon loops in chunks of at least [`CHUNK`] on the same threads. Every result is computed
+//! by one thread with the same arithmetic in the same order whatever the thread count, so
+//! the states are bit-identical for any `RAYON_NUM_THREADS` (the unit tests in `tests.rs`).
 use glam::Vec3A;
 use rayon::prelude::*;
 
