@@ -7,8 +7,8 @@
 //! A step's constraint iterations (every colour group of every sweep, ten times over, and
 //! the global volume constraint) run on a persistent [`team`] woken once per step: each
 //! thread solves a fixed block of each group's constraints ([`solve_block`]), waits at a
-//! spin barrier, applies the group's results to a fixed block of nodes ([`apply_block`]),
-//! waits, and so on ([`iterations`]). The step's other passes (springs, integration) are
+//! [`barrier`] (spin, yield, then sleep), applies the group's results to a fixed block of
+//! nodes ([`apply_block`]), waits, and so on ([`iterations`]). The step's other passes (springs, integration) are
 //! rayon loops in chunks of at least [`CHUNK`] on the same threads. Every result is computed
 //! by one thread with the same arithmetic in the same order whatever the thread count, so
 //! the states are bit-identical for any `RAYON_NUM_THREADS` (the unit tests in `tests.rs`).
@@ -181,10 +181,10 @@ impl Global {
     }
 }
 
-/// The part of a node's [`floor_force`] fixed for a step, `-(y + dt vy) / (dt^2 w)` at the
+/// The part of a node's [`floor_force`](crate::physics::floor_force) fixed for a step, `-(y + dt vy) / (dt^2 w)` at the
 /// step's start (minus infinity for a pinned node, which gets no floor force): the floor
 /// force is `max(reach - fy_other, 0)`, the same operations in the same order as
-/// [`floor_force`], without its division in every group's apply.
+/// [`floor_force`](crate::physics::floor_force), without its division in every group's apply.
 fn floor_reach(y: f32, vy: f32, w: f32, dt: f32) -> f32 {
     if w <= 0.0 {
         return f32::NEG_INFINITY;
