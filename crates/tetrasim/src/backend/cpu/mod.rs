@@ -1,5 +1,5 @@
 //! CPU backends: [`ReferenceBackend`] (`cpu-ref`: f64, single-threaded, the oracle every other
-//! backend is tested against) and [`ParallelBackend`] (`cpu`: f32, rayon, the fast CPU
+//! backend is tested against) and [`ParallelBackend`] (`cpu`: f32, every core, the fast CPU
 //! competitor of the Vulkan engine). Both call the same math in [`crate::physics`].
 
 mod parallel;

@@ -2,6 +2,9 @@
 //! constraint sweeps, floor, integration) and the [`Backend`] interface. The sweeps' data
 //! and group solve are the parent module's.
 
+use super::iterations::{self, Inputs, Outputs};
+use super::shared::SharedSlice;
+use super::team::Team;
 use super::*;
 
 /// The fast CPU solver (`cpu`).
@@ -38,8 +41,8 @@ pub struct ParallelBackend {
     global: Option<Global>,
     /// The Chebyshev semi-iteration (solver `chebyshev`).
     chebyshev: Option<Chebyshev>,
-    /// The current constraint iteration of the step (0-based).
-    iteration: usize,
+    /// The threads that run the constraint iterations.
+    team: Team,
     /// The floor's normal force on each node in the current step [N] (`>= 0`).
     floor_force: Vec<f32>,
     x: Vec<Vec3A>,
@@ -140,7 +143,7 @@ impl ParallelBackend {
                 before_f: vec![Vec3A::ZERO; n],
                 before_n: vec![0.0; n],
             }),
-            iteration: 0,
+            team: Team::for_work(n, mean_group_size(&sweeps)),
             floor_force: vec![0.0; n],
             x: model
                 .positions
@@ -180,6 +183,13 @@ impl ParallelBackend {
             speed_limit: problem.speed_limit as f32,
             likely: problem.likely_cause.clone(),
         }
+    }
+
+    /// The same backend on a team of `size` threads, whatever the work (tests).
+    #[cfg(test)]
+    pub(super) fn with_team_size(mut self, size: usize) -> Self {
+        self.team = Team::with_size(size);
+        self
     }
 
     /// Replaces positions and velocities (rounded to f32).
@@ -264,92 +274,6 @@ impl ParallelBackend {
             });
     }
 
-    /// One Jacobi sweep of group `g` of `sweep` (each constraint's multiplier against the
-    /// current `F`, [`solve_group`]), then the per-node gather of the group's results into
-    /// `F` and the floor's solve.
-    fn sweep_pass(&mut self, sweep: &mut Sweep, g: usize) {
-        let n = self.x.len();
-        let on = Nodes {
-            x: &self.x,
-            v: &self.v,
-            f: &self.f,
-            w: &self.inv_mass,
-            a_scale: &sweep.a_scale[g * n..(g + 1) * n],
-            k: self.k,
-        };
-        let range = sweep.range(g);
-        let members = &sweep.members.items[range.clone()];
-        let so_far = &mut sweep.multipliers[range.clone()];
-        let (rest, tets_rest) = (&self.rest_length, &self.rest_volume);
-        match sweep.kind {
-            ConstraintKind::Spring => {
-                let (softness, damping) = (&self.spring_softness, &self.spring_damping);
-                let out = &mut self.pair_out[range];
-                solve_group(out, so_far, members, &self.springs, on, |s, [xi, xj]| {
-                    let (c, grad) = spring_constraint(xi, xj, rest[s]);
-                    (c, grad, softness[s], damping[s])
-                });
-            }
-            ConstraintKind::Distance => {
-                let out = &mut self.pair_out[range];
-                solve_group(out, so_far, members, &self.springs, on, |s, [xi, xj]| {
-                    let (c, grad) = distance_constraint(xi, xj, rest[s]);
-                    (c, grad, 0.0, 0.0)
-                });
-            }
-            ConstraintKind::Volume => {
-                let softness = &self.volume_softness;
-                let out = &mut self.tet_out[range];
-                solve_group(out, so_far, members, &self.tets, on, |t, p| {
-                    let (c, grad) = volume_constraint(p, tets_rest[t]);
-                    (c, grad, softness[t], 0.0)
-                });
-            }
-        }
-        self.apply_group(sweep, g);
-    }
-
-    /// Per node `i`: `F += apply * (i's results in group g of sweep)` (springs' or tets'),
-    /// the Chebyshev extrapolation when it is on, then the floor's solve.
-    fn apply_group(&mut self, sweep: &Sweep, g: usize) {
-        let ParallelBackend {
-            f,
-            floor_force,
-            x,
-            v,
-            inv_mass,
-            floor,
-            k,
-            chebyshev,
-            iteration,
-            pair_out,
-            tet_out,
-            ..
-        } = self;
-        let contact = floor.then_some((&x[..], &v[..], &inv_mass[..], k.dt));
-        let chebyshev = chebyshev.as_mut().map(|c| c.state(*iteration));
-        match sweep.kind {
-            ConstraintKind::Volume => apply_results(
-                f,
-                floor_force,
-                contact,
-                chebyshev,
-                sweep,
-                g,
-                gather(tet_out),
-            ),
-            _ => apply_results(
-                f,
-                floor_force,
-                contact,
-                chebyshev,
-                sweep,
-                g,
-                gather(pair_out),
-            ),
-        }
-    }
-
     /// Pass `integrate`: the floor's final solve, symplectic Euler with floor friction.
     /// Returns the first node that is non-finite or faster than the speed limit.
     fn integrate_pass(&mut self) -> Option<(usize, Bad)> {
@@ -380,8 +304,9 @@ impl ParallelBackend {
             .min_by_key(|(i, _)| *i)
     }
 
-    /// One time step (physics.md steps 1-3).
-    fn step(&mut self) -> Option<(usize, Bad)> {
+    /// One time step (physics.md steps 1-3), its constraint iterations run by `team` (the
+    /// backend's, taken out for the step).
+    fn step(&mut self, team: &Team) -> Option<(usize, Bad)> {
         self.spring_pass();
         let mut global = self.global.take();
         if let Some(global) = &mut global {
@@ -404,17 +329,7 @@ impl ParallelBackend {
                     _ => sweep.multipliers.fill(0.0),
                 }
             }
-            for iteration in 0..self.iterations as usize {
-                self.iteration = iteration;
-                for sweep in &mut sweeps {
-                    for g in 0..sweep.len() {
-                        self.sweep_pass(sweep, g);
-                    }
-                }
-                if let Some(global) = &global {
-                    self.global_pass(global);
-                }
-            }
+            self.iterate(team, &mut sweeps, global.as_ref());
             if !self.spring_warm.is_empty() {
                 for sweep in sweeps.iter().filter(|s| s.kind == ConstraintKind::Spring) {
                     for (&m, &s) in sweep.multipliers.iter().zip(&sweep.members.items) {
@@ -428,52 +343,10 @@ impl ParallelBackend {
         self.integrate_pass()
     }
 
-    /// One iteration's global volume constraints against the current `F`, then the floor's
-    /// solve of the surface nodes.
-    fn global_pass(&mut self, global: &Global) {
-        let (v, w, dt) = (&self.v, &self.inv_mass, self.k.dt);
-        for (o, object) in global.data.objects.iter().enumerate() {
-            let range =
-                object.node_first as usize..(object.node_first + object.node_count) as usize;
-            let nodes = &global.data.nodes[range.clone()];
-            let grad = &global.grad[range];
-            let f = &self.f;
-            // Fixed chunks summed in order: the same result on every run.
-            let partial: Vec<f32> = nodes
-                .par_chunks(CHUNK)
-                .zip(grad.par_chunks(CHUNK))
-                .map(|(nodes, grad)| {
-                    let (mut a, mut b) = (0.0f32, 0.0f32);
-                    for (&i, &g) in nodes.iter().zip(grad) {
-                        let i = i as usize;
-                        implicit_accumulate(&mut a, &mut b, g, w[i], 1.0, v[i], f[i], dt);
-                    }
-                    b
-                })
-                .collect();
-            let b: f32 = partial.iter().sum();
-            let (c, a) = global.c_and_a[o];
-            let lambda = implicit_multiplier(c, a, b, dt, self.k.epsilon).unwrap_or(0.0);
-            for (&i, &g) in nodes.iter().zip(grad) {
-                let i = i as usize;
-                self.f[i] -= g * lambda;
-                if self.floor {
-                    let n = &mut self.floor_force[i];
-                    (self.f[i], *n) = floor_solve(self.f[i], *n, self.x[i].y, v[i].y, w[i], dt);
-                }
-            }
-        }
-    }
-}
-
-impl Backend for ParallelBackend {
-    fn name(&self) -> &'static str {
-        "cpu"
-    }
-
-    fn step_frame(&mut self) -> Result<()> {
+    /// A frame's substeps on `team` (running on its threads).
+    fn frame_steps(&mut self, team: &Team) -> Result<()> {
         for substep in 0..self.substeps {
-            if let Some((node, bad)) = self.step() {
+            if let Some((node, bad)) = self.step(team) {
                 return Err(diverged(
                     self.frame,
                     substep,
@@ -489,7 +362,8 @@ impl Backend for ParallelBackend {
         Ok(())
     }
 
-    fn volume(&mut self) -> Result<VolumeSample> {
+    /// The volume figures at the current positions.
+    fn volume_sample(&self) -> VolumeSample {
         let x = &self.x;
         let (volume, inverted, local_error) = self
             .tets
@@ -505,11 +379,116 @@ impl Backend for ParallelBackend {
                 )
             })
             .reduce(|| (0.0, 0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2));
-        Ok(VolumeSample {
+        VolumeSample {
             volume,
             inverted,
             local_error,
-        })
+        }
+    }
+
+    /// The step's constraint iterations (every group of every sweep, then the global
+    /// volume constraints), run by the team ([`iterations::run`]).
+    fn iterate(&mut self, team: &Team, sweeps: &mut [Sweep], global: Option<&Global>) {
+        let mut multipliers: Vec<Vec<f32>> = (sweeps.iter_mut())
+            .map(|s| std::mem::take(&mut s.multipliers))
+            .collect();
+        let chunks = global.map_or(0, |g| {
+            let most = g.data.objects.iter().map(|o| o.node_count).max();
+            (most.unwrap_or(0) as usize).div_ceil(CHUNK)
+        });
+        let mut partial = vec![0.0f32; chunks];
+        let ParallelBackend {
+            x,
+            v,
+            inv_mass,
+            k,
+            floor,
+            springs,
+            rest_length,
+            spring_softness,
+            spring_damping,
+            tets,
+            rest_volume,
+            volume_softness,
+            chebyshev,
+            iterations,
+            f,
+            floor_force,
+            pair_out,
+            tet_out,
+            ..
+        } = self;
+        let (chebyshev_weights, chebyshev) = match chebyshev {
+            Some(Chebyshev {
+                weights,
+                before_f,
+                before_n,
+            }) => (
+                Some(&weights[..]),
+                Some((SharedSlice::new(before_f), SharedSlice::new(before_n))),
+            ),
+            None => (None, None),
+        };
+        let inputs = Inputs {
+            x,
+            v,
+            inv_mass,
+            k: *k,
+            floor: *floor,
+            springs,
+            rest_length,
+            spring_softness,
+            spring_damping,
+            tets,
+            rest_volume,
+            volume_softness,
+            sweeps,
+            global,
+            chebyshev_weights,
+            iterations: *iterations as usize,
+        };
+        let outputs = Outputs {
+            f: SharedSlice::new(f),
+            floor_force: SharedSlice::new(floor_force),
+            multipliers: multipliers
+                .iter_mut()
+                .map(|m| SharedSlice::new(m))
+                .collect(),
+            pair_out: SharedSlice::new(pair_out),
+            tet_out: SharedSlice::new(tet_out),
+            chebyshev,
+            partial: SharedSlice::new(&mut partial),
+        };
+        team.run(|member| iterations::run(member, &inputs, &outputs));
+        drop(outputs);
+        for (sweep, m) in sweeps.iter_mut().zip(multipliers) {
+            sweep.multipliers = m;
+        }
+    }
+}
+
+/// The mean number of constraints in a group, over the sweeps' groups (0: no sweeps).
+fn mean_group_size(sweeps: &[Sweep]) -> usize {
+    let groups: usize = sweeps.iter().map(Sweep::len).sum();
+    let constraints: usize = sweeps.iter().map(|s| s.members.items.len()).sum();
+    constraints.checked_div(groups).unwrap_or(0)
+}
+
+impl Backend for ParallelBackend {
+    fn name(&self) -> &'static str {
+        "cpu"
+    }
+
+    fn step_frame(&mut self) -> Result<()> {
+        // Taken out for the frame: the step borrows the rest of `self` mutably.
+        let team = std::mem::take(&mut self.team);
+        let result = team.install(|| self.frame_steps(&team));
+        self.team = team;
+        result
+    }
+
+    fn volume(&mut self) -> Result<VolumeSample> {
+        Ok(self.team.install(|| self.volume_sample()))
     }
 
     fn state(&mut self) -> Result<State> {

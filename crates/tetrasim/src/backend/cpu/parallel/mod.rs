@@ -1,11 +1,17 @@
-//! Backend `cpu`: single precision on every core (rayon), written to be a fair, strong CPU
-//! competitor for the Vulkan engine. No locks and no atomics: each pass computes per-element
-//! results in parallel (one spring, one tet), then a per-node pass gathers them through CSR
-//! adjacency (node -> spring ends, node -> tet corners). Data is packed in flat arrays of
-//! 16-byte SIMD vectors ([`Vec3A`]); parallel loops run in chunks of at least [`CHUNK`].
-//! Every constraint sweep (implicit springs, distance, hard or compliant volume) runs through
-//! one generic group solve ([`solve_group`]) and one gather.
-
+//! Backend `cpu`: single precision on every core, written to be a fair, strong CPU
+//! competitor for the Vulkan engine. No locks and no atomics on the data: each pass computes
+//! per-element results in parallel (one spring, one tet), then a per-node pass gathers them
+//! through CSR adjacency (node -> spring ends, node -> tet corners). Data is packed in flat
+//! arrays of 16-byte SIMD vectors ([`Vec3A`]).
+//!
+//! A step's constraint iterations (every colour group of every sweep, ten times over, and
+//! the global volume constraint) run on a persistent [`team`] woken once per step: each
+//! thread solves a fixed block of each group's constraints ([`solve_block`]), waits at a
+//! [`barrier`] (spin, yield, then sleep), applies the group's results to a fixed block of
+//! nodes ([`apply_block`]), waits, and so on ([`iterations`]). The step's other passes (springs, integration) are
+//! rayon loops in chunks of at least [`CHUNK`] on the same threads. Every result is computed
+//! by one thread with the same arithmetic in the same order whatever the thread count, so
+//! the states are bit-identical for any `RAYON_NUM_THREADS` (the unit tests in `tests.rs`).
 use glam::Vec3A;
 use rayon::prelude::*;
 
@@ -22,6 +28,12 @@ use crate::physics::{
 use crate::problem::Problem;
 
 mod backend;
+mod barrier;
+mod iterations;
+mod shared;
+mod team;
+#[cfg(test)]
+mod tests;
 
 pub use backend::ParallelBackend;
 
@@ -43,6 +55,8 @@ struct Coefficients {
 #[derive(Debug, Clone)]
 struct Sweep {
     kind: ConstraintKind,
+    /// The model's node count.
+    nodes: usize,
     /// Row `g`: the constraints of group `g` (their positions in `items` index the
     /// per-constraint results).
     members: Csr,
@@ -74,6 +88,7 @@ impl Sweep {
             .collect();
         Sweep {
             kind,
+            nodes: n,
             multipliers: vec![0.0; groups.members.items.len()],
             members: groups.members,
             slots,
@@ -85,6 +100,7 @@ impl Sweep {
         }
     }
 
+    /// The number of groups.
     fn len(&self) -> usize {
         self.members.offsets.len() - 1
     }
@@ -165,47 +181,61 @@ impl Global {
     }
 }
 
-/// What the floor's solve reads: positions, velocities, inverse masses and `dt`.
-type Contact<'a> = (&'a [Vec3A], &'a [Vec3A], &'a [f32], f32);
+/// The part of a node's [`floor_force`](crate::physics::floor_force) fixed for a step, `-(y + dt vy) / (dt^2 w)` at the
+/// step's start (minus infinity for a pinned node, which gets no floor force): the floor
+/// force is `max(reach - fy_other, 0)`, the same operations in the same order as
+/// [`floor_force`](crate::physics::floor_force), without its division in every group's apply.
+fn floor_reach(y: f32, vy: f32, w: f32, dt: f32) -> f32 {
+    if w <= 0.0 {
+        return f32::NEG_INFINITY;
+    }
+    -(y + dt * vy) / (dt * dt * w)
+}
 
-/// Per node `i`: `F += apply * gather(i's slots in group g)`, then the floor's solve
-/// (`contact`: when there is a floor).
-fn apply_results(
+/// [`floor_solve`] with the node's [`floor_reach`]: bit for bit the same `(f, n)`.
+#[inline]
+fn floor_solve_reach(f: Vec3A, n: f32, reach: f32) -> (Vec3A, f32) {
+    let other = f.y - n;
+    let n1 = (reach - other).max(0.0);
+    (f + Vec3A::Y * (n1 - n), n1)
+}
+
+/// Per node `i` of a block of nodes starting at `first` (`f`, `floor_force` and `reach`
+/// hold the block): `F += apply * gather(i's slots in group g)`, the Chebyshev
+/// extrapolation when it is on, then the floor's solve (`reach`: each node's
+/// [`floor_reach`], when there is a floor).
+#[allow(clippy::too_many_arguments)]
+fn apply_block(
+    first: usize,
     f: &mut [Vec3A],
     floor_force: &mut [f32],
-    contact: Option<Contact<'_>>,
+    reach: Option<&[f32]>,
     chebyshev: Option<ChebyshevState<'_>>,
     sweep: &Sweep,
     g: usize,
-    gather: impl Fn(&[u32]) -> Vec3A + Sync,
+    gather: impl Fn(&[u32]) -> Vec3A,
 ) {
-    let n = f.len();
+    let n = sweep.nodes;
     let apply = &sweep.apply[g * n..(g + 1) * n];
     let update = |i: usize, f: &mut Vec3A| {
         *f += gather(sweep.slots.row(g * n + i)) * apply[i];
     };
     let floor = |i: usize, f: &mut Vec3A, fl: &mut f32| {
-        if let Some((x, v, w, dt)) = contact {
-            (*f, *fl) = floor_solve(*f, *fl, x[i].y, v[i].y, w[i], dt);
+        if let Some(reach) = reach {
+            (*f, *fl) = floor_solve_reach(*f, *fl, reach[i - first]);
         }
     };
+    let nodes = f.iter_mut().zip(floor_force.iter_mut());
     match chebyshev {
-        None => f
-            .par_iter_mut()
-            .zip(floor_force.par_iter_mut())
-            .enumerate()
-            .with_min_len(CHUNK)
-            .for_each(|(i, (f, fl))| {
+        None => {
+            for (i, (f, fl)) in (first..).zip(nodes) {
                 update(i, f);
                 floor(i, f, fl);
-            }),
-        Some((before_f, before_n, w)) => f
-            .par_iter_mut()
-            .zip(floor_force.par_iter_mut())
-            .zip(before_f.par_iter_mut().zip(before_n.par_iter_mut()))
-            .enumerate()
-            .with_min_len(CHUNK)
-            .for_each(|(i, ((f, fl), (bf, bn)))| {
+            }
+        }
+        Some((before_f, before_n, w)) => {
+            let before = before_f.iter_mut().zip(before_n.iter_mut());
+            for (i, ((f, fl), (bf, bn))) in (first..).zip(nodes.zip(before)) {
                 let (f0, n0) = (*f, *fl);
                 update(i, f);
                 if w != 1.0 {
@@ -214,7 +244,8 @@ fn apply_results(
                 }
                 (*bf, *bn) = (f0, n0);
                 floor(i, f, fl);
-            }),
+            }
+        }
     }
 }
 
@@ -267,20 +298,20 @@ impl NodeForces<4> for [Vec3A; 4] {
     }
 }
 
-/// The per-constraint pass of one group, for any kind of constraint on `K` nodes: for the
-/// group's `members` (indices into `elements`), `constraint(e, positions)` gives the value
+/// The per-constraint pass over a block of one group's constraints, for any kind of
+/// constraint on `K` nodes: for the block's `members` (indices into `elements`), `constraint(e, positions)` gives the value
 /// `C`, the gradients, the softness and the damping of constraint `e`, and `out` (one
 /// entry per member) receives the forces `-delta grad_k C` on its nodes with the compliant
 /// multiplier's increment ([`compliant_multiplier`] against `B - softness * so_far`; zero
 /// where the constraint is skipped); a compliant constraint's `so_far` grows by
 /// `omega delta`.
-fn solve_group<const K: usize, R: NodeForces<K>>(
+fn solve_block<const K: usize, R: NodeForces<K>>(
     out: &mut [R],
     so_far: &mut [f32],
     members: &[u32],
     elements: &[[u32; K]],
     on: Nodes<'_>,
-    constraint: impl Fn(usize, [Vec3A; K]) -> (f32, [Vec3A; K], f32, f32) + Sync,
+    constraint: impl Fn(usize, [Vec3A; K]) -> (f32, [Vec3A; K], f32, f32),
 ) {
     let Nodes {
         x,
@@ -290,30 +321,26 @@ fn solve_group<const K: usize, R: NodeForces<K>>(
         a_scale,
         k,
     } = on;
-    out.par_iter_mut()
-        .zip(so_far.par_iter_mut())
-        .zip(members.par_iter())
-        .with_min_len(CHUNK)
-        .for_each(|((out, so_far), &e)| {
-            let e = e as usize;
-            let ids = elements[e].map(|a| a as usize);
-            let (c, grad, softness, damping) = constraint(e, ids.map(|i| x[i]));
-            let (mut a, mut b) = (0.0, 0.0);
-            for (&i, &g) in ids.iter().zip(&grad) {
-                implicit_accumulate(&mut a, &mut b, g, w[i], a_scale[i], v[i], f[i], k.dt);
-            }
-            let b = b - softness * *so_far;
-            let delta = compliant_multiplier(c, a, b, k.dt, softness, damping, k.epsilon);
-            if let (Some(d), true) = (delta, softness > 0.0) {
-                *so_far += k.omega * d;
-            }
-            *out = R::from_forces(delta.map_or([Vec3A::ZERO; K], |d| grad.map(|g| g * -d)));
-        });
+    for ((out, so_far), &e) in out.iter_mut().zip(so_far.iter_mut()).zip(members) {
+        let e = e as usize;
+        let ids = elements[e].map(|a| a as usize);
+        let (c, grad, softness, damping) = constraint(e, ids.map(|i| x[i]));
+        let (mut a, mut b) = (0.0, 0.0);
+        for (&i, &g) in ids.iter().zip(&grad) {
+            implicit_accumulate(&mut a, &mut b, g, w[i], a_scale[i], v[i], f[i], k.dt);
+        }
+        let b = b - softness * *so_far;
+        let delta = compliant_multiplier(c, a, b, k.dt, softness, damping, k.epsilon);
+        if let (Some(d), true) = (delta, softness > 0.0) {
+            *so_far += k.omega * d;
+        }
+        *out = R::from_forces(delta.map_or([Vec3A::ZERO; K], |d| grad.map(|g| g * -d)));
+    }
 }
 
 /// The gather of per-constraint results `out` over a node's slots (`K * position + corner`;
 /// `2 * spring + end` for the explicit springs' results).
-fn gather<const K: usize, R: NodeForces<K>>(out: &[R]) -> impl Fn(&[u32]) -> Vec3A + Sync + '_ {
+fn gather<const K: usize, R: NodeForces<K>>(out: &[R]) -> impl Fn(&[u32]) -> Vec3A + '_ {
     move |slots| {
         let mut sum = Vec3A::ZERO;
         for &e in slots {
@@ -333,14 +360,4 @@ struct Chebyshev {
     weights: Vec<f32>,
     before_f: Vec<Vec3A>,
     before_n: Vec<f32>,
-}
-
-impl Chebyshev {
-    fn state(&mut self, iteration: usize) -> ChebyshevState<'_> {
-        (
-            &mut self.before_f,
-            &mut self.before_n,
-            self.weights[iteration],
-        )
-    }
 }

@@ -1,0 +1,135 @@
+//! A fixed team of threads that runs a whole step's constraint iterations together: one
+//! wake-up per step instead of two rayon fork-joins per constraint group, each thread
+//! owning fixed blocks of constraints and nodes and a [`SpinBarrier`] between phases.
+//!
+//! The team is a private rayon pool of its own: a barrier needs every member running at
+//! once, which a shared pool (busy with other work, or with another team's broadcast)
+//! cannot promise. Its size is rayon's thread count where the backend is built
+//! (`RAYON_NUM_THREADS`, or the pool it is built in), capped so that each thread gets
+//! enough work to outweigh its barriers. The step's other passes run on the same threads
+//! ([`Team::install`]), so that no second set of threads competes with the team. Results never depend on the size: each element
+//! is computed by exactly one thread with the same arithmetic whatever the partition.
+
+use std::ops::Range;
+
+use super::barrier::SpinBarrier;
+
+/// Fewest nodes per team member: below this a barrier costs more than the work it
+/// separates. Measured on 16 cores (docs/BENCHMARKS.md): with no cap at all, 16 threads
+/// were not slower than one even on the bundled 371-node box, and a cap of 512 nodes (8
+/// threads on the 4.6k-node bunny) cost the bunny a third of its 16-thread speed; this
+/// only keeps teams off toy meshes.
+pub const MIN_NODES_PER_THREAD: usize = 64;
+
+/// Fewest constraints per team member in an average group (as
+/// [`MIN_NODES_PER_THREAD`]).
+pub const MIN_CONSTRAINTS_PER_THREAD: usize = 32;
+
+/// A team of threads that run one closure together ([`Team::run`]).
+#[derive(Debug)]
+pub(super) struct Team {
+    size: usize,
+    /// The team's threads (none for a team of one, which runs on the caller).
+    pool: Option<rayon::ThreadPool>,
+}
+
+impl Team {
+    /// A team for `nodes` nodes and groups of `group_size` constraints on average: rayon's
+    /// current thread count, capped by [`MIN_NODES_PER_THREAD`] and
+    /// [`MIN_CONSTRAINTS_PER_THREAD`]. A team that cannot start its threads runs alone.
+    pub(super) fn for_work(nodes: usize, group_size: usize) -> Self {
+        let size = rayon::current_num_threads()
+            .min(nodes / MIN_NODES_PER_THREAD)
+            .min(group_size / MIN_CONSTRAINTS_PER_THREAD)
+            .max(1);
+        Self::with_size(size)
+    }
+
+    /// A team of `size` threads (one if they cannot be started).
+    pub(super) fn with_size(size: usize) -> Self {
+        let pool = (size > 1)
+            .then(|| {
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(size)
+                    .thread_name(|i| format!("tetrasim-cpu-{i}"))
+                    .build()
+                    .ok()
+            })
+            .flatten();
+        Team {
+            size: if pool.is_some() { size } else { 1 },
+            pool,
+        }
+    }
+
+    /// Runs `op` on the team's pool, so that its parallel iterators use the team's threads
+    /// (on the caller, in rayon's current pool, for a team of one).
+    pub(super) fn install<R: Send>(&self, op: impl FnOnce() -> R + Send) -> R {
+        match &self.pool {
+            Some(pool) => pool.install(op),
+            None => op(),
+        }
+    }
+
+    /// Runs `op` once on every member at the same time and returns when all have finished.
+    /// `op` must call [`Member::wait`] the same number of times on every member; a panic
+    /// in one member leaves the others waiting forever.
+    pub(super) fn run(&self, op: impl Fn(Member<'_>) + Sync) {
+        let barrier = SpinBarrier::new(self.size);
+        match &self.pool {
+            None => op(Member {
+                index: 0,
+                size: 1,
+                barrier: &barrier,
+            }),
+            Some(pool) => {
+                pool.broadcast(|context| {
+                    op(Member {
+                        index: context.index(),
+                        size: context.num_threads(),
+                        barrier: &barrier,
+                    })
+                });
+            }
+        }
+    }
+}
+
+impl Default for Team {
+    /// A team of one: the caller's thread.
+    fn default() -> Self {
+        Self::with_size(1)
+    }
+}
+
+impl Clone for Team {
+    /// A new team of the same size: two backends never share threads, so a barrier
+    /// never waits for a thread busy with the other.
+    fn clone(&self) -> Self {
+        Self::with_size(self.size)
+    }
+}
+
+/// One thread of a running team.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Member<'a> {
+    index: usize,
+    size: usize,
+    barrier: &'a SpinBarrier,
+}
+
+impl Member<'_> {
+    /// This member's block of `0..len`: the `index`-th of `size` contiguous, near-equal
+    /// parts.
+    pub(super) fn block(&self, len: usize) -> Range<usize> {
+        len * self.index / self.size..len * (self.index + 1) / self.size
+    }
+
+    /// Waits until every member has reached the same point: what any member wrote before
+    /// is visible to all after.
+    pub(super) fn wait(&self) {
+        if self.size > 1 {
+            self.barrier.wait();
+        }
+    }
+}

@@ -1,0 +1,123 @@
+//! The team's result does not depend on its size: states after a drop onto the floor are
+//! bit-identical for teams of 1, 2, 3 and 4 threads (every solver, implicit and explicit
+//! springs), and the 4-thread run follows the `cpu-ref` backend within the tolerance of
+//! `tests/cpu_matches_reference.rs`. The teams are built with their size given, past the
+//! cap on small meshes ([`super::team::Team::for_work`]).
+
+use super::*;
+use crate::backend::cpu::ReferenceBackend;
+use crate::model::ModelBuilder;
+use crate::params::Placement;
+
+/// Frames of each run: the drop from 1 cm lands after about 45.
+const FRAMES: u32 = 80;
+
+/// Of `tests/cpu_matches_reference.rs`: every node within this many bounding-box diagonals.
+const TOLERANCE: f64 = 1e-5;
+
+/// A box of 9 x 7 x 8 cells (720 nodes), 1 m across, 1 cm above the floor, its nodes
+/// moving at up to 5 cm/s in a fixed pattern so that the drop is not symmetric.
+fn model() -> Model {
+    let mesh = crate::mesh::grid::box_tets(glam::DVec3::ZERO, 0.1, [9, 7, 8]);
+    let mut model = ModelBuilder::new(&mesh)
+        .placement(Placement {
+            fit_size: Some(1.0),
+            drop_height: Some(0.01),
+        })
+        .build()
+        .expect("a model of the box");
+    for (i, v) in model.velocities.iter_mut().enumerate() {
+        let pattern = |k: usize| ((i * k) % 11) as f64 / 10.0 - 0.5;
+        *v = glam::DVec3::new(pattern(3), pattern(5), pattern(7)) * 0.1;
+    }
+    model
+}
+
+/// The state after [`FRAMES`] frames on a team of `threads`.
+fn run(problem: &Problem, threads: usize) -> State {
+    let mut backend = ParallelBackend::from_problem(problem).with_team_size(threads);
+    for frame in 0..FRAMES {
+        backend
+            .step_frame()
+            .unwrap_or_else(|e| panic!("frame {frame} on {threads} threads: {e}"));
+    }
+    backend.state().expect("the state")
+}
+
+/// A state as bits.
+fn bits(state: &State) -> Vec<[u64; 3]> {
+    (state.positions.iter().chain(&state.velocities))
+        .map(|p| p.to_array().map(f64::to_bits))
+        .collect()
+}
+
+#[test]
+fn teams_of_any_size_give_the_same_bits() {
+    let model = model();
+    let params = SimParams::default();
+    let cases = [
+        ("gauss-seidel + global (default)", params.clone()),
+        (
+            "jacobi",
+            SimParams {
+                solver: Solver::Jacobi,
+                ..params.clone()
+            },
+        ),
+        (
+            "chebyshev",
+            SimParams {
+                solver: Solver::Chebyshev,
+                ..params.clone()
+            },
+        ),
+        (
+            "distance, 3 groups",
+            SimParams {
+                method: Method::Distance,
+                groups: 3,
+                ..params.clone()
+            },
+        ),
+        (
+            "implicit springs, warm-started",
+            SimParams {
+                springs: SpringKind::Implicit,
+                warm_start: true,
+                ..params.clone()
+            },
+        ),
+    ];
+    for (name, params) in cases {
+        let problem = Problem::new(&model, &params).expect("a problem");
+        let one = run(&problem, 1);
+        assert!(
+            one.positions.iter().any(|p| p.y.abs() < 1e-6),
+            "{name}: never touched the floor"
+        );
+        for threads in 2..=4 {
+            assert!(
+                bits(&run(&problem, threads)) == bits(&one),
+                "{name}: {threads} threads differ from 1"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_team_of_four_follows_cpu_ref() {
+    let model = model();
+    let params = SimParams::default();
+    let problem = Problem::new(&model, &params).expect("a problem");
+    let fast = run(&problem, 4);
+    let mut reference = ReferenceBackend::new(&model, &params).expect("cpu-ref");
+    for _ in 0..FRAMES {
+        reference.step_frame().expect("a cpu-ref frame");
+    }
+    let reference = reference.state().expect("the cpu-ref state");
+    let diag = model.bounds_diagonal();
+    let d = (reference.positions.iter().zip(&fast.positions))
+        .map(|(a, b)| a.distance(*b))
+        .fold(0.0, f64::max);
+    assert!(d < TOLERANCE * diag, "{d:e} m, diagonal {diag} m");
+}
