@@ -209,8 +209,8 @@ mod tests {
         }
         // spring_scatter, spring_constraint, distance, volume: ext + cas each;
         // spring_constraint, distance, volume: gather; constraint_apply: sums, gather,
-        // chebyshev.
-        assert_eq!(variants, 14);
+        // chebyshev, gather_chebyshev.
+        assert_eq!(variants, 15);
     }
 
     #[test]
