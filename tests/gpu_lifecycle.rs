@@ -40,6 +40,19 @@ fn resident_kib() -> u64 {
         .unwrap_or(0)
 }
 
+/// A small box, two iterations, and the engine options (validation or not).
+fn fixture(validation: bool) -> (tetrasim::Model, SimParams, EngineOptions) {
+    let params = SimParams {
+        iterations: 2,
+        ..SimParams::default()
+    };
+    let options = EngineOptions {
+        validation,
+        ..Default::default()
+    };
+    (gpu_support::box_model([3, 2, 2], 0.1), params, options)
+}
+
 /// One backend's life: created, two frames stepped, state read, dropped.
 fn one_backend(model: &tetrasim::Model, params: &SimParams, options: &EngineOptions) -> Vec<f32> {
     let mut gpu = VulkanBackend::new(model, params, options).unwrap();
@@ -56,12 +69,7 @@ fn three_hundred_backends_in_one_process_leave_nothing_behind() {
         return;
     }
     let _guard = ONE_AT_A_TIME.lock().unwrap_or_else(|p| p.into_inner());
-    let model = gpu_support::box_model([3, 2, 2], 0.1);
-    let params = SimParams {
-        iterations: 2,
-        ..SimParams::default()
-    };
-    let options = EngineOptions::default();
+    let (model, params, options) = fixture(false);
     let first = one_backend(&model, &params, &options);
     assert_eq!(
         live_contexts(),
@@ -106,15 +114,7 @@ fn eight_threads_create_twenty_validated_backends_each() {
         return;
     }
     let _guard = ONE_AT_A_TIME.lock().unwrap_or_else(|p| p.into_inner());
-    let model = gpu_support::box_model([3, 2, 2], 0.1);
-    let params = SimParams {
-        iterations: 2,
-        ..SimParams::default()
-    };
-    let options = EngineOptions {
-        validation: true,
-        ..Default::default()
-    };
+    let (model, params, options) = fixture(true);
     let reference = one_backend(&model, &params, &options);
     std::thread::scope(|scope| {
         let threads: Vec<_> = (0..8)

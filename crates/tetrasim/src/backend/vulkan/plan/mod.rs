@@ -255,6 +255,13 @@ impl EnginePlan {
             bindings,
             repeat,
         };
+        // A global volume pass: one workgroup per chunk of every object, its chunk count and
+        // the floor as constants.
+        let global_pass = |kind, g: GlobalCounts, bindings: Vec<_>, repeat| PassPlan {
+            constants: global_constants(g),
+            workgroup_size: global_workgroup,
+            ..pass(kind, Variant::Plain, global_elements(g), bindings, repeat)
+        };
         let mut passes = Vec::new();
         if spring_forces {
             passes.push(match spring_gather {
@@ -305,10 +312,9 @@ impl EnginePlan {
             ));
         }
         if let Some(g) = global {
-            let mut prepare = pass(
+            passes.push(global_pass(
                 PassKind::GlobalVolumePrepare,
-                Variant::Plain,
-                global_elements(g),
+                g,
                 vec![
                     (Positions, Read),
                     (GlobalObjects, Read),
@@ -320,10 +326,7 @@ impl EnginePlan {
                     (GlobalState, Write),
                 ],
                 Repeat::Substep,
-            );
-            prepare.constants = global_constants(g);
-            prepare.workgroup_size = global_workgroup;
-            passes.push(prepare);
+            ));
         }
         if constrained {
             let (variant, output) = match gather {
@@ -396,10 +399,9 @@ impl EnginePlan {
             apply.constants = vec![u32::from(params.floor)];
             passes.push(apply);
             if let Some(g) = global {
-                let mut sum = pass(
+                passes.push(global_pass(
                     PassKind::GlobalVolumeSum,
-                    Variant::Plain,
-                    global_elements(g),
+                    g,
                     vec![
                         (Velocities, Read),
                         (Forces, Read),
@@ -409,14 +411,10 @@ impl EnginePlan {
                         (GlobalState, ReadWrite),
                     ],
                     Repeat::IterationEnd,
-                );
-                sum.constants = global_constants(g);
-                sum.workgroup_size = global_workgroup;
-                passes.push(sum);
-                let mut global_pass = pass(
+                ));
+                passes.push(global_pass(
                     PassKind::GlobalVolume,
-                    Variant::Plain,
-                    global_elements(g),
+                    g,
                     vec![
                         (Positions, Read),
                         (Velocities, Read),
@@ -427,10 +425,7 @@ impl EnginePlan {
                         (GlobalState, Read),
                     ],
                     Repeat::IterationEnd,
-                );
-                global_pass.constants = global_constants(g);
-                global_pass.workgroup_size = global_workgroup;
-                passes.push(global_pass);
+                ));
             }
         }
         let mut integrate = pass(
