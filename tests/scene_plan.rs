@@ -166,9 +166,9 @@ fn springs_only_and_volume_with_floor_plan_differently() {
     // once per colour group and then the global volume constraint (its chunks' sums, then
     // the multiplier applied), the gather path's buffers instead of the atomic sums.
     let gs = plan_of(VOLUME_FLOOR);
-    let k = gs.groups.len() as u64;
+    let k = u64::from(gs.schedule.group_count());
     assert!(k > 1 && k <= 8, "{k} groups");
-    assert_eq!(gs.groups.iter().sum::<u32>() as u64, t);
+    assert_eq!(gs.schedule.sweeps[0].constraints(), t);
     assert_eq!(
         gs.pass_list(),
         [

@@ -123,6 +123,7 @@ pub mod physics;
 pub mod problem;
 #[cfg(feature = "render")]
 pub mod render;
+pub mod schedule;
 pub mod sim;
 pub mod stability;
 

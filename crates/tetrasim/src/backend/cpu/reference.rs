@@ -7,13 +7,14 @@ use super::{check_state, diverged, Bad};
 use crate::backend::{Backend, State, VolumeSample};
 use crate::error::Result;
 use crate::model::{ConstraintKind, GlobalObject, GlobalVolume, Model};
-use crate::params::{chebyshev_weights, Method, SimParams, Solver, SpringKind};
+use crate::params::SimParams;
 use crate::physics::{
     compliant_multiplier, distance_constraint, face_volume, floor_solve, implicit_accumulate,
     implicit_multiplier, integrate_node, spring_constraint, spring_force, spring_softness,
     tet_volume, volume_constraint, volume_softness,
 };
 use crate::problem::Problem;
+use crate::schedule::{Dispatch, GroupAt, PassKind, Schedule};
 
 /// The forces of steps 1 and 2 of one time step, per node [N]; their sum is the `F` that is
 /// integrated.
@@ -60,6 +61,67 @@ pub struct ReferenceBackend {
     /// Per spring, its implicit multiplier at the end of the last step: the next step's
     /// start with `warm_start` (zeros otherwise, and after [`Self::set_state`]).
     spring_warm: Vec<f64>,
+    /// The step it runs.
+    schedule: Schedule,
+    /// One time step's dispatches ([`Schedule::step`]).
+    dispatches: Vec<Dispatch>,
+}
+
+/// The forces of a time step while its dispatches run.
+struct StepForces {
+    gravity: Vec<DVec3>,
+    /// Explicit spring forces, or the warm start's (zeros without a spring force stage).
+    springs: Vec<DVec3>,
+    /// The total force so far.
+    total: Vec<DVec3>,
+    /// The floor's normal force so far.
+    floor: Vec<f64>,
+    /// The compliant constraints' multipliers found so far in this step (the warm start's
+    /// for the springs).
+    spring_lambda: Vec<f64>,
+    volume_lambda: Vec<f64>,
+    /// Chebyshev: the total and floor forces two iterations back.
+    before_total: Vec<DVec3>,
+    before_floor: Vec<f64>,
+    /// The current group's per-node constraint sums.
+    sum: Vec<DVec3>,
+    /// Per global volume object: `C_g`, the surface gradients and the multiplier.
+    global: Vec<(f64, Vec<DVec3>, f64)>,
+}
+
+impl StepForces {
+    /// Gravity alone, at the start of a step of `backend`.
+    fn new(backend: &ReferenceBackend) -> Self {
+        let problem = &backend.problem;
+        let n = problem.model.node_count();
+        let down = DVec3::new(0.0, -problem.params.gravity, 0.0);
+        let gravity: Vec<DVec3> = problem.model.mass.iter().map(|&m| down * m).collect();
+        let mut step = StepForces {
+            springs: vec![DVec3::ZERO; n],
+            total: Vec::new(),
+            floor: vec![0.0; n],
+            spring_lambda: backend.spring_warm.clone(),
+            volume_lambda: vec![0.0; problem.model.tets.len()],
+            before_total: Vec::new(),
+            before_floor: Vec::new(),
+            sum: Vec::new(),
+            global: Vec::new(),
+            gravity,
+        };
+        step.set_springs(vec![DVec3::ZERO; n]);
+        step
+    }
+
+    /// The spring forces: the total becomes gravity plus them (and so do the Chebyshev
+    /// forces before the first iteration).
+    fn set_springs(&mut self, springs: Vec<DVec3>) {
+        self.total = (self.gravity.iter().zip(&springs))
+            .map(|(g, s)| *g + *s)
+            .collect();
+        self.springs = springs;
+        self.before_total.clone_from(&self.total);
+        self.before_floor.clone_from(&self.floor);
+    }
 }
 
 impl ReferenceBackend {
@@ -88,6 +150,8 @@ impl ReferenceBackend {
                     .collect()
             })
             .collect();
+        let schedule = Schedule::of(problem, false);
+        let dispatches = schedule.step();
         ReferenceBackend {
             problem: problem.clone(),
             x: model.positions.clone(),
@@ -95,6 +159,8 @@ impl ReferenceBackend {
             frame: 0,
             group_factors,
             spring_warm: vec![0.0; model.springs.len()],
+            schedule,
+            dispatches,
         }
     }
 
@@ -107,112 +173,138 @@ impl ReferenceBackend {
         Ok(())
     }
 
-    /// Steps 1 and 2 of a time step at the current state: gravity, explicit springs
-    /// (spring-centric for every method but `mss-node`, which gathers per node) or, for
-    /// warm-started implicit springs, the last step's multipliers as forces, then
-    /// `iterations` times the sweeps ([`Model::constraint_sweeps`]: implicit springs, then
-    /// the method's constraints), each group after group (one group for Jacobi and
+    /// Steps 1 and 2 of a time step at the current state: the schedule's dispatches
+    /// ([`Schedule::step`]) run in order, each as a plain loop ([`Self::run`]), up to the
+    /// floor's last solve, which begins `integrate`. With the default solver that is gravity,
+    /// explicit springs (spring-centric for every method but `mss-node`, which gathers per
+    /// node) or, for warm-started implicit springs, the last step's multipliers as forces,
+    /// then `iterations` times the sweeps ([`Model::constraint_sweeps`]: implicit springs,
+    /// then the method's constraints), each group after group (one group for Jacobi and
     /// Chebyshev, the colour groups for Gauss-Seidel; Chebyshev extrapolating each
     /// iteration's forces) and each group followed by the floor's solve, then the global
-    /// volume constraints (when solved) and the floor again; finally the floor's last solve.
+    /// volume constraints (when solved) and the floor again.
     pub fn forces(&self) -> Forces {
-        let n = self.problem.model.node_count();
-        let down = DVec3::new(0.0, -self.problem.params.gravity, 0.0);
-        let gravity: Vec<DVec3> = self.problem.model.mass.iter().map(|&m| down * m).collect();
-        let springs = match (self.problem.params.springs, self.problem.params.method) {
-            (SpringKind::Implicit, _) => self.warm_start_forces(),
-            (_, Method::MssNode) => self.spring_forces_gather(),
-            _ => self.spring_forces_scatter(),
-        };
-        // The compliant constraints' multipliers found so far in this step (the warm start's
-        // for the springs).
-        let mut spring_lambda = self.spring_warm.clone();
-        let mut volume_lambda = vec![0.0; self.problem.model.tets.len()];
-        let mut total: Vec<DVec3> = (0..n).map(|i| gravity[i] + springs[i]).collect();
-        let mut floor = vec![0.0; n];
-        // Chebyshev: the weights, and the total and floor forces two iterations back.
-        let p = &self.problem.params;
-        let weights =
-            (p.solver == Solver::Chebyshev).then(|| chebyshev_weights(p.rho, p.iterations));
-        let (mut before_total, mut before_floor) = (total.clone(), floor.clone());
-        for iteration in 0..self.problem.params.iterations as usize {
-            for (sweep, sweep_factors) in self.problem.sweeps.iter().zip(&self.group_factors) {
-                for (g, factors) in sweep_factors.iter().enumerate() {
-                    let a_scale: Vec<f64> = factors.iter().map(|f| f.0).collect();
-                    let members = sweep.groups.group(g);
-                    let (springs, tets, m) = (
-                        &self.problem.model.springs,
-                        &self.problem.model.tets,
-                        &self.problem.material,
-                    );
-                    let (rest, rest_volume, dt) = (
-                        &self.problem.model.rest_length,
-                        &self.problem.model.rest_volume,
-                        self.problem.params.dt,
-                    );
-                    let sum = match sweep.kind {
-                        ConstraintKind::Spring => {
-                            let lambda = &mut spring_lambda;
-                            self.sweep(members, springs, &total, &a_scale, lambda, |s, [a, b]| {
-                                let (c, grad) = spring_constraint(a, b, rest[s]);
-                                let (k, kd) = (m.spring_stiffness[s], m.spring_damping[s]);
-                                (c, grad, spring_softness(k, kd, dt), kd)
-                            })
-                        }
-                        ConstraintKind::Distance => {
-                            let lambda = &mut spring_lambda;
-                            self.sweep(members, springs, &total, &a_scale, lambda, |s, [a, b]| {
-                                let (c, grad) = distance_constraint(a, b, rest[s]);
-                                (c, grad, 0.0, 0.0)
-                            })
-                        }
-                        ConstraintKind::Volume => {
-                            let lambda = &mut volume_lambda;
-                            self.sweep(members, tets, &total, &a_scale, lambda, |t, p| {
-                                let (c, grad) = volume_constraint(p, rest_volume[t]);
-                                (c, grad, volume_softness(m.volume_compliance[t], dt), 0.0)
-                            })
-                        }
-                    };
-                    let current = weights.as_ref().map(|_| (total.clone(), floor.clone()));
-                    for i in 0..n {
-                        total[i] += sum[i] * (factors[i].1 * self.problem.params.omega);
-                    }
-                    if let (Some(w), Some((t, f))) = (&weights, current) {
-                        let w = w[iteration];
-                        if w != 1.0 {
-                            for i in 0..n {
-                                total[i] = (total[i] - before_total[i]) * w + before_total[i];
-                                floor[i] = (floor[i] - before_floor[i]) * w + before_floor[i];
-                            }
-                        }
-                        (before_total, before_floor) = (t, f);
-                    }
-                    self.floor_solve(&mut total, &mut floor);
-                }
+        let mut step = StepForces::new(self);
+        for dispatch in &self.dispatches {
+            if self.schedule.stages[dispatch.stage].kind == PassKind::Integrate {
+                break;
             }
-            if let Some(global) = &self.problem.global {
-                for object in &global.objects {
-                    let f = self.global_volume_forces(global, object, &total);
-                    for (&i, f) in global.nodes[object.node_first as usize..].iter().zip(f) {
-                        total[i as usize] += f;
-                    }
-                }
-                self.floor_solve(&mut total, &mut floor);
-            }
+            self.run(dispatch, &mut step);
         }
-        self.floor_solve(&mut total, &mut floor);
+        self.floor_solve(&mut step.total, &mut step.floor);
+        let n = self.problem.model.node_count();
         let constraints = (0..n)
-            .map(|i| total[i] - gravity[i] - springs[i] - DVec3::Y * floor[i])
+            .map(|i| step.total[i] - step.gravity[i] - step.springs[i] - DVec3::Y * step.floor[i])
             .collect();
         Forces {
-            gravity,
-            springs,
+            gravity: step.gravity,
+            springs: step.springs,
             constraints,
-            floor,
-            spring_multipliers: spring_lambda,
-            volume_multipliers: volume_lambda,
+            floor: step.floor,
+            spring_multipliers: step.spring_lambda,
+            volume_multipliers: step.volume_lambda,
         }
+    }
+
+    /// One dispatch of the schedule on the step's forces so far.
+    fn run(&self, dispatch: &Dispatch, step: &mut StepForces) {
+        let kind = self.schedule.stages[dispatch.stage].kind;
+        let iteration = dispatch.iteration.unwrap_or(0);
+        match (kind, dispatch.group) {
+            (PassKind::SpringScatter, _) => step.set_springs(self.spring_forces_scatter()),
+            (PassKind::SpringGather, _) => step.set_springs(self.spring_forces_gather()),
+            (PassKind::SpringWarmStart, _) => step.set_springs(self.warm_start_forces()),
+            (PassKind::GlobalVolumePrepare, _) => step.global = self.global_prepare(),
+            (PassKind::SpringConstraint | PassKind::Distance | PassKind::Volume, Some(at)) => {
+                step.sum = self.solve_group(at, step)
+            }
+            (PassKind::ConstraintApply, Some(at)) => self.apply_group(at, iteration, step),
+            (PassKind::GlobalVolumeSum, _) => self.global_multipliers(step),
+            (PassKind::GlobalVolume, _) => {
+                if let Some(global) = &self.problem.global {
+                    for (object, (_, grad, lambda)) in global.objects.iter().zip(&step.global) {
+                        let nodes = &global.nodes[object.node_first as usize..];
+                        for (&i, g) in nodes.iter().zip(grad) {
+                            step.total[i as usize] += *g * -lambda;
+                        }
+                    }
+                }
+                self.floor_solve(&mut step.total, &mut step.floor);
+            }
+            // Integration ends the step (`step`); the frame's check and volume are the
+            // GPU's readbacks (this backend checks each node as it integrates it).
+            _ => {}
+        }
+    }
+
+    /// The constraints of group `at` against the step's forces: the per-node sums of their
+    /// forces ([`Self::sweep`]).
+    fn solve_group(&self, at: GroupAt, step: &mut StepForces) -> Vec<DVec3> {
+        let sweep = &self.problem.sweeps[at.sweep];
+        let a_scale: Vec<f64> = self.group_factors[at.sweep][at.group]
+            .iter()
+            .map(|f| f.0)
+            .collect();
+        let members = sweep.groups.group(at.group);
+        let (springs, tets, m) = (
+            &self.problem.model.springs,
+            &self.problem.model.tets,
+            &self.problem.material,
+        );
+        let (rest, rest_volume, dt) = (
+            &self.problem.model.rest_length,
+            &self.problem.model.rest_volume,
+            self.problem.params.dt,
+        );
+        let total = &step.total;
+        match sweep.kind {
+            ConstraintKind::Spring => {
+                let lambda = &mut step.spring_lambda;
+                self.sweep(members, springs, total, &a_scale, lambda, |s, [a, b]| {
+                    let (c, grad) = spring_constraint(a, b, rest[s]);
+                    let (k, kd) = (m.spring_stiffness[s], m.spring_damping[s]);
+                    (c, grad, spring_softness(k, kd, dt), kd)
+                })
+            }
+            ConstraintKind::Distance => {
+                let lambda = &mut step.spring_lambda;
+                self.sweep(members, springs, total, &a_scale, lambda, |s, [a, b]| {
+                    let (c, grad) = distance_constraint(a, b, rest[s]);
+                    (c, grad, 0.0, 0.0)
+                })
+            }
+            ConstraintKind::Volume => {
+                let lambda = &mut step.volume_lambda;
+                self.sweep(members, tets, total, &a_scale, lambda, |t, p| {
+                    let (c, grad) = volume_constraint(p, rest_volume[t]);
+                    (c, grad, volume_softness(m.volume_compliance[t], dt), 0.0)
+                })
+            }
+        }
+    }
+
+    /// Group `at`'s sums applied to the forces (`omega` times the combine mode's weight),
+    /// Chebyshev's extrapolation of `iteration` when it is on, then the floor's solve.
+    fn apply_group(&self, at: GroupAt, iteration: u32, step: &mut StepForces) {
+        let factors = &self.group_factors[at.sweep][at.group];
+        let chebyshev = !self.schedule.chebyshev.is_empty();
+        let current = chebyshev.then(|| (step.total.clone(), step.floor.clone()));
+        for (i, f) in step.total.iter_mut().enumerate() {
+            *f += step.sum[i] * (factors[i].1 * self.problem.params.omega);
+        }
+        if let Some((t, f)) = current {
+            let w = self.schedule.chebyshev_weight(iteration);
+            if w != 1.0 {
+                let before = step.before_total.iter().zip(&step.before_floor);
+                let now = step.total.iter_mut().zip(step.floor.iter_mut());
+                for ((total, floor), (bt, bf)) in now.zip(before) {
+                    *total = (*total - *bt) * w + *bt;
+                    *floor = (*floor - *bf) * w + *bf;
+                }
+            }
+            (step.before_total, step.before_floor) = (t, f);
+        }
+        self.floor_solve(&mut step.total, &mut step.floor);
     }
 
     /// With implicit springs: each spring's warm-start multiplier (zero without
@@ -235,16 +327,24 @@ impl ReferenceBackend {
         f
     }
 
-    /// The forces `-lambda grad_k C_g` of `object`'s global volume constraint against the
-    /// total force `f`, one per surface node (in [`GlobalVolume::nodes`] order from the
-    /// object's first). The reference point of the face volumes is the object's first
-    /// surface node.
-    fn global_volume_forces(
-        &self,
-        global: &GlobalVolume,
-        object: &GlobalObject,
-        f: &[DVec3],
-    ) -> Vec<DVec3> {
+    /// Per object of the global volume constraints: `C_g` and the gradient on each of its
+    /// surface nodes (in [`GlobalVolume::nodes`] order from the object's first) at the
+    /// step's positions, the multiplier still 0. The reference point of the face volumes is
+    /// the object's first surface node.
+    fn global_prepare(&self) -> Vec<(f64, Vec<DVec3>, f64)> {
+        let Some(global) = &self.problem.global else {
+            return Vec::new();
+        };
+        (global.objects.iter())
+            .map(|object| {
+                let (c, grad) = self.global_gradients(global, object);
+                (c, grad, 0.0)
+            })
+            .collect()
+    }
+
+    /// `C_g` of `object` and its gradient on each of its surface nodes.
+    fn global_gradients(&self, global: &GlobalVolume, object: &GlobalObject) -> (f64, Vec<DVec3>) {
         let nodes = &global.nodes[object.node_first as usize..][..object.node_count as usize];
         let faces = &global.faces[object.face_first as usize..][..object.face_count as usize];
         let o = self.x[nodes[0] as usize];
@@ -256,7 +356,7 @@ impl ReferenceBackend {
             face_grad.push(g);
         }
         let first_face = 3 * object.face_first as usize;
-        let grad: Vec<DVec3> = (0..nodes.len())
+        let grad = (0..nodes.len())
             .map(|k| {
                 let row = global.node_faces.row(object.node_first as usize + k);
                 row.iter()
@@ -264,24 +364,25 @@ impl ReferenceBackend {
                     .sum()
             })
             .collect();
-        let (mut a, mut b) = (0.0, 0.0);
-        for (&i, &g) in nodes.iter().zip(&grad) {
-            let i = i as usize;
-            let w = self.problem.model.inv_mass[i];
-            implicit_accumulate(
-                &mut a,
-                &mut b,
-                g,
-                w,
-                1.0,
-                self.v[i],
-                f[i],
-                self.problem.params.dt,
-            );
-        }
+        (c, grad)
+    }
+
+    /// Every object's global volume multiplier against the step's forces so far.
+    fn global_multipliers(&self, step: &mut StepForces) {
+        let Some(global) = &self.problem.global else {
+            return;
+        };
         let p = &self.problem.params;
-        let lambda = implicit_multiplier(c, a, b, p.dt, p.constraint_epsilon).unwrap_or(0.0);
-        grad.iter().map(|&g| g * -lambda).collect()
+        for (object, (c, grad, lambda)) in global.objects.iter().zip(&mut step.global) {
+            let nodes = &global.nodes[object.node_first as usize..][..object.node_count as usize];
+            let (mut a, mut b) = (0.0, 0.0);
+            for (&i, &g) in nodes.iter().zip(grad.iter()) {
+                let i = i as usize;
+                let w = self.problem.model.inv_mass[i];
+                implicit_accumulate(&mut a, &mut b, g, w, 1.0, self.v[i], step.total[i], p.dt);
+            }
+            *lambda = implicit_multiplier(*c, a, b, p.dt, p.constraint_epsilon).unwrap_or(0.0);
+        }
     }
 
     /// Solves every node's floor contact against the current total force `total` (which

@@ -209,7 +209,7 @@ impl SimBuffers {
         };
         let spring_multipliers = zeroed_floats(BufferId::SpringMultipliers, model.springs.len())?;
         let volume_multipliers = zeroed_floats(BufferId::VolumeMultipliers, model.tets.len())?;
-        let gather = match plan.gather {
+        let gather = match plan.schedule.gather {
             true => Some(gather_buffers(ctx, &mut up, model, sweeps)?),
             false => None,
         };

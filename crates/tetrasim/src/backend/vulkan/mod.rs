@@ -14,7 +14,6 @@
 mod buffers;
 mod frames;
 mod options;
-pub mod pass_kind;
 mod passes;
 pub mod plan;
 

@@ -30,7 +30,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::buffers::SimBuffers;
-use super::plan::{volume_sum_pass, Access as Use, EnginePlan, PassPlan, Repeat};
+use super::plan::{volume_sum_pass, EnginePlan, PassPlan};
 use crate::gpu::commands::{barrier, memory_barrier, Access};
 use crate::gpu::layout::PushConstants;
 use crate::gpu::{AtomicsPath, BindingLayout, Buffer, Context, Kernel, Timer};
@@ -78,11 +78,8 @@ impl Pass {
 
     /// The buffers this pass writes (a barrier follows it).
     fn writes<'b>(&self, b: &'b SimBuffers) -> Vec<&'b Buffer> {
-        self.plan
-            .bindings
-            .iter()
-            .filter(|(_, u)| *u != Use::Read)
-            .filter_map(|(id, _)| b.get(*id))
+        (self.plan.stage.writes())
+            .filter_map(|id| b.get(id))
             .collect()
     }
 }
@@ -100,7 +97,7 @@ impl Passes {
         // serves all passes.
         let mut bound: Vec<(u32, &Buffer)> = Vec::new();
         for pass in plan.passes.iter().chain(std::iter::once(&volume_sum_plan)) {
-            for (id, _) in &pass.bindings {
+            for (id, _) in &pass.stage.bindings {
                 let buffer = b.get(*id).ok_or_else(|| {
                     Error::Gpu(format!(
                         "pass `{}` binds buffer `{}`, which the plan does not build",
@@ -170,74 +167,35 @@ impl Recorder<'_> {
         Ok(())
     }
 
-    /// One time step: the plan's substep passes, the iteration passes `iterations` times,
-    /// each time sweep after sweep ([`EnginePlan::sweeps`]) and group after group: the
-    /// sweep's constraint pass, then the passes of no sweep (constraint_apply), with the
-    /// group's index (over all sweeps), its range within the sweep and the sweep's offsets
-    /// in the push constants (a per-group pass dispatches only the group's constraints);
-    /// then the passes that end an iteration (the global volume constraints).
+    /// One time step: the schedule's dispatches ([`crate::schedule::Schedule::step`]) in
+    /// order. A dispatch of a constraint group carries the group's index (over all sweeps),
+    /// its range within the sweep, the sweep's offsets and the iteration's Chebyshev weight
+    /// in the push constants; a per-group pass dispatches only the group's constraints.
     fn record_step(&mut self, plan: &EnginePlan, p: &Passes, b: &SimBuffers) -> Result<()> {
-        let steps: Vec<&Pass> = p
-            .frame
-            .iter()
-            .filter(|q| q.plan.repeat != Repeat::Frame)
-            .collect();
-        let mut k = 0;
-        while k < steps.len() {
-            if steps[k].plan.repeat == Repeat::Iteration {
-                let end = steps[k..]
-                    .iter()
-                    .position(|q| q.plan.repeat != Repeat::Iteration)
-                    .map_or(steps.len(), |e| k + e);
-                let after_end = steps[end..]
-                    .iter()
-                    .position(|q| q.plan.repeat != Repeat::IterationEnd)
-                    .map_or(steps.len(), |e| end + e);
-                let shared: Vec<&Pass> = steps[k..end]
-                    .iter()
-                    .copied()
-                    .filter(|q| q.plan.sweep.is_none())
-                    .collect();
-                for iteration in 0..plan.iterations as usize {
-                    let chebyshev_weight = plan.chebyshev.get(iteration).copied().unwrap_or(1.0);
-                    for (index, sweep) in plan.sweeps.iter().enumerate() {
-                        let at = plan.sweep_offsets(index);
-                        let own: Vec<&Pass> = steps[k..end]
-                            .iter()
-                            .copied()
-                            .filter(|q| q.plan.sweep == Some(index))
-                            .collect();
-                        let mut first = 0;
-                        for (g, &count) in sweep.groups.iter().enumerate() {
-                            let push = PushConstants {
-                                group: at.group + g as u32,
-                                group_first: first,
-                                group_count: count,
-                                member_first: at.member,
-                                slot_first: at.slot,
-                                chebyshev_weight,
-                                iteration: iteration as u32,
-                                ..*self.push
-                            };
-                            for q in own.iter().chain(&shared) {
-                                let elements = match q.plan.per_group {
-                                    true => count,
-                                    false => q.plan.elements,
-                                };
-                                self.dispatch(q, b, &push, elements)?;
-                            }
-                            first += count;
-                        }
-                    }
-                    for q in &steps[end..after_end] {
-                        self.pass(q, b)?;
-                    }
-                }
-                k = after_end;
-            } else {
-                self.pass(steps[k], b)?;
-                k += 1;
-            }
+        let schedule = &plan.schedule;
+        for dispatch in schedule.step() {
+            let pass = &p.frame[dispatch.stage];
+            let Some(at) = dispatch.group else {
+                self.pass(pass, b)?;
+                continue;
+            };
+            let iteration = dispatch.iteration.unwrap_or(0);
+            let offsets = plan.sweep_offsets(at.sweep);
+            let push = PushConstants {
+                group: offsets.group + at.group as u32,
+                group_first: at.first,
+                group_count: at.count,
+                member_first: offsets.member,
+                slot_first: offsets.slot,
+                chebyshev_weight: schedule.chebyshev_weight(iteration) as f32,
+                iteration,
+                ..*self.push
+            };
+            let elements = match pass.plan.per_group() {
+                true => at.count,
+                false => pass.plan.elements,
+            };
+            self.dispatch(pass, b, &push, elements)?;
         }
         Ok(())
     }
@@ -296,11 +254,11 @@ impl Recorder<'_> {
         if let Some(timer) = self.timer.as_deref_mut() {
             timer.record_start(self.cmd);
         }
-        for _ in 0..plan.substeps {
+        for _ in 0..plan.schedule.substeps {
             self.record_step(plan, p, b)?;
         }
-        for q in p.frame.iter().filter(|q| q.plan.repeat == Repeat::Frame) {
-            self.pass(q, b)?;
+        for stage in plan.schedule.frame_end() {
+            self.pass(&p.frame[stage], b)?;
         }
         self.copy_to_host(&b.status, status_readback);
         if let Some(readback) = partials_readback {

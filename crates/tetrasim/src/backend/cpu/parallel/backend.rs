@@ -14,7 +14,6 @@ pub struct ParallelBackend {
     /// Whether the springs act as explicit forces (else they are solved in the sweeps).
     explicit_springs: bool,
     substeps: u32,
-    iterations: u32,
     floor: bool,
     k: Coefficients,
     mass: Vec<f32>,
@@ -63,6 +62,10 @@ pub struct ParallelBackend {
     frame: u32,
     /// Divergence speed limit [m/s] ([`crate::stability::speed_limit`]).
     speed_limit: f32,
+    /// The pass of each stage of the step's schedule.
+    stages: Vec<PassKind>,
+    /// One time step's dispatches ([`Schedule::step`]).
+    dispatches: Vec<Dispatch>,
     /// The likely cause printed on divergence.
     likely: String,
 }
@@ -97,18 +100,21 @@ impl ParallelBackend {
         let has = |kind: ConstraintKind| sweeps.iter().any(|s| s.kind == kind);
         let explicit_springs = params.springs == SpringKind::Explicit;
         let dt = params.dt;
+        let schedule = Schedule::of(problem, false);
+        let gravity = Vec3A::new(0.0, -params.gravity as f32, 0.0);
         ParallelBackend {
+            stages: schedule.stages.iter().map(|stage| stage.kind).collect(),
+            dispatches: schedule.step(),
             method: params.method,
             explicit_springs,
             substeps: params.substeps,
-            iterations: params.iterations,
             floor: params.floor,
             k: Coefficients {
                 dt: params.dt as f32,
                 omega: params.omega as f32,
                 friction: params.friction as f32,
                 epsilon: params.constraint_epsilon as f32,
-                gravity: Vec3A::new(0.0, -params.gravity as f32, 0.0),
+                gravity,
             },
             mass: to32(&model.mass),
             inv_mass: to32(&model.inv_mass),
@@ -155,7 +161,9 @@ impl ParallelBackend {
                 .iter()
                 .map(|&v| Vec3A::from_dvec3(v))
                 .collect(),
-            f: vec![Vec3A::ZERO; n],
+            // F starts as m g, which `integrate` leaves: with implicit springs and no warm
+            // start, no stage adds to it before the iterations.
+            f: model.mass.iter().map(|&m| gravity * m as f32).collect(),
             spring_out: if (explicit_springs || params.warm_start)
                 && params.method != Method::MssNode
             {
@@ -209,9 +217,9 @@ impl ParallelBackend {
         Ok(())
     }
 
-    /// Pass `springs`: `F = m g + spring forces`, each spring with its own stiffness and
-    /// damping (`F = m g` alone with implicit springs, which the sweeps solve, plus their
-    /// last multipliers' forces `-lambda grad C` when warm-started). `mss-node` evaluates
+    /// Stage `spring_scatter`, `spring_gather` or `spring_warm_start`: `F = m g + spring
+    /// forces`, each spring with its own stiffness and damping (with warm-started implicit
+    /// springs, their last multipliers' forces `-lambda grad C`). `mss-node` evaluates
     /// each spring at both ends inside one node-centric gather; every other method
     /// evaluates each spring once and gathers the results.
     fn spring_pass(&mut self) {
@@ -230,13 +238,6 @@ impl ParallelBackend {
                     let (_, grad) = spring_constraint(x[i], x[j], rest[s]);
                     *out = grad[0] * -warm[s];
                 });
-        } else if !self.explicit_springs {
-            self.f
-                .par_iter_mut()
-                .zip(mass.par_iter())
-                .with_min_len(CHUNK)
-                .for_each(|(f, &m)| *f = k.gravity * m);
-            return;
         }
         if self.method == Method::MssNode {
             self.f
@@ -274,10 +275,11 @@ impl ParallelBackend {
             });
     }
 
-    /// Pass `integrate`: the floor's final solve, symplectic Euler with floor friction.
-    /// Returns the first node that is non-finite or faster than the speed limit.
+    /// Stage `integrate`: the floor's final solve, symplectic Euler with floor friction, then
+    /// `F = m g` for the next step. Returns the first node that is non-finite or faster than
+    /// the speed limit.
     fn integrate_pass(&mut self) -> Option<(usize, Bad)> {
-        let (w, k) = (&self.inv_mass, self.k);
+        let (w, k, mass) = (&self.inv_mass, self.k, &self.mass);
         let limit2 = self.speed_limit * self.speed_limit;
         let (on, dt) = (self.floor, self.k.dt);
         self.x
@@ -293,6 +295,7 @@ impl ParallelBackend {
                 let (x1, v1) = integrate_node(*x, *v, *f, w[i], k.dt, *n > 0.0, k.friction);
                 (*x, *v) = (x1, v1);
                 *n = 0.0;
+                *f = k.gravity * mass[i];
                 if !(x1.is_finite() && v1.is_finite()) {
                     Some((i, Bad::NonFinite))
                 } else if v1.length_squared() > limit2 {
@@ -304,43 +307,68 @@ impl ParallelBackend {
             .min_by_key(|(i, _)| *i)
     }
 
-    /// One time step (physics.md steps 1-3), its constraint iterations run by `team` (the
-    /// backend's, taken out for the step).
+    /// One time step (physics.md steps 1-3): the schedule's dispatches in order, those of
+    /// the constraint iterations run by `team` (the backend's, taken out for the step).
     fn step(&mut self, team: &Team) -> Option<(usize, Bad)> {
-        self.spring_pass();
-        let mut global = self.global.take();
-        if let Some(global) = &mut global {
-            global.prepare(&self.x);
+        let mut k = 0;
+        while k < self.dispatches.len() {
+            let dispatch = self.dispatches[k];
+            if dispatch.iteration.is_some() {
+                let end = (k..self.dispatches.len())
+                    .find(|&e| self.dispatches[e].iteration.is_none())
+                    .unwrap_or(self.dispatches.len());
+                self.iterations(team, k..end);
+                k = end;
+                continue;
+            }
+            match self.stages[dispatch.stage] {
+                PassKind::SpringScatter | PassKind::SpringGather | PassKind::SpringWarmStart => {
+                    self.spring_pass()
+                }
+                PassKind::GlobalVolumePrepare => {
+                    if let Some(global) = &mut self.global {
+                        global.prepare(&self.x);
+                    }
+                }
+                PassKind::Integrate => return self.integrate_pass(),
+                _ => {}
+            }
+            k += 1;
         }
+        None
+    }
+
+    /// The step's constraint iterations, the dispatches `range`: the sweeps' multipliers
+    /// (the warm start's for the springs) and the Chebyshev state set, the dispatches run by
+    /// `team`, the springs' multipliers kept for the next step's warm start.
+    fn iterations(&mut self, team: &Team, range: std::ops::Range<usize>) {
+        let global = self.global.take();
         if let Some(c) = &mut self.chebyshev {
             c.before_f.clone_from(&self.f);
             c.before_n.clone_from(&self.floor_force);
         }
-        if !self.sweeps.is_empty() {
-            let mut sweeps = std::mem::take(&mut self.sweeps);
-            for sweep in &mut sweeps {
-                match (sweep.kind, self.spring_warm.is_empty()) {
-                    (ConstraintKind::Spring, false) => {
-                        let warm = &self.spring_warm;
-                        for (m, &s) in sweep.multipliers.iter_mut().zip(&sweep.members.items) {
-                            *m = warm[s as usize];
-                        }
-                    }
-                    _ => sweep.multipliers.fill(0.0),
-                }
-            }
-            self.iterate(team, &mut sweeps, global.as_ref());
-            if !self.spring_warm.is_empty() {
-                for sweep in sweeps.iter().filter(|s| s.kind == ConstraintKind::Spring) {
-                    for (&m, &s) in sweep.multipliers.iter().zip(&sweep.members.items) {
-                        self.spring_warm[s as usize] = m;
+        let mut sweeps = std::mem::take(&mut self.sweeps);
+        for sweep in &mut sweeps {
+            match (sweep.kind, self.spring_warm.is_empty()) {
+                (ConstraintKind::Spring, false) => {
+                    let warm = &self.spring_warm;
+                    for (m, &s) in sweep.multipliers.iter_mut().zip(&sweep.members.items) {
+                        *m = warm[s as usize];
                     }
                 }
+                _ => sweep.multipliers.fill(0.0),
             }
-            self.sweeps = sweeps;
         }
+        self.iterate(team, &mut sweeps, global.as_ref(), range);
+        if !self.spring_warm.is_empty() {
+            for sweep in sweeps.iter().filter(|s| s.kind == ConstraintKind::Spring) {
+                for (&m, &s) in sweep.multipliers.iter().zip(&sweep.members.items) {
+                    self.spring_warm[s as usize] = m;
+                }
+            }
+        }
+        self.sweeps = sweeps;
         self.global = global;
-        self.integrate_pass()
     }
 
     /// A frame's substeps on `team` (running on its threads).
@@ -386,15 +414,21 @@ impl ParallelBackend {
         }
     }
 
-    /// The step's constraint iterations (every group of every sweep, then the global
-    /// volume constraints), run by the team ([`iterations::run`]).
-    fn iterate(&mut self, team: &Team, sweeps: &mut [Sweep], global: Option<&Global>) {
+    /// The dispatches `range` of the step's constraint iterations (every group of every
+    /// sweep, then the global volume constraints), run by the team ([`iterations::run`]).
+    fn iterate(
+        &mut self,
+        team: &Team,
+        sweeps: &mut [Sweep],
+        global: Option<&Global>,
+        range: std::ops::Range<usize>,
+    ) {
         let mut multipliers: Vec<Vec<f32>> = (sweeps.iter_mut())
             .map(|s| std::mem::take(&mut s.multipliers))
             .collect();
         let chunks = global.map_or(0, |g| {
-            let most = g.data.objects.iter().map(|o| o.node_count).max();
-            (most.unwrap_or(0) as usize).div_ceil(CHUNK)
+            let chunks = iterations::global_chunks(g);
+            chunks.last().map_or(0, |(first, count)| first + count)
         });
         let mut partial = vec![0.0f32; chunks];
         let ParallelBackend {
@@ -411,7 +445,8 @@ impl ParallelBackend {
             rest_volume,
             volume_softness,
             chebyshev,
-            iterations,
+            stages,
+            dispatches,
             f,
             floor_force,
             pair_out,
@@ -445,7 +480,8 @@ impl ParallelBackend {
             sweeps,
             global,
             chebyshev_weights,
-            iterations: *iterations as usize,
+            stages,
+            dispatches: &dispatches[range],
         };
         let outputs = Outputs {
             f: SharedSlice::new(f),

@@ -1,9 +1,9 @@
-//! A step's constraint iterations on a [`Team`](super::team::Team): every member solves
-//! its block of each group's constraints, waits, applies the group's results to its block
-//! of nodes, waits, and so on through the groups, the sweeps and the iterations; the
-//! global volume constraints are summed in fixed chunks split among the members. Each
-//! result is computed by one member with the same arithmetic and in the same order as on
-//! one thread, so the states are bit-identical for any team size.
+//! A step's constraint iterations on a [`Team`](super::team::Team): every member runs the
+//! schedule's per-iteration dispatches ([`crate::schedule::Schedule::step`]) in order, its
+//! share of each (its block of a group's constraints, its block of nodes, its chunks of the
+//! surfaces), and waits for the others after each. Each result is computed by one member
+//! with the same arithmetic and in the same order as on one thread, so the states are
+//! bit-identical for any team size.
 
 use super::shared::SharedSlice;
 use super::team::Member;
@@ -30,7 +30,10 @@ pub(super) struct Inputs<'a> {
     pub global: Option<&'a Global>,
     /// The Chebyshev weights, one per iteration (solver `chebyshev`).
     pub chebyshev_weights: Option<&'a [f32]>,
-    pub iterations: usize,
+    /// The pass of each stage of the schedule.
+    pub stages: &'a [PassKind],
+    /// The step's per-iteration dispatches, in order.
+    pub dispatches: &'a [Dispatch],
 }
 
 /// What the members write, each its own part in each phase.
@@ -47,7 +50,8 @@ pub(super) struct Outputs<'a> {
     pub tet_out: SharedSlice<'a, [Vec3A; 4]>,
     /// The Chebyshev forces two iterations back (total, floor).
     pub chebyshev: Option<(SharedSlice<'a, Vec3A>, SharedSlice<'a, f32>)>,
-    /// One partial sum per chunk of an object's surface nodes (global constraints).
+    /// One partial sum per chunk of every object's surface nodes, object after object
+    /// (global constraints).
     pub partial: SharedSlice<'a, f32>,
 }
 
@@ -57,32 +61,52 @@ pub(super) fn run(member: Member<'_>, inputs: &Inputs<'_>, outputs: &Outputs<'_>
     let nodes = member.block(n);
     let surface = inputs.global.map_or(Vec::new(), |g| surface_in(g, &nodes));
     let reach = reach(inputs, nodes.clone());
-    for iteration in 0..inputs.iterations {
-        for (s, sweep) in inputs.sweeps.iter().enumerate() {
-            for g in 0..sweep.len() {
-                let range = sweep.range(g);
+    for dispatch in inputs.dispatches {
+        let iteration = dispatch.iteration.unwrap_or(0) as usize;
+        match (inputs.stages[dispatch.stage], dispatch.group) {
+            (PassKind::SpringConstraint | PassKind::Distance | PassKind::Volume, Some(at)) => {
+                let range = inputs.sweeps[at.sweep].range(at.group);
                 let block = member.block(range.len());
                 let block = range.start + block.start..range.start + block.end;
                 // SAFETY: solve phase (after the last wait, before the next): the members
                 // write disjoint blocks of the group's constraint results and multipliers
                 // and nobody writes `f`.
-                unsafe { solve(inputs, outputs, s, g, block) };
-                member.wait();
+                unsafe { solve(inputs, outputs, at.sweep, at.group, block) };
+            }
+            (PassKind::ConstraintApply, Some(at)) => {
+                let sweep = &inputs.sweeps[at.sweep];
+                let reach = reach.as_deref();
                 // SAFETY: apply phase: each member writes only its own block of nodes
                 // (forces, floor forces, Chebyshev state) and nobody writes the results.
                 unsafe {
-                    let reach = reach.as_deref();
-                    apply(inputs, outputs, sweep, g, iteration, nodes.clone(), reach)
+                    apply(
+                        inputs,
+                        outputs,
+                        sweep,
+                        at.group,
+                        iteration,
+                        nodes.clone(),
+                        reach,
+                    )
                 };
-                member.wait();
             }
-        }
-        if let Some(global) = inputs.global {
-            for (o, mine) in surface.iter().enumerate() {
-                // SAFETY: the phases of `global_pass` are separated by its waits.
-                unsafe { global_pass(member, inputs, outputs, global, o, &nodes, mine) };
+            (PassKind::GlobalVolumeSum, _) => {
+                if let Some(global) = inputs.global {
+                    // SAFETY: partial-sum phase: nobody writes `f`; the members write
+                    // disjoint chunks of `partial`.
+                    unsafe { global_sums(member, inputs, outputs, global) };
+                }
             }
+            (PassKind::GlobalVolume, _) => {
+                if let Some(global) = inputs.global {
+                    // SAFETY: apply phase: nobody writes `partial`; each member writes
+                    // only its own block of nodes.
+                    unsafe { global_apply(inputs, outputs, global, &nodes, &surface) };
+                }
+            }
+            _ => continue,
         }
+        member.wait();
     }
 }
 
@@ -229,47 +253,70 @@ unsafe fn apply(
     }
 }
 
-/// Object `o`'s global volume constraint against the current forces, then the floor's
-/// solve of its surface nodes: the members sum `b` over fixed chunks of [`CHUNK`] surface
-/// nodes (the partial sums added in chunk order, as on one thread), each works out the
-/// same multiplier and applies it to its surface nodes `mine` (positions in
-/// [`GlobalVolume::nodes`]), those in its block of nodes `nodes`.
+/// The global volume constraints' chunks: per object, its first chunk in the partial sums
+/// and its chunk count (chunks of [`CHUNK`] surface nodes).
+pub(super) fn global_chunks(global: &Global) -> Vec<(usize, usize)> {
+    let mut first = 0;
+    (global.data.objects.iter())
+        .map(|object| {
+            let chunks = (object.node_count as usize).div_ceil(CHUNK);
+            first += chunks;
+            (first - chunks, chunks)
+        })
+        .collect()
+}
+
+/// The partial sums of `B` of every object's global volume constraint against the current
+/// forces, over fixed chunks of [`CHUNK`] surface nodes split among the members.
 ///
 /// # Safety
-/// Every member must call it at the same point, between two waits.
-unsafe fn global_pass(
+/// Nobody may write `f` during the call, and every member must call it at the same point
+/// (each writes its own chunks of `partial`).
+unsafe fn global_sums(
     member: Member<'_>,
     inputs: &Inputs<'_>,
     outputs: &Outputs<'_>,
     global: &Global,
-    o: usize,
-    nodes: &std::ops::Range<usize>,
-    mine: &[u32],
 ) {
     let (v, w, dt) = (inputs.v, inputs.inv_mass, inputs.k.dt);
-    let object = &global.data.objects[o];
-    let range = object.node_first as usize..(object.node_first + object.node_count) as usize;
-    let surface = &global.data.nodes[range.clone()];
-    let grad = &global.grad[range];
-    let chunks = surface.len().div_ceil(CHUNK);
-    let my_chunks = member.block(chunks);
-    {
-        // SAFETY: partial-sum phase: nobody writes `f`; the members write disjoint chunks
-        // of `partial`.
-        let (f, partial) = unsafe { (outputs.f.whole(), outputs.partial.part(my_chunks.clone())) };
-        for (c, partial) in my_chunks.zip(partial) {
-            let chunk = c * CHUNK..((c + 1) * CHUNK).min(surface.len());
-            let (mut a, mut b) = (0.0f32, 0.0f32);
-            for (&i, &g) in surface[chunk.clone()].iter().zip(&grad[chunk]) {
-                let i = i as usize;
-                implicit_accumulate(&mut a, &mut b, g, w[i], 1.0, v[i], f[i], dt);
-            }
-            *partial = b;
+    let chunks: Vec<(usize, usize)> = (global_chunks(global).into_iter().enumerate())
+        .flat_map(|(o, (_, count))| (0..count).map(move |c| (o, c)))
+        .collect();
+    let mine = member.block(chunks.len());
+    // SAFETY: nobody writes `f`; the members write disjoint chunks of `partial` (the
+    // caller's promise).
+    let (f, partial) = unsafe { (outputs.f.whole(), outputs.partial.part(mine.clone())) };
+    for (&(o, c), partial) in chunks[mine].iter().zip(partial) {
+        let object = &global.data.objects[o];
+        let range = object.node_first as usize..(object.node_first + object.node_count) as usize;
+        let (surface, grad) = (&global.data.nodes[range.clone()], &global.grad[range]);
+        let chunk = c * CHUNK..((c + 1) * CHUNK).min(surface.len());
+        let (mut a, mut b) = (0.0f32, 0.0f32);
+        for (&i, &g) in surface[chunk.clone()].iter().zip(&grad[chunk]) {
+            let i = i as usize;
+            implicit_accumulate(&mut a, &mut b, g, w[i], 1.0, v[i], f[i], dt);
         }
+        *partial = b;
     }
-    member.wait();
-    // SAFETY: apply phase: nobody writes `partial`; each member writes only its own block
-    // of nodes.
+}
+
+/// Every object's global volume multiplier from its partial sums (added in chunk order, as
+/// on one thread), applied to the member's surface nodes `mine` (per object, positions in
+/// [`GlobalVolume::nodes`] of those in its block of nodes `nodes`), then the floor's solve
+/// of those nodes.
+///
+/// # Safety
+/// Nobody may write `partial` during the call, or touch `nodes` of the forces and floor
+/// forces but this member.
+unsafe fn global_apply(
+    inputs: &Inputs<'_>,
+    outputs: &Outputs<'_>,
+    global: &Global,
+    nodes: &std::ops::Range<usize>,
+    mine: &[Vec<u32>],
+) {
+    let (v, w, dt) = (inputs.v, inputs.inv_mass, inputs.k.dt);
+    // SAFETY: the caller's promise.
     let (partial, f, floor_force) = unsafe {
         (
             outputs.partial.whole(),
@@ -277,19 +324,20 @@ unsafe fn global_pass(
             outputs.floor_force.part(nodes.clone()),
         )
     };
-    let b: f32 = partial[..chunks].iter().sum();
-    let (c, a) = global.c_and_a[o];
-    let lambda = implicit_multiplier(c, a, b, dt, inputs.k.epsilon).unwrap_or(0.0);
-    for &k in mine {
-        let (i, g) = (
-            global.data.nodes[k as usize] as usize,
-            global.grad[k as usize],
-        );
-        let (f, n) = (&mut f[i - nodes.start], &mut floor_force[i - nodes.start]);
-        *f -= g * lambda;
-        if inputs.floor {
-            (*f, *n) = floor_solve(*f, *n, inputs.x[i].y, v[i].y, w[i], dt);
+    for (o, (first, chunks)) in global_chunks(global).into_iter().enumerate() {
+        let b: f32 = partial[first..first + chunks].iter().sum();
+        let (c, a) = global.c_and_a[o];
+        let lambda = implicit_multiplier(c, a, b, dt, inputs.k.epsilon).unwrap_or(0.0);
+        for &k in &mine[o] {
+            let (i, g) = (
+                global.data.nodes[k as usize] as usize,
+                global.grad[k as usize],
+            );
+            let (f, n) = (&mut f[i - nodes.start], &mut floor_force[i - nodes.start]);
+            *f -= g * lambda;
+            if inputs.floor {
+                (*f, *n) = floor_solve(*f, *n, inputs.x[i].y, v[i].y, w[i], dt);
+            }
         }
     }
-    member.wait();
 }

@@ -4,12 +4,14 @@
 //! through CSR adjacency (node -> spring ends, node -> tet corners). Data is packed in flat
 //! arrays of 16-byte SIMD vectors ([`Vec3A`]).
 //!
-//! A step's constraint iterations (every colour group of every sweep, ten times over, and
-//! the global volume constraint) run on a persistent [`team`] woken once per step: each
+//! The step is the schedule's ([`crate::schedule::Schedule::step`]), dispatch after
+//! dispatch. Its constraint iterations (every colour group of every sweep, ten times over,
+//! and the global volume constraint) run on a persistent [`team`] woken once per step: each
 //! thread solves a fixed block of each group's constraints ([`solve_block`]), waits at a
 //! [`barrier`] (spin, yield, then sleep), applies the group's results to a fixed block of
-//! nodes ([`apply_block`]), waits, and so on ([`iterations`]). The step's other passes (springs, integration) are
-//! rayon loops in chunks of at least [`CHUNK`] on the same threads. Every result is computed
+//! nodes ([`apply_block`]), waits, and so on ([`iterations`]). The step's other stages
+//! (springs, the global constraints' gradients, integration) are rayon loops in chunks of
+//! at least [`CHUNK`] on the same threads. Every result is computed
 //! by one thread with the same arithmetic in the same order whatever the thread count, so
 //! the states are bit-identical for any `RAYON_NUM_THREADS` (the unit tests in `tests.rs`).
 use glam::Vec3A;
@@ -26,6 +28,7 @@ use crate::physics::{
     tet_volume, volume_constraint, volume_softness, Vector,
 };
 use crate::problem::Problem;
+use crate::schedule::{Dispatch, PassKind, Schedule};
 
 mod backend;
 mod barrier;

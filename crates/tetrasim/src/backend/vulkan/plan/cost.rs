@@ -8,7 +8,7 @@
 //! `tests/gpu_cost_model.rs` checks the predictions against the measured frames.
 
 use super::{EnginePlan, PassPlan, Variant};
-use crate::backend::vulkan::pass_kind::PassKind;
+use crate::schedule::PassKind;
 
 /// The cost constants of one GPU.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -63,7 +63,7 @@ impl GpuProfile {
         let rounds = workgroups.div_ceil(self.multiprocessors.max(1));
         let busiest = f64::from(rounds) * f64::from(wg.min(elements));
         let bytes = plan.pass_bytes(pass) as f64;
-        let per_element = match pass.kind {
+        let per_element = match pass.stage.kind {
             PassKind::Volume | PassKind::Distance | PassKind::SpringConstraint => {
                 self.constraint_ns
             }
@@ -89,10 +89,11 @@ impl GpuProfile {
 /// Gauss-Seidel colour group of the horse gives each node about 2, one group (Chebyshev)
 /// about 14.
 fn gathered_slots(plan: &EnginePlan, pass: &PassPlan) -> f64 {
-    if pass.kind != PassKind::ConstraintApply || !plan.gather {
+    if pass.stage.kind != PassKind::ConstraintApply || !plan.schedule.gather {
         return 0.0;
     }
     let slots: u64 = plan
+        .schedule
         .sweeps
         .iter()
         .map(|w| w.corners() * w.constraints())
@@ -106,7 +107,7 @@ fn atomics(pass: &PassPlan, elements: u32) -> f64 {
     if pass.variant != Variant::Atomics {
         return 0.0;
     }
-    let corners = match pass.kind {
+    let corners = match pass.stage.kind {
         PassKind::Volume => 4.0,
         _ => 2.0,
     };

@@ -1,9 +1,6 @@
 //! Element counts and sizes a plan is made from: the model's, the global volume
 //! constraints', the constraint sweeps', and the published bandwidths of some GPUs.
 
-use crate::backend::vulkan::pass_kind::PassKind;
-use crate::model::{ConstraintKind, Sweep};
-
 /// Element counts of a model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct PlanCounts {
@@ -74,48 +71,6 @@ impl GlobalCounts {
     /// reduces its share of its object's faces and surface nodes to one partial sum.
     pub fn chunks(&self, workgroup_size: u32) -> u32 {
         self.largest.div_ceil(workgroup_size.max(1)).max(1)
-    }
-}
-
-/// One constraint sweep of an iteration ([`Model::constraint_sweeps`](crate::model::Model::constraint_sweeps)):
-/// its kind and the sizes of its groups.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct SweepPlan {
-    /// What the constraints are.
-    pub kind: ConstraintKind,
-    /// Constraints per group, solved one group after another.
-    pub groups: Vec<u32>,
-}
-
-impl SweepPlan {
-    /// The kind and group sizes of `sweep`.
-    pub fn of(sweep: &Sweep) -> Self {
-        SweepPlan {
-            kind: sweep.kind,
-            groups: sweep.groups.sizes(),
-        }
-    }
-
-    /// The pass that solves it.
-    pub fn pass(&self) -> PassKind {
-        match self.kind {
-            ConstraintKind::Spring => PassKind::SpringConstraint,
-            ConstraintKind::Distance => PassKind::Distance,
-            ConstraintKind::Volume => PassKind::Volume,
-        }
-    }
-
-    /// Nodes per constraint (contribution slots per constraint on the gather path).
-    pub fn corners(&self) -> u64 {
-        match self.kind {
-            ConstraintKind::Volume => 4,
-            ConstraintKind::Spring | ConstraintKind::Distance => 2,
-        }
-    }
-
-    /// Constraints of all its groups.
-    pub fn constraints(&self) -> u64 {
-        self.groups.iter().map(|&g| u64::from(g)).sum()
     }
 }
 

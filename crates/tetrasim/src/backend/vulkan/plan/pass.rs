@@ -1,22 +1,7 @@
 //! The passes of a plan: how often each runs, which shader variant, what it binds.
 
-use super::{Access, BufferId, PlanCounts};
-use crate::backend::vulkan::pass_kind::PassKind;
-
-/// How often a pass runs in a frame.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Repeat {
-    /// Once per time step.
-    Substep,
-    /// `iterations` times per time step and, within an iteration, once per constraint group:
-    /// a pass of one sweep ([`PassPlan::sweep`]) for each of that sweep's groups, followed
-    /// each time by the passes of no sweep (consecutive such passes repeat together).
-    Iteration,
-    /// Once per iteration, after its constraint groups (the global volume constraints).
-    IterationEnd,
-    /// Once per frame, after the last time step.
-    Frame,
-}
+use super::PlanCounts;
+use crate::schedule::{volume_sum, Domain, Stage};
 
 /// Which compiled variant of a pass's shader runs (build.rs, `// @variant`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -29,11 +14,11 @@ pub enum Variant {
     Named(&'static str),
 }
 
-/// One planned compute pass.
+/// One planned compute pass: a stage of the schedule as the Vulkan engine runs it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PassPlan {
-    /// Which pass (its name in the timing report and its shader).
-    pub kind: PassKind,
+    /// The stage it runs (kind, repetition, domain, sweep, bindings).
+    pub stage: Stage,
     /// Which of the shader's variants.
     pub variant: Variant,
     /// Specialisation constants from id 1 on (id 0 is the workgroup size).
@@ -43,16 +28,6 @@ pub struct PassPlan {
     /// Invocations (one per node, spring or tet; for a constraint pass of the gather path,
     /// all constraints, of which each dispatch covers one group's).
     pub elements: u32,
-    /// Whether each dispatch covers only the current group's constraints.
-    pub per_group: bool,
-    /// The sweep ([`super::EnginePlan::sweeps`]) whose constraints the pass solves, for the
-    /// constraint passes; `None` for the others (an [`Repeat::Iteration`] pass of no sweep
-    /// follows every group of every sweep).
-    pub sweep: Option<usize>,
-    /// Bound buffers and how the pass uses them.
-    pub bindings: Vec<(BufferId, Access)>,
-    /// How often it runs.
-    pub repeat: Repeat,
 }
 
 impl PassPlan {
@@ -62,7 +37,7 @@ impl PassPlan {
             Variant::Named(v) => format!("#{v}"),
             _ => String::new(),
         };
-        let floor = match (self.kind.has_floor_constant(), self.constants.first()) {
+        let floor = match (self.stage.kind.has_floor_constant(), self.constants.first()) {
             (true, Some(1)) => "[floor]",
             (true, Some(_)) => "[no floor]",
             _ => "",
@@ -70,14 +45,19 @@ impl PassPlan {
         format!("{}{variant}{floor}", self.name())
     }
 
+    /// Whether each dispatch covers only the current group's constraints.
+    pub fn per_group(&self) -> bool {
+        self.stage.domain == Domain::Group
+    }
+
     /// The pass's name (the shader's file stem), as timings and records print it.
     pub fn name(&self) -> &'static str {
-        self.kind.name()
+        self.stage.kind.name()
     }
 
     /// The shader module's key in [`crate::shaders::SHADERS`] for a device on `atomics`.
     pub fn shader_key(&self, atomics: &str) -> String {
-        let shader = self.kind.shader();
+        let shader = self.stage.kind.shader();
         match self.variant {
             Variant::Plain => shader.to_string(),
             Variant::Atomics => format!("{shader}#{atomics}"),
@@ -89,19 +69,10 @@ impl PassPlan {
 /// The `volume_sum` pass (per frame with metrics; on demand otherwise).
 pub fn volume_sum_pass(counts: PlanCounts, workgroup_size: u32) -> PassPlan {
     PassPlan {
-        kind: PassKind::VolumeSum,
+        stage: volume_sum(),
         variant: Variant::Plain,
         constants: Vec::new(),
         workgroup_size,
         elements: counts.tets,
-        per_group: false,
-        sweep: None,
-        bindings: vec![
-            (BufferId::Positions, Access::Read),
-            (BufferId::Tets, Access::Read),
-            (BufferId::RestVolumes, Access::Read),
-            (BufferId::Partials, Access::Write),
-        ],
-        repeat: Repeat::Frame,
     }
 }

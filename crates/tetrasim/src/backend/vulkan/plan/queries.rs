@@ -20,15 +20,17 @@ impl EnginePlan {
 
     /// Whether `pass` is part of the frame.
     pub fn runs(&self, pass: PassKind) -> bool {
-        self.passes.iter().any(|p| p.kind == pass)
+        self.passes.iter().any(|p| p.stage.kind == pass)
     }
 
     /// How many times `pass` runs in a frame.
     pub fn runs_per_frame(&self, pass: &PassPlan) -> u32 {
-        match pass.repeat {
-            Repeat::Substep => self.substeps,
-            Repeat::Iteration => self.substeps * self.iterations * self.groups_of(pass),
-            Repeat::IterationEnd => self.substeps * self.iterations,
+        match pass.stage.repeat {
+            Repeat::Substep => self.schedule.substeps,
+            Repeat::Iteration => {
+                self.schedule.substeps * self.schedule.iterations * self.groups_of(pass)
+            }
+            Repeat::IterationEnd => self.schedule.substeps * self.schedule.iterations,
             Repeat::Frame => 1,
         }
     }
@@ -36,13 +38,13 @@ impl EnginePlan {
     /// Constraint groups solved one after another per iteration, over all sweeps (at
     /// least 1).
     pub fn group_count(&self) -> u32 {
-        self.groups.len().max(1) as u32
+        self.schedule.group_count()
     }
 
     /// The groups a per-iteration pass runs for in one iteration: its sweep's, or every
     /// sweep's for a pass of no sweep (at least 1).
     fn groups_of(&self, pass: &PassPlan) -> u32 {
-        match pass.sweep.and_then(|s| self.sweeps.get(s)) {
+        match pass.stage.sweep.and_then(|s| self.schedule.sweeps.get(s)) {
             Some(sweep) => sweep.groups.len().max(1) as u32,
             None => self.group_count(),
         }
@@ -52,7 +54,8 @@ impl EnginePlan {
     /// sweep one after another (degrees, group members, contributions, node-slot CSR).
     pub fn sweep_offsets(&self, index: usize) -> SweepOffsets {
         let mut at = SweepOffsets::default();
-        for sweep in &self.sweeps[..index.min(self.sweeps.len())] {
+        let sweeps = &self.schedule.sweeps;
+        for sweep in &sweeps[..index.min(sweeps.len())] {
             at.group += sweep.groups.len() as u32;
             at.member += sweep.constraints() as u32;
             at.slot += (sweep.corners() * sweep.constraints()) as u32;
@@ -72,7 +75,7 @@ impl EnginePlan {
         out.extend(
             self.passes
                 .iter()
-                .filter(|p| p.repeat == Repeat::Frame)
+                .filter(|p| p.stage.repeat == Repeat::Frame)
                 .map(PassPlan::label),
         );
         out
@@ -96,11 +99,12 @@ impl EnginePlan {
     pub fn pass_bytes(&self, pass: &PassPlan) -> u64 {
         let all_groups = u64::from(self.group_count());
         let sweep_groups = u64::from(self.groups_of(pass));
-        pass.bindings
+        pass.stage
+            .bindings
             .iter()
             .map(|(id, access)| {
                 let size = self.buffer(*id).map_or(0, |b| b.bytes);
-                let size = match (pass.repeat, id) {
+                let size = match (pass.stage.repeat, id) {
                     (
                         Repeat::Iteration,
                         BufferId::Tets

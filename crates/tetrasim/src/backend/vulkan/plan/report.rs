@@ -9,7 +9,7 @@ impl EnginePlan {
     pub fn render(&self) -> String {
         let mut out = String::new();
         let c = self.counts;
-        let springs = match (self.springs, self.warm_start) {
+        let springs = match (self.springs, self.schedule.warm_start) {
             (SpringKind::Explicit, _) => "",
             (SpringKind::Implicit, false) => " with implicit springs",
             (SpringKind::Implicit, true) => " with warm-started implicit springs",
@@ -22,8 +22,8 @@ impl EnginePlan {
             c.nodes,
             c.springs,
             c.tets,
-            self.substeps,
-            self.iterations,
+            self.schedule.substeps,
+            self.schedule.iterations,
             self.workgroup_size
         );
         let _ = writeln!(out, "per time step: {}", self.step_list().join(" -> "));
@@ -39,7 +39,7 @@ impl EnginePlan {
         let frame: Vec<String> = self
             .passes
             .iter()
-            .filter(|p| p.repeat == Repeat::Frame)
+            .filter(|p| p.stage.repeat == Repeat::Frame)
             .map(PassPlan::label)
             .collect();
         let _ = writeln!(
@@ -118,17 +118,18 @@ impl EnginePlan {
     fn iteration_label(&self, passes: &[&PassPlan], after: &[String]) -> String {
         let shared: Vec<String> = passes
             .iter()
-            .filter(|p| p.sweep.is_none())
+            .filter(|p| p.stage.sweep.is_none())
             .map(|p| p.label())
             .collect();
         let parts: Vec<(usize, String)> = self
+            .schedule
             .sweeps
             .iter()
             .enumerate()
             .map(|(index, sweep)| {
                 let mut labels: Vec<String> = passes
                     .iter()
-                    .filter(|p| p.sweep == Some(index))
+                    .filter(|p| p.stage.sweep == Some(index))
                     .map(|p| p.label())
                     .collect();
                 labels.extend(shared.iter().cloned());
@@ -139,7 +140,7 @@ impl EnginePlan {
                 (sweep.groups.len(), text)
             })
             .collect();
-        let it = self.iterations;
+        let it = self.schedule.iterations;
         match (parts.as_slice(), after.is_empty()) {
             ([(0 | 1, part)], true) => format!("{it} x ({part})"),
             ([(_, part)], true) => format!("{it} x {part}"),
@@ -156,8 +157,12 @@ impl EnginePlan {
         let mut out = Vec::new();
         let mut group: Vec<&PassPlan> = Vec::new();
         let mut after: Vec<String> = Vec::new();
-        for p in self.passes.iter().filter(|p| p.repeat != Repeat::Frame) {
-            match p.repeat {
+        for p in self
+            .passes
+            .iter()
+            .filter(|p| p.stage.repeat != Repeat::Frame)
+        {
+            match p.stage.repeat {
                 Repeat::Iteration => group.push(p),
                 Repeat::IterationEnd => after.push(p.label()),
                 _ => {

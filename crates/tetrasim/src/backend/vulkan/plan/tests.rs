@@ -1,6 +1,7 @@
 //! The plan's unit tests: what a scene builds, and what it leaves out.
 
 use super::*;
+use crate::params::Solver;
 
 const COUNTS: PlanCounts = PlanCounts {
     nodes: 10,
@@ -113,7 +114,7 @@ fn warm_started_implicit_springs_gather_their_stored_forces_before_the_iteration
         groups: vec![30],
     }];
     let p = plan(&params, &sweeps);
-    assert!(p.warm_start);
+    assert!(p.schedule.warm_start);
     assert_eq!(
         p.pass_list(),
         [
@@ -144,5 +145,5 @@ fn warm_started_implicit_springs_gather_their_stored_forces_before_the_iteration
         },
         &[],
     );
-    assert!(!explicit.warm_start && !explicit.runs(PassKind::SpringWarmStart));
+    assert!(!explicit.schedule.warm_start && !explicit.runs(PassKind::SpringWarmStart));
 }

@@ -7,7 +7,7 @@
 //! [`super::GLOBAL_WORKGROUP`]); `--workgroup-size` sets every pass and skips this.
 
 use super::{EnginePlan, PassPlan, MIN_WORKGROUPS, MIN_WORKGROUP_SIZE};
-use crate::backend::vulkan::pass_kind::PassKind;
+use crate::schedule::PassKind;
 
 /// The size for a dispatch of `elements` invocations, at most `largest`.
 pub fn for_elements(elements: u32, largest: u32) -> u32 {
@@ -20,8 +20,10 @@ impl EnginePlan {
     /// Invocations of one dispatch of `pass` (a constraint pass of the gather path covers
     /// one group: its sweep's largest).
     pub fn elements_per_dispatch(&self, pass: &PassPlan) -> u32 {
-        match (pass.per_group, pass.sweep) {
-            (true, Some(index)) => self.sweeps[index].groups.iter().copied().max().unwrap_or(0),
+        match (pass.per_group(), pass.stage.sweep) {
+            (true, Some(index)) => (self.schedule.sweeps[index].groups.iter().copied())
+                .max()
+                .unwrap_or(0),
             _ => pass.elements,
         }
     }
@@ -33,7 +35,8 @@ impl EnginePlan {
             .passes
             .iter()
             .map(|p| {
-                element_wise(p.kind).then(|| for_elements(self.elements_per_dispatch(p), largest))
+                element_wise(p.stage.kind)
+                    .then(|| for_elements(self.elements_per_dispatch(p), largest))
             })
             .collect();
         for (pass, size) in self.passes.iter_mut().zip(sizes) {

@@ -1,0 +1,149 @@
+//! The data a step reads and writes, named once: every backend keys its arrays by
+//! [`BufferId`] (the Vulkan engine its buffers and descriptor bindings), and a [`super::Stage`]
+//! lists the ones it reads and writes with their [`Access`].
+
+use crate::gpu::layout::binding;
+
+/// An array of the simulation (a GPU buffer on the Vulkan engine).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum BufferId {
+    /// vec4 per node: position, inverse mass.
+    Positions,
+    /// vec4 per node: velocity, mass.
+    Velocities,
+    /// vec4 per node: the step's force.
+    Forces,
+    /// 16 bytes per spring: nodes, rest length, stiffness.
+    Springs,
+    /// float per spring: damping.
+    SpringDamping,
+    /// uvec4 per tet.
+    Tets,
+    /// float per tet: rest volume (volume constraints, local volume error).
+    RestVolumes,
+    /// float per tet: volume compliance (`volume`).
+    VolumeCompliance,
+    /// float per spring: implicit springs' multipliers so far in the step.
+    SpringMultipliers,
+    /// float per tet: compliant volume constraints' multipliers so far in the step
+    /// (`volume` with constraint iterations).
+    VolumeMultipliers,
+    /// vec4 per node (`distance`, `volume` with Jacobi: the atomic sums).
+    ConstraintSum,
+    /// float per group (of every sweep) and node (constraint iterations).
+    Degrees,
+    /// N + 1 u32 (`mss-node`, gather path of explicit springs, warm-started implicit
+    /// springs).
+    NodeSpringOffsets,
+    /// 2 S u32 (`mss-node`, gather path of explicit springs, warm-started implicit springs).
+    NodeSpringItems,
+    /// 16 bytes per volume_sum workgroup.
+    Partials,
+    /// 16 bytes: divergence flags, first bad node, speed limit.
+    Status,
+    /// u32 per constraint of every sweep, in sweep and group order (gather path).
+    GroupMembers,
+    /// vec4 per constraint corner, in sweep and group order (gather path).
+    Contributions,
+    /// `groups * N + 1` u32, groups of every sweep (gather path).
+    NodeSlotOffsets,
+    /// u32 per constraint corner (gather path).
+    NodeSlotItems,
+    /// 32 bytes per object (global volume).
+    GlobalObjects,
+    /// u32 per surface node (global volume).
+    SurfaceNodes,
+    /// uvec4 per boundary face (global volume).
+    SurfaceFaces,
+    /// Surface nodes + 1 u32 (global volume).
+    NodeFaceOffsets,
+    /// 3 u32 per boundary face (global volume).
+    NodeFaceItems,
+    /// vec4 per surface node (global volume).
+    SurfaceGradients,
+    /// vec4 per object (global volume).
+    GlobalState,
+    /// vec4 per node (Chebyshev).
+    ChebyshevBefore,
+}
+
+impl BufferId {
+    /// Debug name of the buffer.
+    pub fn name(self) -> &'static str {
+        match self {
+            BufferId::Positions => "positions",
+            BufferId::Velocities => "velocities",
+            BufferId::Forces => "forces",
+            BufferId::Springs => "springs",
+            BufferId::SpringDamping => "spring damping",
+            BufferId::Tets => "tets",
+            BufferId::RestVolumes => "rest volumes",
+            BufferId::VolumeCompliance => "volume compliance",
+            BufferId::SpringMultipliers => "spring multipliers",
+            BufferId::VolumeMultipliers => "volume multipliers",
+            BufferId::ConstraintSum => "constraint sums",
+            BufferId::Degrees => "constraint degrees",
+            BufferId::NodeSpringOffsets => "node-spring offsets",
+            BufferId::NodeSpringItems => "node-spring items",
+            BufferId::Partials => "volume partials",
+            BufferId::Status => "divergence status",
+            BufferId::GroupMembers => "group members",
+            BufferId::Contributions => "constraint contributions",
+            BufferId::NodeSlotOffsets => "node-slot offsets",
+            BufferId::NodeSlotItems => "node-slot items",
+            BufferId::GlobalObjects => "global objects",
+            BufferId::SurfaceNodes => "surface nodes",
+            BufferId::SurfaceFaces => "surface faces",
+            BufferId::NodeFaceOffsets => "node-face offsets",
+            BufferId::NodeFaceItems => "node-face items",
+            BufferId::SurfaceGradients => "surface gradients",
+            BufferId::GlobalState => "global state",
+            BufferId::ChebyshevBefore => "chebyshev before",
+        }
+    }
+
+    /// Descriptor binding number in the shaders (`gpu/bindings.rs`).
+    pub fn binding(self) -> u32 {
+        match self {
+            BufferId::Positions => binding::POSITIONS,
+            BufferId::Velocities => binding::VELOCITIES,
+            BufferId::Forces => binding::FORCES,
+            BufferId::Springs => binding::SPRINGS,
+            BufferId::SpringDamping => binding::SPRING_DAMPING,
+            BufferId::Tets => binding::TETS,
+            BufferId::RestVolumes => binding::REST_VOLUMES,
+            BufferId::VolumeCompliance => binding::VOLUME_COMPLIANCE,
+            BufferId::SpringMultipliers => binding::SPRING_MULTIPLIERS,
+            BufferId::VolumeMultipliers => binding::VOLUME_MULTIPLIERS,
+            BufferId::ConstraintSum => binding::CONSTRAINT_SUM,
+            BufferId::Degrees => binding::CONSTRAINT_DEGREE,
+            BufferId::NodeSpringOffsets => binding::NODE_SPRING_OFFSETS,
+            BufferId::NodeSpringItems => binding::NODE_SPRING_ITEMS,
+            BufferId::Partials => binding::VOLUME_PARTIALS,
+            BufferId::Status => binding::STATUS,
+            BufferId::GroupMembers => binding::GROUP_MEMBERS,
+            BufferId::Contributions => binding::CONTRIBUTIONS,
+            BufferId::NodeSlotOffsets => binding::NODE_SLOT_OFFSETS,
+            BufferId::NodeSlotItems => binding::NODE_SLOT_ITEMS,
+            BufferId::GlobalObjects => binding::GLOBAL_OBJECTS,
+            BufferId::SurfaceNodes => binding::SURFACE_NODES,
+            BufferId::SurfaceFaces => binding::SURFACE_FACES,
+            BufferId::NodeFaceOffsets => binding::NODE_FACE_OFFSETS,
+            BufferId::NodeFaceItems => binding::NODE_FACE_ITEMS,
+            BufferId::SurfaceGradients => binding::SURFACE_GRADIENTS,
+            BufferId::GlobalState => binding::GLOBAL_STATE,
+            BufferId::ChebyshevBefore => binding::CHEBYSHEV_BEFORE,
+        }
+    }
+}
+
+/// How a stage uses an array.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Access {
+    /// Only reads it.
+    Read,
+    /// Reads and writes it (a barrier follows the pass).
+    ReadWrite,
+    /// Only writes it (a barrier follows the pass).
+    Write,
+}

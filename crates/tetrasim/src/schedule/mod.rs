@@ -1,0 +1,192 @@
+//! The time step, declared once. A [`Schedule`] is the list of a frame's stages (passes) in
+//! execution order, each with how often it runs ([`Repeat`]), which elements it covers
+//! ([`Domain`]), the constraint sweep it solves and the arrays it reads and writes
+//! ([`BufferId`], [`Access`]); [`Schedule::step`] unrolls one time step into its
+//! dispatches (iterations x sweeps x groups). Every backend follows it:
+//!
+//! - the Vulkan engine records one dispatch per [`Dispatch`], a barrier on the arrays the
+//!   stage writes after each ([`Stage::writes`]), and builds one pipeline per [`Stage`];
+//! - `cpu-ref` runs each dispatch as a plain loop (backend/cpu/reference.rs, one `match`
+//!   arm per [`PassKind`]);
+//! - `cpu` runs the same dispatches, the constraint iterations on its thread team with a
+//!   barrier wait after each dispatch.
+//!
+//! What a scene does not need is not scheduled: no constraint stages without constraint
+//! iterations, no spring force stage with implicit springs (but `spring_warm_start` when they
+//! are warm-started), no global volume stages unless the parameters solve them, no
+//! `volume_sum` without per-frame metrics. Which variant of a stage a backend runs
+//! (per-node gather or atomics) follows from [`Schedule::gather`].
+//!
+//! A new pass is a [`PassKind`], its stage in [`Schedule::new`] (stages.rs), its shader, and
+//! its arm in each CPU backend's executor.
+
+mod buffer;
+mod pass_kind;
+mod stages;
+#[cfg(test)]
+mod tests;
+mod walk;
+
+pub use buffer::{Access, BufferId};
+pub use pass_kind::PassKind;
+pub use stages::volume_sum;
+pub use walk::{Dispatch, GroupAt};
+
+use crate::model::{ConstraintKind, Sweep};
+use crate::problem::Problem;
+
+/// How often a stage runs in a frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Repeat {
+    /// Once per time step.
+    Substep,
+    /// `iterations` times per time step and, within an iteration, once per constraint group:
+    /// a stage of one sweep ([`Stage::sweep`]) for each of that sweep's groups, followed
+    /// each time by the stages of no sweep (consecutive such stages repeat together).
+    Iteration,
+    /// Once per iteration, after its constraint groups (the global volume constraints).
+    IterationEnd,
+    /// Once per frame, after the last time step.
+    Frame,
+}
+
+/// The elements one run of a stage covers (one invocation, or one loop body, each).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Domain {
+    /// Every node.
+    Nodes,
+    /// Every spring.
+    Springs,
+    /// Every tet.
+    Tets,
+    /// The constraints of the current group of the stage's sweep ([`GroupAt`]).
+    Group,
+    /// The surface nodes and faces of every object (global volume constraints).
+    Surface,
+}
+
+/// One stage of the step: a pass, when it runs, what it covers, what it touches.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stage {
+    /// Which pass (its name in timings and records, its shader, its CPU arm).
+    pub kind: PassKind,
+    /// How often it runs.
+    pub repeat: Repeat,
+    /// The elements of one run.
+    pub domain: Domain,
+    /// The sweep ([`Schedule::sweeps`]) whose constraints it solves, for the constraint
+    /// stages; `None` for the others (a [`Repeat::Iteration`] stage of no sweep follows
+    /// every group of every sweep).
+    pub sweep: Option<usize>,
+    /// The arrays it reads and writes.
+    pub bindings: Vec<(BufferId, Access)>,
+}
+
+impl Stage {
+    /// The arrays it writes: the barrier after it covers these.
+    pub fn writes(&self) -> impl Iterator<Item = BufferId> + '_ {
+        (self.bindings.iter())
+            .filter(|(_, access)| *access != Access::Read)
+            .map(|(id, _)| *id)
+    }
+
+    /// Whether it reads or writes `id`.
+    pub fn touches(&self, id: BufferId) -> bool {
+        self.bindings.iter().any(|(b, _)| *b == id)
+    }
+}
+
+/// One constraint sweep of an iteration ([`crate::model::Model::constraint_sweeps`]): its
+/// kind and the sizes of its groups.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SweepPlan {
+    /// What the constraints are.
+    pub kind: ConstraintKind,
+    /// Constraints per group, solved one group after another.
+    pub groups: Vec<u32>,
+}
+
+impl SweepPlan {
+    /// The kind and group sizes of `sweep`.
+    pub fn of(sweep: &Sweep) -> Self {
+        SweepPlan {
+            kind: sweep.kind,
+            groups: sweep.groups.sizes(),
+        }
+    }
+
+    /// The pass that solves it.
+    pub fn pass(&self) -> PassKind {
+        match self.kind {
+            ConstraintKind::Spring => PassKind::SpringConstraint,
+            ConstraintKind::Distance => PassKind::Distance,
+            ConstraintKind::Volume => PassKind::Volume,
+        }
+    }
+
+    /// Nodes per constraint (contribution slots per constraint on the gather path).
+    pub fn corners(&self) -> u64 {
+        match self.kind {
+            ConstraintKind::Volume => 4,
+            ConstraintKind::Spring | ConstraintKind::Distance => 2,
+        }
+    }
+
+    /// Constraints of all its groups.
+    pub fn constraints(&self) -> u64 {
+        self.groups.iter().map(|&g| u64::from(g)).sum()
+    }
+}
+
+/// A frame's stages in execution order and what unrolls them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Schedule {
+    /// Stages in execution order: the time step's (repeated `substeps` times), then the
+    /// frame's.
+    pub stages: Vec<Stage>,
+    /// The constraint sweeps of an iteration, in order (implicit springs, then the method's
+    /// constraints; empty without constraint iterations).
+    pub sweeps: Vec<SweepPlan>,
+    /// Time steps per frame.
+    pub substeps: u32,
+    /// Constraint iterations per time step.
+    pub iterations: u32,
+    /// Whether constraint forces are gathered per node in a fixed order (every solver but
+    /// Jacobi, whose forces the Vulkan engine sums with float atomics).
+    pub gather: bool,
+    /// Whether implicit springs are warm-started: `spring_warm_start` applies the stored
+    /// multipliers as forces before the first iteration, which `spring_constraint` then
+    /// takes as the multipliers so far in iteration 0.
+    pub warm_start: bool,
+    /// The Chebyshev weight of each iteration (solver `chebyshev`; empty otherwise).
+    pub chebyshev: Vec<f64>,
+    /// Whether the step has a floor.
+    pub floor: bool,
+}
+
+impl Schedule {
+    /// The schedule of a prepared problem, with the per-frame volume stage when `metrics`.
+    pub fn of(problem: &Problem, metrics: bool) -> Self {
+        let sweeps = problem.sweeps.iter().map(SweepPlan::of).collect();
+        Schedule::new(&problem.params, sweeps, problem.global.is_some(), metrics)
+    }
+
+    /// Whether `kind` runs in the frame.
+    pub fn runs(&self, kind: PassKind) -> bool {
+        self.stages.iter().any(|s| s.kind == kind)
+    }
+
+    /// Constraint groups solved one after another per iteration, over all sweeps (at
+    /// least 1).
+    pub fn group_count(&self) -> u32 {
+        (self.sweeps.iter().map(|s| s.groups.len()).sum::<usize>()).max(1) as u32
+    }
+
+    /// The Chebyshev weight of `iteration` (1 without Chebyshev).
+    pub fn chebyshev_weight(&self, iteration: u32) -> f64 {
+        self.chebyshev
+            .get(iteration as usize)
+            .copied()
+            .unwrap_or(1.0)
+    }
+}

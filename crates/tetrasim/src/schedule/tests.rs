@@ -1,0 +1,120 @@
+//! The schedule's unit tests: the order of a step's dispatches and what each stage touches.
+
+use super::*;
+use crate::params::{Method, SimParams, Solver, SpringKind};
+
+fn sweeps() -> Vec<SweepPlan> {
+    vec![
+        SweepPlan {
+            kind: ConstraintKind::Spring,
+            groups: vec![20, 10],
+        },
+        SweepPlan {
+            kind: ConstraintKind::Volume,
+            groups: vec![5, 4, 3],
+        },
+    ]
+}
+
+fn names(schedule: &Schedule, dispatches: &[Dispatch]) -> Vec<&'static str> {
+    (dispatches.iter())
+        .map(|d| schedule.stages[d.stage].kind.name())
+        .collect()
+}
+
+#[test]
+fn a_step_unrolls_iterations_sweeps_and_groups_in_order() {
+    let params = SimParams {
+        springs: SpringKind::Implicit,
+        iterations: 2,
+        ..SimParams::default()
+    };
+    let schedule = Schedule::new(&params, sweeps(), true, false);
+    let step = schedule.step();
+    let per_iteration = [
+        ["spring_constraint", "constraint_apply"].repeat(2),
+        ["volume", "constraint_apply"].repeat(3),
+        vec!["global_volume_sum", "global_volume"],
+    ]
+    .concat();
+    let expected = [
+        vec!["global_volume_prepare"],
+        per_iteration.clone(),
+        per_iteration,
+        vec!["integrate"],
+    ]
+    .concat();
+    assert_eq!(names(&schedule, &step), expected);
+    // Groups are numbered over all sweeps and carry their range within their sweep.
+    let groups: Vec<GroupAt> = step.iter().filter_map(|d| d.group).step_by(2).collect();
+    assert_eq!(groups.len(), 2 * 5);
+    assert_eq!(
+        (groups[1].index, groups[1].first, groups[1].count),
+        (1, 20, 10)
+    );
+    assert_eq!(
+        (
+            groups[4].sweep,
+            groups[4].group,
+            groups[4].index,
+            groups[4].first
+        ),
+        (1, 2, 4, 9)
+    );
+    assert_eq!(step.last().and_then(|d| d.iteration), None);
+    assert_eq!(step[step.len() - 2].iteration, Some(1));
+    assert_eq!(
+        schedule
+            .frame_end()
+            .map(|i| schedule.stages[i].kind)
+            .collect::<Vec<_>>(),
+        [PassKind::Check]
+    );
+}
+
+#[test]
+fn what_a_scene_does_not_use_is_not_scheduled() {
+    // The paper's Jacobi with explicit springs: atomics, no gather, no global constraint.
+    let params = SimParams {
+        method: Method::Volume,
+        solver: Solver::Jacobi,
+        ..SimParams::default()
+    };
+    let volume = vec![SweepPlan {
+        kind: ConstraintKind::Volume,
+        groups: vec![12],
+    }];
+    let jacobi = Schedule::new(&params, volume.clone(), true, true);
+    assert!(!jacobi.gather && jacobi.chebyshev.is_empty());
+    assert!(jacobi.runs(PassKind::SpringScatter) && !jacobi.runs(PassKind::SpringGather));
+    assert!(!jacobi.runs(PassKind::GlobalVolume), "Jacobi leaves it off");
+    let solve = &jacobi.stages[1];
+    assert_eq!((solve.kind, solve.domain), (PassKind::Volume, Domain::Tets));
+    assert!(solve.touches(BufferId::ConstraintSum) && !solve.touches(BufferId::Contributions));
+    assert!(jacobi.runs(PassKind::VolumeSum));
+    // mss: no constraint stages at all; the springs gathered per node for mss-node.
+    let mss = SimParams {
+        method: Method::MssNode,
+        ..SimParams::default()
+    };
+    let mss = Schedule::new(&mss, Vec::new(), false, false);
+    assert_eq!(
+        names(&mss, &mss.step()),
+        ["spring_gather", "integrate"],
+        "springs, then integration"
+    );
+    // Chebyshev weights one entry per iteration and its apply keeps the forces before.
+    let chebyshev = SimParams {
+        method: Method::Volume,
+        solver: Solver::Chebyshev,
+        ..SimParams::default()
+    };
+    let chebyshev = Schedule::new(&chebyshev, volume, false, false);
+    assert_eq!(chebyshev.chebyshev.len(), chebyshev.iterations as usize);
+    assert_eq!(chebyshev.chebyshev_weight(0), 1.0);
+    let apply = chebyshev
+        .stages
+        .iter()
+        .find(|s| s.kind == PassKind::ConstraintApply);
+    assert!(apply.is_some_and(|s| s.writes().any(|b| b == BufferId::ChebyshevBefore)));
+}

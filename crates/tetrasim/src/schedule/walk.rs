@@ -1,0 +1,107 @@
+//! One time step unrolled into its dispatches, in the order every backend runs them.
+
+use super::{Repeat, Schedule};
+
+/// Where a constraint group lies, for the dispatches that run per group.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct GroupAt {
+    /// Its sweep ([`Schedule::sweeps`]).
+    pub sweep: usize,
+    /// Its index within the sweep.
+    pub group: usize,
+    /// Its index over every sweep's groups, sweep after sweep (degrees, slot rows).
+    pub index: u32,
+    /// Its first constraint among the sweep's members, in group order.
+    pub first: u32,
+    /// Its constraints.
+    pub count: u32,
+}
+
+/// One run of one stage.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Dispatch {
+    /// The stage ([`Schedule::stages`]).
+    pub stage: usize,
+    /// The constraint iteration, for the stages that repeat per iteration.
+    pub iteration: Option<u32>,
+    /// The constraint group, for the stages that run per group.
+    pub group: Option<GroupAt>,
+}
+
+impl Schedule {
+    /// One time step's dispatches, in execution order: the step's stages in order, with the
+    /// per-iteration block (the first [`Repeat::Iteration`] stage to the last
+    /// [`Repeat::IterationEnd`] one after it) unrolled `iterations` times, each time sweep
+    /// after sweep and group after group (the sweep's own stage, then the stages of no
+    /// sweep), then the stages that end an iteration.
+    pub fn step(&self) -> Vec<Dispatch> {
+        let step: Vec<usize> = (0..self.stages.len())
+            .filter(|&i| self.stages[i].repeat != Repeat::Frame)
+            .collect();
+        let once = |stage| Dispatch {
+            stage,
+            iteration: None,
+            group: None,
+        };
+        let repeat = |k: usize| self.stages[step[k]].repeat;
+        let mut out = Vec::new();
+        let mut k = 0;
+        while k < step.len() {
+            if repeat(k) != Repeat::Iteration {
+                out.push(once(step[k]));
+                k += 1;
+                continue;
+            }
+            let end = (k..step.len())
+                .find(|&e| repeat(e) != Repeat::Iteration)
+                .unwrap_or(step.len());
+            let after_end = (end..step.len())
+                .find(|&e| repeat(e) != Repeat::IterationEnd)
+                .unwrap_or(step.len());
+            let block = &step[k..end];
+            let shared: Vec<usize> = (block.iter().copied())
+                .filter(|&i| self.stages[i].sweep.is_none())
+                .collect();
+            for iteration in 0..self.iterations {
+                let mut index = 0;
+                for (s, sweep) in self.sweeps.iter().enumerate() {
+                    let own: Vec<usize> = (block.iter().copied())
+                        .filter(|&i| self.stages[i].sweep == Some(s))
+                        .collect();
+                    let mut first = 0;
+                    for (g, &count) in sweep.groups.iter().enumerate() {
+                        let group = GroupAt {
+                            sweep: s,
+                            group: g,
+                            index,
+                            first,
+                            count,
+                        };
+                        for &stage in own.iter().chain(&shared) {
+                            out.push(Dispatch {
+                                stage,
+                                iteration: Some(iteration),
+                                group: Some(group),
+                            });
+                        }
+                        first += count;
+                        index += 1;
+                    }
+                }
+                for &stage in &step[end..after_end] {
+                    out.push(Dispatch {
+                        iteration: Some(iteration),
+                        ..once(stage)
+                    });
+                }
+            }
+            k = after_end;
+        }
+        out
+    }
+
+    /// The stages that run once per frame after the last step, in order.
+    pub fn frame_end(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..self.stages.len()).filter(|&i| self.stages[i].repeat == Repeat::Frame)
+    }
+}
