@@ -21,6 +21,7 @@
 //! its arm in each CPU backend's executor.
 
 mod buffer;
+pub mod family;
 mod pass_kind;
 mod stages;
 #[cfg(test)]
@@ -117,19 +118,12 @@ impl SweepPlan {
 
     /// The pass that solves it.
     pub fn pass(&self) -> PassKind {
-        match self.kind {
-            ConstraintKind::Spring => PassKind::SpringConstraint,
-            ConstraintKind::Distance => PassKind::Distance,
-            ConstraintKind::Volume => PassKind::Volume,
-        }
+        self.kind.pass()
     }
 
     /// Nodes per constraint (contribution slots per constraint on the gather path).
     pub fn corners(&self) -> u64 {
-        match self.kind {
-            ConstraintKind::Volume => 4,
-            ConstraintKind::Spring | ConstraintKind::Distance => 2,
-        }
+        self.kind.arity() as u64
     }
 
     /// Constraints of all its groups.

@@ -21,33 +21,6 @@ fn stage(
     }
 }
 
-/// The arrays a constraint family's solve reads besides the nodes', and the elements of one
-/// sweep of it when it is not solved group by group.
-fn family(kind: ConstraintKind) -> (Domain, Vec<(BufferId, Access)>) {
-    use Access::{Read, ReadWrite};
-    use BufferId::*;
-    match kind {
-        ConstraintKind::Volume => (
-            Domain::Tets,
-            vec![
-                (Tets, Read),
-                (RestVolumes, Read),
-                (VolumeCompliance, Read),
-                (VolumeMultipliers, ReadWrite),
-            ],
-        ),
-        ConstraintKind::Spring => (
-            Domain::Springs,
-            vec![
-                (Springs, Read),
-                (SpringDamping, Read),
-                (SpringMultipliers, ReadWrite),
-            ],
-        ),
-        ConstraintKind::Distance => (Domain::Springs, vec![(Springs, Read)]),
-    }
-}
-
 impl Schedule {
     /// The schedule under `params` for the constraint `sweeps` of an iteration
     /// ([`crate::model::Model::constraint_sweeps`] under `params`), with the global volume
@@ -131,7 +104,7 @@ impl Schedule {
                 false => vec![(ConstraintSum, ReadWrite)],
             };
             for (index, sweep) in sweeps.iter().enumerate() {
-                let (domain, element_data) = family(sweep.kind);
+                let (domain, element_data) = sweep.kind.data();
                 let mut bindings = vec![(Positions, Read), (Velocities, Read), (Forces, Read)];
                 bindings.extend(element_data);
                 bindings.push((Degrees, Read));

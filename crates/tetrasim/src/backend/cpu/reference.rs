@@ -6,14 +6,14 @@ use glam::DVec3;
 use super::{check_state, diverged, Bad};
 use crate::backend::{Backend, State, VolumeSample};
 use crate::error::Result;
-use crate::model::{ConstraintKind, GlobalObject, GlobalVolume, Model};
+use crate::model::{GlobalObject, GlobalVolume, Model};
 use crate::params::SimParams;
 use crate::physics::{
-    compliant_multiplier, distance_constraint, face_volume, floor_solve, implicit_accumulate,
-    implicit_multiplier, integrate_node, spring_constraint, spring_force, spring_softness,
-    tet_volume, volume_constraint, volume_softness,
+    compliant_multiplier, face_volume, floor_solve, implicit_accumulate, implicit_multiplier,
+    integrate_node, spring_constraint, spring_force, tet_volume,
 };
 use crate::problem::Problem;
+use crate::schedule::family::{ConstraintFamily, Family};
 use crate::schedule::{Dispatch, GroupAt, PassKind, Schedule};
 
 /// The forces of steps 1 and 2 of one time step, per node [N]; their sum is the `F` that is
@@ -65,6 +65,8 @@ pub struct ReferenceBackend {
     schedule: Schedule,
     /// One time step's dispatches ([`Schedule::step`]).
     dispatches: Vec<Dispatch>,
+    /// Per sweep, its constraint family's data.
+    families: Vec<Family<f64>>,
 }
 
 /// The forces of a time step while its dispatches run.
@@ -161,6 +163,7 @@ impl ReferenceBackend {
             spring_warm: vec![0.0; model.springs.len()],
             schedule,
             dispatches,
+            families: Family::of_sweeps(problem),
         }
     }
 
@@ -176,8 +179,8 @@ impl ReferenceBackend {
     /// Steps 1 and 2 of a time step at the current state: the schedule's dispatches
     /// ([`Schedule::step`]) run in order, each as a plain loop ([`Self::run`]), up to the
     /// floor's last solve, which begins `integrate`. With the default solver that is gravity,
-    /// explicit springs (spring-centric for every method but `mss-node`, which gathers per
-    /// node) or, for warm-started implicit springs, the last step's multipliers as forces,
+    /// explicit springs (spring-centric, `spring_scatter`, or node-centric, `spring_gather`,
+    /// as the schedule says: the same sums here) or, for warm-started implicit springs, the last step's multipliers as forces,
     /// then `iterations` times the sweeps ([`Model::constraint_sweeps`]: implicit springs,
     /// then the method's constraints), each group after group (one group for Jacobi and
     /// Chebyshev, the colour groups for Gauss-Seidel; Chebyshev extrapolating each
@@ -246,40 +249,12 @@ impl ReferenceBackend {
             .map(|f| f.0)
             .collect();
         let members = sweep.groups.group(at.group);
-        let (springs, tets, m) = (
-            &self.problem.model.springs,
-            &self.problem.model.tets,
-            &self.problem.material,
-        );
-        let (rest, rest_volume, dt) = (
-            &self.problem.model.rest_length,
-            &self.problem.model.rest_volume,
-            self.problem.params.dt,
-        );
         let total = &step.total;
-        match sweep.kind {
-            ConstraintKind::Spring => {
-                let lambda = &mut step.spring_lambda;
-                self.sweep(members, springs, total, &a_scale, lambda, |s, [a, b]| {
-                    let (c, grad) = spring_constraint(a, b, rest[s]);
-                    let (k, kd) = (m.spring_stiffness[s], m.spring_damping[s]);
-                    (c, grad, spring_softness(k, kd, dt), kd)
-                })
-            }
-            ConstraintKind::Distance => {
-                let lambda = &mut step.spring_lambda;
-                self.sweep(members, springs, total, &a_scale, lambda, |s, [a, b]| {
-                    let (c, grad) = distance_constraint(a, b, rest[s]);
-                    (c, grad, 0.0, 0.0)
-                })
-            }
-            ConstraintKind::Volume => {
-                let lambda = &mut step.volume_lambda;
-                self.sweep(members, tets, total, &a_scale, lambda, |t, p| {
-                    let (c, grad) = volume_constraint(p, rest_volume[t]);
-                    (c, grad, volume_softness(m.volume_compliance[t], dt), 0.0)
-                })
-            }
+        let (springs, volumes) = (&mut step.spring_lambda, &mut step.volume_lambda);
+        match &self.families[at.sweep] {
+            Family::Springs(family) => self.sweep(members, family, total, &a_scale, springs),
+            Family::Distances(family) => self.sweep(members, family, total, &a_scale, springs),
+            Family::Volumes(family) => self.sweep(members, family, total, &a_scale, volumes),
         }
     }
 
@@ -437,26 +412,26 @@ impl ReferenceBackend {
         )
     }
 
-    /// One Jacobi sweep of the constraints `members` (indices into `elements`) against the
-    /// force `f`: `constraint(e, positions)` gives constraint `e`'s value, gradients,
-    /// softness and damping; returns the per-node sums of `-delta grad C`, `delta` the
+    /// One Jacobi sweep of the constraints `members` of `family` against the force `f`
+    /// ([`ConstraintFamily::evaluate`] gives each one's value, gradients, softness and
+    /// damping); returns the per-node sums of `-delta grad C`, `delta` the
     /// compliant multiplier's increment ([`Self::lambda`]). A compliant constraint
     /// (softness > 0) carries its multiplier so far in `lambda[e]`, which grows by
     /// `omega delta`; a hard one neither reads nor changes it.
-    fn sweep<const K: usize>(
+    fn sweep<const K: usize, F: ConstraintFamily<f64, K>>(
         &self,
         members: &[u32],
-        elements: &[[u32; K]],
+        family: &F,
         f: &[DVec3],
         a_scale: &[f64],
         lambda: &mut [f64],
-        constraint: impl Fn(usize, [DVec3; K]) -> (f64, [DVec3; K], f64, f64),
     ) -> Vec<DVec3> {
+        let elements = F::elements(&self.problem.model);
         let mut sum = vec![DVec3::ZERO; self.problem.model.node_count()];
         for &e in members {
             let e = e as usize;
             let ids = elements[e].map(|i| i as usize);
-            let (c, grad, softness, damping) = constraint(e, ids.map(|i| self.x[i]));
+            let (c, grad, softness, damping) = family.evaluate(e, ids.map(|i| self.x[i]));
             let so_far = if softness > 0.0 {
                 softness * lambda[e]
             } else {

@@ -2,6 +2,7 @@
 //! once from the [`Model`]. Exactly the buffers of the [`EnginePlan`] are created, and each
 //! one's size is checked against the plan.
 
+use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use ash::vk;
@@ -32,27 +33,10 @@ pub(crate) struct SimBuffers {
     /// float per tet: rest volume [m^3] (the volume constraints' and the local volume
     /// error's; every method).
     pub rest_volumes: Buffer,
-    /// float per tet: volume compliance [m^3/Pa] (`volume` only).
-    pub volume_compliance: Option<Buffer>,
-    /// float per spring: the implicit springs' multipliers so far in the step.
-    pub spring_multipliers: Option<Buffer>,
-    /// float per tet: the compliant volume constraints' multipliers so far in the step.
-    pub volume_multipliers: Option<Buffer>,
-    /// vec4 per node: one iteration's constraint sums (`distance`, `volume`).
-    pub constraint_sum: Option<Buffer>,
-    /// float per group (of every sweep) and node: its constraint count `d_k` within the
-    /// group (constraint iterations).
-    pub degrees: Option<Buffer>,
-    /// The gather path's buffers: group members, contributions, node-slot offsets and
-    /// items (Gauss-Seidel), every sweep's one after another.
-    pub gather: Option<[Buffer; 4]>,
-    /// vec4 per node: the force two Chebyshev iterations back (solver `chebyshev`).
-    pub chebyshev_before: Option<Buffer>,
-    /// The global volume constraints' buffers: objects, surface nodes, surface faces,
-    /// node-face offsets and items, the step's surface gradients and per-object state.
-    pub global: Option<[Buffer; 7]>,
-    /// Node -> springs CSR offsets and items (`mss-node`).
-    pub node_springs: Option<(Buffer, Buffer)>,
+    /// Every other buffer the plan builds, by its id: what only some scenes need
+    /// (compliances, multipliers, degrees, the gather path's, Chebyshev's, the global volume
+    /// constraints', the node-spring adjacency).
+    pub optional: BTreeMap<BufferId, Buffer>,
     /// One [`crate::gpu::layout::VolumePartial`] per volume_sum workgroup (their host-visible
     /// copies belong to the frames that write them: `super::FrameSlot`).
     pub partials: Buffer,
@@ -95,7 +79,7 @@ impl SimBuffers {
         uploads.write(&self.velocities, bytes(&velocities))?;
         // A new state starts without warm-start multipliers (the implicit springs' stored
         // values count in iteration 0 only with `warm_start`; zeroing is harmless otherwise).
-        if let Some(multipliers) = &self.spring_multipliers {
+        if let Some(multipliers) = self.optional.get(&BufferId::SpringMultipliers) {
             uploads.zero(multipliers);
         }
         uploads.submit(self.positions.context())
@@ -163,60 +147,43 @@ impl SimBuffers {
         let tets_buffer = upload(BufferId::Tets, bytes(&model.tets))?;
         let rest_volumes = upload(BufferId::RestVolumes, bytes(&floats(&model.rest_volume)))?;
         let status_buffer = upload(BufferId::Status, bytes(&initial_status(speed_limit)))?;
-        let degrees = match degrees {
-            Some(w) => Some(upload(BufferId::Degrees, bytes(&w))?),
-            None => None,
+        let mut optional = Optional {
+            ctx,
+            up,
+            plan,
+            built: BTreeMap::new(),
         };
-        let mut optional = |id: BufferId, data: &dyn Fn() -> Vec<u8>| -> Result<Option<Buffer>> {
-            match plan.has(id) {
-                true => Ok(Some(up.with_data(ctx, id.name(), &data())?)),
-                false => Ok(None),
-            }
-        };
-        let volume_compliance = optional(BufferId::VolumeCompliance, &|| {
-            bytes(&floats(&material.volume_compliance)).to_vec()
-        })?;
-        let node_springs = match (
-            optional(BufferId::NodeSpringOffsets, &|| {
-                bytes(&model.node_springs.offsets).to_vec()
-            })?,
-            optional(BufferId::NodeSpringItems, &|| {
-                bytes(&model.node_springs.items).to_vec()
-            })?,
-        ) {
-            (Some(o), Some(i)) => Some((o, i)),
-            _ => None,
-        };
-        let mut zeroed = |id: BufferId| -> Result<Option<Buffer>> {
-            match plan.has(id) {
-                true => Ok(Some(up.zeroed(ctx, id.name(), (n * 16) as u64)?)),
-                false => Ok(None),
-            }
-        };
-        let constraint_sum = zeroed(BufferId::ConstraintSum)?;
-        let chebyshev_before = zeroed(BufferId::ChebyshevBefore)?;
+        if let Some(degrees) = degrees {
+            optional.data(BufferId::Degrees, bytes(&degrees))?;
+        }
+        optional.data(
+            BufferId::VolumeCompliance,
+            bytes(&floats(&material.volume_compliance)),
+        )?;
+        optional.data(
+            BufferId::NodeSpringOffsets,
+            bytes(&model.node_springs.offsets),
+        )?;
+        optional.data(BufferId::NodeSpringItems, bytes(&model.node_springs.items))?;
+        optional.zeroed(BufferId::ConstraintSum, (n * 16) as u64)?;
+        optional.zeroed(BufferId::ChebyshevBefore, (n * 16) as u64)?;
         // The multipliers need no initial values (iteration 0 writes before any read), but
         // for warm-started implicit springs, whose first step starts from 0: zeroed.
-        let mut zeroed_floats = |id: BufferId, count: usize| -> Result<Option<Buffer>> {
-            match plan.has(id) {
-                true => Ok(Some(up.zeroed(
-                    ctx,
-                    id.name(),
-                    (4 * count).max(4) as u64,
-                )?)),
-                false => Ok(None),
-            }
-        };
-        let spring_multipliers = zeroed_floats(BufferId::SpringMultipliers, model.springs.len())?;
-        let volume_multipliers = zeroed_floats(BufferId::VolumeMultipliers, model.tets.len())?;
-        let gather = match plan.schedule.gather {
-            true => Some(gather_buffers(ctx, &mut up, model, sweeps)?),
-            false => None,
-        };
-        let global = match global.filter(|_| plan.global.is_some()) {
-            Some(g) => Some(global_buffers(ctx, &mut up, g, plan)?),
-            None => None,
-        };
+        optional.zeroed(
+            BufferId::SpringMultipliers,
+            (4 * model.springs.len()).max(4) as u64,
+        )?;
+        optional.zeroed(
+            BufferId::VolumeMultipliers,
+            (4 * model.tets.len()).max(4) as u64,
+        )?;
+        if plan.schedule.gather {
+            gather_buffers(&mut optional, model, sweeps)?;
+        }
+        if let Some(g) = global.filter(|_| plan.global.is_some()) {
+            global_buffers(&mut optional, g)?;
+        }
+        let Optional { up, built, .. } = optional;
         let partials_size = plan.buffer(BufferId::Partials).map_or(0, |b| b.bytes);
         let buffers = SimBuffers {
             positions: positions_buffer,
@@ -226,15 +193,7 @@ impl SimBuffers {
             spring_damping,
             tets: tets_buffer,
             rest_volumes,
-            volume_compliance,
-            spring_multipliers,
-            volume_multipliers,
-            constraint_sum,
-            chebyshev_before,
-            degrees,
-            gather,
-            global,
-            node_springs,
+            optional: built,
             partials: Buffer::new(
                 ctx,
                 BufferId::Partials.name(),
@@ -259,27 +218,9 @@ impl SimBuffers {
             BufferId::SpringDamping => Some(&self.spring_damping),
             BufferId::Tets => Some(&self.tets),
             BufferId::RestVolumes => Some(&self.rest_volumes),
-            BufferId::VolumeCompliance => self.volume_compliance.as_ref(),
-            BufferId::SpringMultipliers => self.spring_multipliers.as_ref(),
-            BufferId::VolumeMultipliers => self.volume_multipliers.as_ref(),
-            BufferId::ConstraintSum => self.constraint_sum.as_ref(),
-            BufferId::Degrees => self.degrees.as_ref(),
-            BufferId::NodeSpringOffsets => self.node_springs.as_ref().map(|b| &b.0),
-            BufferId::NodeSpringItems => self.node_springs.as_ref().map(|b| &b.1),
             BufferId::Partials => Some(&self.partials),
             BufferId::Status => Some(&self.status),
-            BufferId::GroupMembers => self.gather.as_ref().map(|b| &b[0]),
-            BufferId::Contributions => self.gather.as_ref().map(|b| &b[1]),
-            BufferId::NodeSlotOffsets => self.gather.as_ref().map(|b| &b[2]),
-            BufferId::NodeSlotItems => self.gather.as_ref().map(|b| &b[3]),
-            BufferId::GlobalObjects => self.global.as_ref().map(|b| &b[0]),
-            BufferId::SurfaceNodes => self.global.as_ref().map(|b| &b[1]),
-            BufferId::SurfaceFaces => self.global.as_ref().map(|b| &b[2]),
-            BufferId::NodeFaceOffsets => self.global.as_ref().map(|b| &b[3]),
-            BufferId::NodeFaceItems => self.global.as_ref().map(|b| &b[4]),
-            BufferId::SurfaceGradients => self.global.as_ref().map(|b| &b[5]),
-            BufferId::GlobalState => self.global.as_ref().map(|b| &b[6]),
-            BufferId::ChebyshevBefore => self.chebyshev_before.as_ref(),
+            _ => self.optional.get(&id),
         }
     }
 
@@ -315,55 +256,32 @@ impl SimBuffers {
 /// rows numbered over all sweeps' groups, items pointing into the whole contributions
 /// buffer). The shaders find a sweep's part from the plan's
 /// [`super::plan::EnginePlan::sweep_offsets`].
-fn gather_buffers(
-    ctx: &Arc<Context>,
-    up: &mut Uploads,
-    model: &Model,
-    sweeps: &[Sweep],
-) -> Result<[Buffer; 4]> {
-    let n = model.node_count();
+fn gather_buffers(optional: &mut Optional<'_>, model: &Model, sweeps: &[Sweep]) -> Result<()> {
     let mut members: Vec<u32> = Vec::new();
     let mut offsets: Vec<u32> = vec![0];
     let mut items: Vec<u32> = Vec::new();
     let mut slot_first = 0u32;
     for sweep in sweeps {
-        let (slots, corners) = match sweep.kind {
-            ConstraintKind::Volume => (sweep.groups.node_slots(&model.tets, n), 4),
-            ConstraintKind::Spring | ConstraintKind::Distance => {
-                (sweep.groups.node_slots(&model.springs, n), 2)
-            }
-        };
+        let (slots, corners) = (
+            ConstraintKind::node_slots(sweep, model),
+            sweep.kind.arity() as u32,
+        );
         let item_first = items.len() as u32;
         offsets.extend(slots.offsets[1..].iter().map(|&o| item_first + o));
         items.extend(slots.items.iter().map(|&i| slot_first + i));
         members.extend_from_slice(&sweep.groups.members.items);
         slot_first += corners * sweep.groups.members.items.len() as u32;
     }
-    Ok([
-        up.with_data(ctx, BufferId::GroupMembers.name(), bytes(&members))?,
-        up.zeroed(
-            ctx,
-            BufferId::Contributions.name(),
-            16 * u64::from(slot_first),
-        )?,
-        up.with_data(ctx, BufferId::NodeSlotOffsets.name(), bytes(&offsets))?,
-        up.with_data(ctx, BufferId::NodeSlotItems.name(), bytes(&items))?,
-    ])
+    optional.data(BufferId::GroupMembers, bytes(&members))?;
+    optional.zeroed(BufferId::Contributions, 16 * u64::from(slot_first))?;
+    optional.data(BufferId::NodeSlotOffsets, bytes(&offsets))?;
+    optional.data(BufferId::NodeSlotItems, bytes(&items))
 }
 
 /// The global volume constraints' buffers ([`GlobalVolume`]); the chunk partials as many as
-/// `plan` gives every object.
-fn global_buffers(
-    ctx: &Arc<Context>,
-    up: &mut Uploads,
-    global: &GlobalVolume,
-    plan: &EnginePlan,
-) -> Result<[Buffer; 7]> {
-    let partials = plan
-        .buffers
-        .iter()
-        .find(|b| b.id == BufferId::GlobalState)
-        .map_or(16, |b| b.bytes);
+/// the plan gives every object.
+fn global_buffers(optional: &mut Optional<'_>, global: &GlobalVolume) -> Result<()> {
+    let partials = (optional.plan.buffer(BufferId::GlobalState)).map_or(16, |b| b.bytes);
     let objects: Vec<GpuGlobalObject> = global
         .objects
         .iter()
@@ -377,20 +295,41 @@ fn global_buffers(
         })
         .collect();
     let faces: Vec<[u32; 4]> = global.faces.iter().map(|f| [f[0], f[1], f[2], 0]).collect();
-    let mut upload = |id: BufferId, data: &[u8]| up.with_data(ctx, id.name(), data);
-    Ok([
-        upload(BufferId::GlobalObjects, bytes(&objects))?,
-        upload(BufferId::SurfaceNodes, bytes(&global.nodes))?,
-        upload(BufferId::SurfaceFaces, bytes(&faces))?,
-        upload(BufferId::NodeFaceOffsets, bytes(&global.node_faces.offsets))?,
-        upload(BufferId::NodeFaceItems, bytes(&global.node_faces.items))?,
-        up.zeroed(
-            ctx,
-            BufferId::SurfaceGradients.name(),
-            (16 * global.nodes.len()) as u64,
-        )?,
-        up.zeroed(ctx, BufferId::GlobalState.name(), partials)?,
-    ])
+    optional.data(BufferId::GlobalObjects, bytes(&objects))?;
+    optional.data(BufferId::SurfaceNodes, bytes(&global.nodes))?;
+    optional.data(BufferId::SurfaceFaces, bytes(&faces))?;
+    optional.data(BufferId::NodeFaceOffsets, bytes(&global.node_faces.offsets))?;
+    optional.data(BufferId::NodeFaceItems, bytes(&global.node_faces.items))?;
+    optional.zeroed(BufferId::SurfaceGradients, (16 * global.nodes.len()) as u64)?;
+    optional.zeroed(BufferId::GlobalState, partials)
+}
+
+/// The optional buffers while they are uploaded: each is built when the plan has it.
+struct Optional<'a> {
+    ctx: &'a Arc<Context>,
+    up: Uploads,
+    plan: &'a EnginePlan,
+    built: BTreeMap<BufferId, Buffer>,
+}
+
+impl Optional<'_> {
+    /// Buffer `id` holding `data`, if the plan builds it.
+    fn data(&mut self, id: BufferId, data: &[u8]) -> Result<()> {
+        if self.plan.has(id) {
+            let buffer = self.up.with_data(self.ctx, id.name(), data)?;
+            self.built.insert(id, buffer);
+        }
+        Ok(())
+    }
+
+    /// Buffer `id` of `size` zero bytes, if the plan builds it.
+    fn zeroed(&mut self, id: BufferId, size: u64) -> Result<()> {
+        if self.plan.has(id) {
+            let buffer = self.up.zeroed(self.ctx, id.name(), size)?;
+            self.built.insert(id, buffer);
+        }
+        Ok(())
+    }
 }
 
 /// Every buffer kind.

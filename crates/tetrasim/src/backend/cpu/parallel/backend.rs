@@ -23,14 +23,8 @@ pub struct ParallelBackend {
     /// Per spring: stiffness [N/m] and damping [N s/m] ([`crate::model::ElementMaterial`]).
     spring_stiffness: Vec<f32>,
     spring_damping: Vec<f32>,
-    /// Per spring, with implicit springs: the softness of its compliant constraint
-    /// ([`spring_softness`], computed in f64).
-    spring_softness: Vec<f32>,
     tets: Vec<[u32; 4]>,
     rest_volume: Vec<f32>,
-    /// Per tet, for the volume method: the softness of its volume constraint
-    /// ([`volume_softness`]; 0: hard).
-    volume_softness: Vec<f32>,
     /// node -> `2 * spring + end` (end 0 is `springs[s][0]`).
     node_spring_ends: Csr,
     /// The constraint sweeps of an iteration, in order (empty for explicit springs-only
@@ -95,11 +89,11 @@ impl ParallelBackend {
         let to32 = |v: &[f64]| v.iter().map(|&a| a as f32).collect::<Vec<f32>>();
         let material = &problem.material;
         let sweeps: Vec<Sweep> = (problem.sweeps.iter().cloned())
-            .map(|sweep| Sweep::new(model, params, sweep))
+            .zip(Family::of_sweeps(problem))
+            .map(|(sweep, family)| Sweep::new(model, params, sweep, family))
             .collect();
         let has = |kind: ConstraintKind| sweeps.iter().any(|s| s.kind == kind);
         let explicit_springs = params.springs == SpringKind::Explicit;
-        let dt = params.dt;
         let schedule = Schedule::of(problem, false);
         let gravity = Vec3A::new(0.0, -params.gravity as f32, 0.0);
         ParallelBackend {
@@ -122,23 +116,8 @@ impl ParallelBackend {
             rest_length: to32(&model.rest_length),
             spring_stiffness: to32(&material.spring_stiffness),
             spring_damping: to32(&material.spring_damping),
-            spring_softness: if has(ConstraintKind::Spring) {
-                (material.spring_stiffness.iter())
-                    .zip(&material.spring_damping)
-                    .map(|(&k, &kd)| spring_softness(k, kd, dt) as f32)
-                    .collect()
-            } else {
-                Vec::new()
-            },
             tets: model.tets.clone(),
             rest_volume: to32(&model.rest_volume),
-            volume_softness: if has(ConstraintKind::Volume) {
-                (material.volume_compliance.iter())
-                    .map(|&alpha| volume_softness(alpha, dt) as f32)
-                    .collect()
-            } else {
-                Vec::new()
-            },
             node_spring_ends: ends,
             global: (problem.global.clone()).map(|data| Global::new(model, data)),
             chebyshev: (params.solver == Solver::Chebyshev).then(|| Chebyshev {
@@ -438,12 +417,7 @@ impl ParallelBackend {
             k,
             floor,
             springs,
-            rest_length,
-            spring_softness,
-            spring_damping,
             tets,
-            rest_volume,
-            volume_softness,
             chebyshev,
             stages,
             dispatches,
@@ -471,12 +445,7 @@ impl ParallelBackend {
             k: *k,
             floor: *floor,
             springs,
-            rest_length,
-            spring_softness,
-            spring_damping,
             tets,
-            rest_volume,
-            volume_softness,
             sweeps,
             global,
             chebyshev_weights,

@@ -18,12 +18,7 @@ pub(super) struct Inputs<'a> {
     pub k: Coefficients,
     pub floor: bool,
     pub springs: &'a [[u32; 2]],
-    pub rest_length: &'a [f32],
-    pub spring_softness: &'a [f32],
-    pub spring_damping: &'a [f32],
     pub tets: &'a [[u32; 4]],
-    pub rest_volume: &'a [f32],
-    pub volume_softness: &'a [f32],
     /// The sweeps of an iteration, in order.
     pub sweeps: &'a [Sweep],
     /// The global volume constraints, prepared for this step.
@@ -151,33 +146,21 @@ unsafe fn solve(
     let members = &sweep.members.items[block.clone()];
     // SAFETY: `block` is this thread's alone (the caller's promise).
     let so_far = unsafe { outputs.multipliers[s].part(block.clone()) };
-    let (rest, tets_rest) = (inputs.rest_length, inputs.rest_volume);
-    match sweep.kind {
-        ConstraintKind::Spring => {
-            let (softness, damping) = (inputs.spring_softness, inputs.spring_damping);
-            // SAFETY: as `so_far`.
+    match &sweep.family {
+        Family::Springs(family) => {
+            // SAFETY: `block` of the results is this thread's alone, as `so_far`.
             let out = unsafe { outputs.pair_out.part(block) };
-            solve_block(out, so_far, members, inputs.springs, on, |s, [xi, xj]| {
-                let (c, grad) = spring_constraint(xi, xj, rest[s]);
-                (c, grad, softness[s], damping[s])
-            });
+            solve_block(out, so_far, members, inputs.springs, on, family);
         }
-        ConstraintKind::Distance => {
-            // SAFETY: as `so_far`.
+        Family::Distances(family) => {
+            // SAFETY: as above.
             let out = unsafe { outputs.pair_out.part(block) };
-            solve_block(out, so_far, members, inputs.springs, on, |s, [xi, xj]| {
-                let (c, grad) = distance_constraint(xi, xj, rest[s]);
-                (c, grad, 0.0, 0.0)
-            });
+            solve_block(out, so_far, members, inputs.springs, on, family);
         }
-        ConstraintKind::Volume => {
-            let softness = inputs.volume_softness;
-            // SAFETY: as `so_far`.
+        Family::Volumes(family) => {
+            // SAFETY: as above.
             let out = unsafe { outputs.tet_out.part(block) };
-            solve_block(out, so_far, members, inputs.tets, on, |t, p| {
-                let (c, grad) = volume_constraint(p, tets_rest[t]);
-                (c, grad, softness[t], 0.0)
-            });
+            solve_block(out, so_far, members, inputs.tets, on, family);
         }
     }
 }

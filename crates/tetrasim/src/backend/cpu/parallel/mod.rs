@@ -23,11 +23,11 @@ use crate::error::Result;
 use crate::model::{ConstraintKind, Csr, GlobalVolume, Model};
 use crate::params::{chebyshev_weights, Method, SimParams, Solver, SpringKind};
 use crate::physics::{
-    compliant_multiplier, distance_constraint, face_volume, floor_solve, implicit_accumulate,
-    implicit_multiplier, integrate_node, spring_constraint, spring_force, spring_softness,
-    tet_volume, volume_constraint, volume_softness, Vector,
+    compliant_multiplier, face_volume, floor_solve, implicit_accumulate, implicit_multiplier,
+    integrate_node, spring_constraint, spring_force, tet_volume, Vector,
 };
 use crate::problem::Problem;
+use crate::schedule::family::{ConstraintFamily, Family};
 use crate::schedule::{Dispatch, PassKind, Schedule};
 
 mod backend;
@@ -74,16 +74,20 @@ struct Sweep {
     /// Per constraint (position in `members.items`): the multiplier a compliant constraint
     /// has gathered so far in this step (zero at its start; unused by hard ones).
     multipliers: Vec<f32>,
+    /// The constraints' family and its data.
+    family: Family<f32>,
 }
 
 impl Sweep {
-    fn new(model: &Model, params: &SimParams, sweep: crate::model::Sweep) -> Self {
-        let (kind, groups) = (sweep.kind, sweep.groups);
+    fn new(
+        model: &Model,
+        params: &SimParams,
+        sweep: crate::model::Sweep,
+        family: Family<f32>,
+    ) -> Self {
         let n = model.node_count();
-        let slots = match kind {
-            ConstraintKind::Volume => groups.node_slots(&model.tets, n),
-            _ => groups.node_slots(&model.springs, n),
-        };
+        let slots = ConstraintKind::node_slots(&sweep, model);
+        let (kind, groups) = (sweep.kind, sweep.groups);
         let factors: Vec<(f64, f64)> = groups
             .degree
             .iter()
@@ -91,6 +95,7 @@ impl Sweep {
             .collect();
         Sweep {
             kind,
+            family,
             nodes: n,
             multipliers: vec![0.0; groups.members.items.len()],
             members: groups.members,
@@ -301,20 +306,20 @@ impl NodeForces<4> for [Vec3A; 4] {
     }
 }
 
-/// The per-constraint pass over a block of one group's constraints, for any kind of
-/// constraint on `K` nodes: for the block's `members` (indices into `elements`), `constraint(e, positions)` gives the value
-/// `C`, the gradients, the softness and the damping of constraint `e`, and `out` (one
-/// entry per member) receives the forces `-delta grad_k C` on its nodes with the compliant
+/// The per-constraint pass over a block of one group's constraints, for any constraint
+/// family on `K` nodes: for the block's `members` (indices into `elements`),
+/// [`ConstraintFamily::evaluate`] gives the value `C`, the gradients, the softness and the
+/// damping of constraint `e`, and `out` (one entry per member) receives the forces `-delta grad_k C` on its nodes with the compliant
 /// multiplier's increment ([`compliant_multiplier`] against `B - softness * so_far`; zero
 /// where the constraint is skipped); a compliant constraint's `so_far` grows by
 /// `omega delta`.
-fn solve_block<const K: usize, R: NodeForces<K>>(
+fn solve_block<const K: usize, R: NodeForces<K>, F: ConstraintFamily<f32, K>>(
     out: &mut [R],
     so_far: &mut [f32],
     members: &[u32],
     elements: &[[u32; K]],
     on: Nodes<'_>,
-    constraint: impl Fn(usize, [Vec3A; K]) -> (f32, [Vec3A; K], f32, f32),
+    family: &F,
 ) {
     let Nodes {
         x,
@@ -327,7 +332,7 @@ fn solve_block<const K: usize, R: NodeForces<K>>(
     for ((out, so_far), &e) in out.iter_mut().zip(so_far.iter_mut()).zip(members) {
         let e = e as usize;
         let ids = elements[e].map(|a| a as usize);
-        let (c, grad, softness, damping) = constraint(e, ids.map(|i| x[i]));
+        let (c, grad, softness, damping) = family.evaluate(e, ids.map(|i| x[i]));
         let (mut a, mut b) = (0.0, 0.0);
         for (&i, &g) in ids.iter().zip(&grad) {
             implicit_accumulate(&mut a, &mut b, g, w[i], a_scale[i], v[i], f[i], k.dt);
