@@ -17,20 +17,18 @@
 //! `volume_sum` without per-frame metrics. Which variant of a stage a backend runs
 //! (per-node gather or atomics) follows from [`Schedule::gather`].
 //!
-//! A new pass is a [`PassKind`], its stage in [`Schedule::new`] (stages.rs), its shader, and
-//! its arm in each CPU backend's executor.
+//! A new pass is a [`PassKind`] and its stage in [`Schedule::new`] (both in stages.rs), its
+//! shader, and its arm in each CPU backend's executor.
 
 mod buffer;
 pub mod family;
-mod pass_kind;
 mod stages;
 #[cfg(test)]
 mod tests;
 mod walk;
 
 pub use buffer::{Access, BufferId};
-pub use pass_kind::PassKind;
-pub use stages::volume_sum;
+pub use stages::{volume_sum, PassKind};
 pub use walk::{Dispatch, GroupAt};
 
 use crate::model::{ConstraintKind, Sweep};
