@@ -95,12 +95,12 @@ fn a_material_run_records_it_and_does_not_warn_about_the_explicit_bound() {
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let r = &records[0];
     assert!(!r.diverged, "{:?}", r.divergence);
-    assert_eq!(r.params.spring_kind.name(), "implicit");
+    assert_eq!(r.params.springs.name(), "implicit");
     assert_eq!(
         (
             r.params.youngs_modulus,
             r.params.poisson_ratio,
-            r.params.damping
+            r.derived.damping
         ),
         (Some(1e5), Some(0.45), Some(0.003))
     );

@@ -15,7 +15,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use tetrasim::backend::vulkan::EngineOptions;
 use tetrasim::error::Result;
-use tetrasim::metrics::{RecordParams, RunRecord};
+use tetrasim::metrics::{RecordFacts, RunRecord};
 use tetrasim::model::Model;
 use tetrasim::params::{Method, SimParams};
 use tetrasim::problem::Problem;
@@ -148,7 +148,8 @@ pub(crate) fn new_record(
         springs: model.springs.len(),
         frames,
         frames_run: 0,
-        params: RecordParams::of(problem),
+        params: params.clone(),
+        derived: RecordFacts::of(problem),
         time_s: Vec::with_capacity(frames as usize),
         contact_time_s: if params.floor {
             model.floor_contact_time(params.gravity)

@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use crate::backend::VolumeSample;
 use crate::error::{Error, Result};
 use crate::gpu::PassTime;
-use crate::params::{ConstraintCombine, Solver, SpringKind};
+use crate::params::SimParams;
 use crate::problem::Problem;
 
 /// The paper's average volume percentages over all its models, for comparison:
@@ -37,70 +37,28 @@ pub fn local_error_pct(sample: VolumeSample, rest: f64) -> f64 {
     100.0 * sample.local_error / rest
 }
 
-/// The parameters a [`RunRecord`] reports, as they acted in the run; built by
-/// [`RecordParams::of`] only.
+/// What a run's engine derived from its parameters and model, recorded beside them (a
+/// reader could not work them out from the parameters alone); built by [`RecordFacts::of`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct RecordParams {
-    /// Time step [s].
-    pub dt: f64,
-    /// Time steps per frame.
-    pub substeps: u32,
-    /// Constraint iterations per time step.
-    pub iterations: u32,
-    /// Relaxation factor.
-    pub omega: f64,
-    /// Spring stiffness [N/m].
-    pub ks: f64,
-    /// Spring damping [N s/m].
-    pub kd: f64,
-    /// Floor friction.
-    pub friction: f64,
-    /// Constraint combination (`scaled`, `sum` or `average`).
-    pub combine: ConstraintCombine,
-    /// Constraint solver (`jacobi`, `gauss-seidel` or `chebyshev`; records older than the
-    /// field were `jacobi`).
-    #[serde(default = "jacobi")]
-    pub solver: Solver,
-    /// Colour groups solved in sequence per iteration (1 for `jacobi`).
-    #[serde(default = "one")]
+pub struct RecordFacts {
+    /// Colour groups solved in sequence per iteration in the largest sweep (1 for `jacobi`
+    /// and `chebyshev`).
     pub groups: u32,
-    /// Whether a global volume constraint per object was solved too.
-    #[serde(default)]
+    /// Whether a global volume constraint per object was solved.
     pub global_volume: bool,
-    /// Explicit springs (the paper) or implicit (compliant constraints); `--springs` (the
-    /// record's `springs` is the spring count).
-    #[serde(default = "crate::params::default_springs")]
-    pub spring_kind: SpringKind,
-    /// Young's modulus [Pa] of the material, when the springs come from one.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub youngs_modulus: Option<f64>,
-    /// Poisson's ratio of that material (absent: incompressible).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub poisson_ratio: Option<f64>,
-    /// Its damping time [s].
+    /// The material's damping time [s] as it acted, when the springs come from a material
+    /// (the parameters' `damping`, or its default).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub damping: Option<f64>,
 }
 
-impl RecordParams {
-    /// What a run of a prepared problem reports.
+impl RecordFacts {
+    /// The facts of a prepared problem.
     pub fn of(problem: &Problem) -> Self {
         let params = &problem.params;
-        RecordParams {
-            dt: params.dt,
-            substeps: params.substeps,
-            iterations: params.iterations,
-            omega: params.omega,
-            ks: params.ks,
-            kd: params.kd,
-            friction: params.friction,
-            combine: params.combine,
-            solver: params.solver,
+        RecordFacts {
             groups: problem.groups(),
             global_volume: params.solves_global_volume(),
-            spring_kind: params.springs,
-            youngs_modulus: params.youngs_modulus,
-            poisson_ratio: params.poisson_ratio,
             damping: params.youngs_modulus.map(|_| {
                 params
                     .damping
@@ -130,9 +88,13 @@ pub struct RunRecord {
     pub frames: u32,
     /// Frames completed (less than `frames` when the run diverged).
     pub frames_run: u32,
-    /// The parameters of the run (their keys sit at the top level of the JSON object).
+    /// The parameters of the run, validated, as a nested object (the keys and units of
+    /// [`SimParams`]).
+    pub params: SimParams,
+    /// What the engine derived from them (their keys sit at the top level of the JSON
+    /// object).
     #[serde(flatten)]
-    pub params: RecordParams,
+    pub derived: RecordFacts,
     /// Simulated time at the end of each completed frame [s] (the time axis of the
     /// per-frame series; empty in records older than the field).
     #[serde(default)]
@@ -181,19 +143,11 @@ pub struct RunRecord {
     pub passes: Option<Vec<PassTime>>,
 }
 
-fn jacobi() -> Solver {
-    Solver::Jacobi
-}
-
-fn one() -> u32 {
-    1
-}
-
 impl RunRecord {
     /// The contact time, when the run ended before it: its volume figures then measure a
     /// free fall, not the drop the paper's column is about.
     pub fn ends_before_contact(&self) -> Option<f64> {
-        let end = f64::from(self.frames_run) * self.params.dt * f64::from(self.params.substeps);
+        let end = f64::from(self.frames_run) * self.params.frame_time();
         self.contact_time_s.filter(|&t| end < t)
     }
 
@@ -273,7 +227,7 @@ pub fn short_run_warnings(records: &[RunRecord]) -> String {
     let mut out = String::new();
     for r in records {
         if let Some(t) = r.ends_before_contact() {
-            let frame_time = r.params.dt * f64::from(r.params.substeps);
+            let frame_time = r.params.frame_time();
             let _ = writeln!(
                 out,
                 "warning: {} on {} ({}) ran {} frames ({:.3} s) and ended before the body reached \
@@ -350,21 +304,13 @@ mod tests {
             springs: 19,
             frames: 4,
             frames_run: 0,
-            params: RecordParams {
-                dt: 1e-3,
-                substeps: 1,
-                iterations: 10,
-                omega: 1.0,
-                ks: 5000.0,
-                kd: 15.0,
-                friction: 0.0,
-                combine: ConstraintCombine::Scaled,
-                solver: Solver::GaussSeidel,
+            params: SimParams {
+                method: crate::params::Method::Volume,
+                ..SimParams::default()
+            },
+            derived: RecordFacts {
                 groups: 8,
                 global_volume: false,
-                spring_kind: SpringKind::Explicit,
-                youngs_modulus: None,
-                poisson_ratio: None,
                 damping: None,
             },
             local_error_pct: pct.iter().map(|p| (100.0 - p) / 2.0).collect(),
