@@ -11,3 +11,5 @@ scripts/setup.sh
 # Release mode shares the build of shaderc with the tests below.
 cargo clippy --workspace --release -- -D warnings
 cargo test --workspace --release "$@"
+# The Python package: built into a fresh venv with the README's command, then its pytest suite.
+scripts/test-python.sh

@@ -94,7 +94,7 @@ pub fn record(
         divergence: sim.divergence.clone(),
         device: sim.gpu.as_ref().map(|g| g.device.clone()),
         atomics: sim.gpu.as_ref().map(|g| g.atomics.clone()),
-        ..crate::runner::new_record(
+        ..tetrasim::metrics::RunRecord::new(
             &Problem::new(model, params)?,
             &mesh.label,
             options.total_frames(),

@@ -15,7 +15,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use tetrasim::backend::vulkan::EngineOptions;
 use tetrasim::error::Result;
-use tetrasim::metrics::{RecordFacts, RunRecord};
+use tetrasim::metrics::RunRecord;
 use tetrasim::model::Model;
 use tetrasim::params::{Method, SimParams};
 use tetrasim::problem::Problem;
@@ -45,7 +45,7 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
     let problem = Problem::new(model, params)?;
     let mut backend =
         BackendFactory::new(options.gpu.clone()).create(&options.backend, &problem)?;
-    let mut record = new_record(
+    let mut record = RunRecord::new(
         &problem,
         &options.mesh_label,
         options.frames,
@@ -128,50 +128,6 @@ pub fn run_methods(
             )
         })
         .collect()
-}
-
-/// A record of `frames` frames of a prepared problem on `backend`, before any frame ran
-/// (also what `bench` fills in).
-pub(crate) fn new_record(
-    problem: &Problem,
-    mesh_label: &str,
-    frames: u32,
-    backend: &str,
-) -> RunRecord {
-    let (model, params) = (&problem.model, &problem.params);
-    RunRecord {
-        method: params.method.name().to_string(),
-        backend: backend.to_string(),
-        mesh: mesh_label.to_string(),
-        nodes: model.node_count(),
-        tets: model.tets.len(),
-        springs: model.springs.len(),
-        frames,
-        frames_run: 0,
-        params: params.clone(),
-        derived: RecordFacts::of(problem),
-        time_s: Vec::with_capacity(frames as usize),
-        contact_time_s: if params.floor {
-            model.floor_contact_time(params.gravity)
-        } else {
-            None
-        },
-        volume_pct: Vec::with_capacity(frames as usize),
-        inverted_tets: Vec::with_capacity(frames as usize),
-        local_error_pct: Vec::with_capacity(frames as usize),
-        min_volume_pct: 0.0,
-        avg_volume_pct: 0.0,
-        max_inverted_tets: 0,
-        avg_local_error_pct: 0.0,
-        max_local_error_pct: 0.0,
-        ms_per_frame: 0.0,
-        wall_s: 0.0,
-        diverged: false,
-        divergence: None,
-        device: None,
-        atomics: None,
-        passes: None,
-    }
 }
 
 fn progress_bar(options: &RunOptions, method: Method) -> ProgressBar {

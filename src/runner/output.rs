@@ -1,6 +1,7 @@
 //! Files written during a run: the deformed mesh every few frames, for ParaView, MeshLab or
-//! any viewer that reads a mesh sequence. Writing goes through the mesh writers of
-//! [`tetrasim::mesh::io`].
+//! any viewer that reads a mesh sequence. Each file is the engine's
+//! [`tetrasim::output::write_frame`]; this module names them, makes the folder and keeps the
+//! ParaView time series.
 //!
 //! | `--format` | files | content |
 //! | --- | --- | --- |
@@ -18,55 +19,12 @@
 
 use std::path::{Path, PathBuf};
 
-use glam::DVec3;
-
 use tetrasim::backend::State;
 use tetrasim::error::{Error, Result};
-use tetrasim::mesh::io::{self, Field, FieldValues, Fields};
-use tetrasim::mesh::{SurfaceMesh, TetMesh};
-use tetrasim::model::{Model, Similarity};
+use tetrasim::mesh::io;
+use tetrasim::model::Model;
+pub use tetrasim::output::{write_frame, OutputFormat, OutputUnits};
 use tetrasim::params::Method;
-use tetrasim::physics::tet_volume;
-
-/// What to write.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum OutputFormat {
-    /// The boundary surface as binary PLY with a per-vertex quality (V/V0):
-    /// `DIR/METHOD_FFFFF.ply`.
-    #[default]
-    Ply,
-    /// The boundary surface as Wavefront OBJ: `DIR/METHOD_FFFFF.obj`.
-    Obj,
-    /// The tet mesh with point and cell fields as legacy VTK: `DIR/METHOD_FFFFF.vtk`.
-    Vtk,
-    /// The tet mesh with point and cell fields as VTK XML, plus a ParaView time series
-    /// `DIR/METHOD.pvd`: `DIR/METHOD_FFFFF.vtu`.
-    Vtu,
-}
-
-impl OutputFormat {
-    /// The file extension.
-    pub fn extension(self) -> &'static str {
-        match self {
-            OutputFormat::Ply => "ply",
-            OutputFormat::Obj => "obj",
-            OutputFormat::Vtk => "vtk",
-            OutputFormat::Vtu => "vtu",
-        }
-    }
-}
-
-/// The units and frame of written positions.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum OutputUnits {
-    /// Simulation units: metres, after `fit_size` and `drop_height` (the floor is y = 0).
-    #[default]
-    Simulation,
-    /// The mesh file's own units and position (the placement undone per object).
-    Input,
-}
 
 /// Periodic output of the deformed mesh.
 #[derive(Debug, Clone)]
@@ -129,36 +87,15 @@ impl FrameOutput {
         state: &State,
     ) -> Result<()> {
         let path = self.path(method, frame);
-        let data = FrameData::new(model, state, self.units);
-        match self.format {
-            OutputFormat::Ply => {
-                let (surface, nodes) = deformed_surface_nodes(model, &data.positions);
-                let quality: Vec<f64> = nodes.iter().map(|&i| data.node_ratio[i]).collect();
-                Ok(io::ply::write_with_quality(
-                    &path,
-                    &surface,
-                    io::ply::PlyEncoding::BinaryLittleEndian,
-                    &quality,
-                )?)
-            }
-            OutputFormat::Obj => Ok(io::write_surface(
-                &path,
-                &deformed_surface(model, &data.positions),
-            )?),
-            OutputFormat::Vtk => Ok(io::write_vtk_fields(
-                &path,
-                &data.mesh(model),
-                &data.fields(),
-            )?),
-            OutputFormat::Vtu => {
-                io::write_vtu(&path, &data.mesh(model), &data.fields())?;
-                let entries: Vec<(f64, String)> = (0..=frame)
-                    .step_by(self.every as usize)
-                    .map(|f| (f64::from(f) * frame_time, self.file_name(method, f)))
-                    .collect();
-                Ok(io::write_pvd(self.pvd_path(method), &entries)?)
-            }
+        write_frame(&path, self.format, self.units, model, state)?;
+        if self.format == OutputFormat::Vtu {
+            let entries: Vec<(f64, String)> = (0..=frame)
+                .step_by(self.every as usize)
+                .map(|f| (f64::from(f) * frame_time, self.file_name(method, f)))
+                .collect();
+            io::write_pvd(self.pvd_path(method), &entries)?;
         }
+        Ok(())
     }
 }
 
@@ -193,134 +130,6 @@ pub fn prepare_output_file(path: &Path) -> Result<()> {
         Some(dir) if !dir.as_os_str().is_empty() => create_dir(dir),
         _ => Ok(()),
     }
-}
-
-/// One frame's positions and derived fields, in the chosen units.
-struct FrameData {
-    positions: Vec<DVec3>,
-    displacement: Vec<DVec3>,
-    velocity: Vec<DVec3>,
-    node_ratio: Vec<f64>,
-    pinned: Vec<u8>,
-    tet_ratio: Vec<f64>,
-    inverted: Vec<u8>,
-}
-
-impl FrameData {
-    fn new(model: &Model, state: &State, units: OutputUnits) -> Self {
-        let tet_volume: Vec<f64> = model
-            .tets
-            .iter()
-            .map(|t| {
-                let p = t.map(|i| state.positions[i as usize]);
-                tet_volume(p)
-            })
-            .collect();
-        let n = model.node_count();
-        let (mut volume, mut rest) = (vec![0.0; n], vec![0.0; n]);
-        for ((t, v), v0) in model.tets.iter().zip(&tet_volume).zip(&model.rest_volume) {
-            for &i in t {
-                volume[i as usize] += v;
-                rest[i as usize] += v0;
-            }
-        }
-        // Nodes in no tet keep the neutral ratio 1.
-        let node_ratio = volume
-            .iter()
-            .zip(&rest)
-            .map(|(v, r)| if *r > 0.0 { v / r } else { 1.0 })
-            .collect();
-        let transform = node_transforms(model, units);
-        let positions = (0..n)
-            .map(|i| transform[i].invert_point(state.positions[i]))
-            .collect();
-        let displacement = (0..n)
-            .map(|i| transform[i].invert_vector(state.positions[i] - model.positions[i]))
-            .collect();
-        let velocity = (0..n)
-            .map(|i| transform[i].invert_vector(state.velocities[i]))
-            .collect();
-        FrameData {
-            positions,
-            displacement,
-            velocity,
-            node_ratio,
-            pinned: model.inv_mass.iter().map(|&w| u8::from(w == 0.0)).collect(),
-            tet_ratio: tet_volume
-                .iter()
-                .zip(&model.rest_volume)
-                .map(|(v, v0)| v / v0)
-                .collect(),
-            inverted: tet_volume.iter().map(|&v| u8::from(v <= 0.0)).collect(),
-        }
-    }
-
-    fn mesh(&self, model: &Model) -> TetMesh {
-        TetMesh {
-            nodes: self.positions.clone(),
-            tets: model.tets.clone(),
-            faces: Vec::new(),
-        }
-    }
-
-    fn fields(&self) -> Fields<'_> {
-        let field = |name, values| Field { name, values };
-        Fields {
-            point: vec![
-                field("displacement", FieldValues::Vector(&self.displacement)),
-                field("velocity", FieldValues::Vector(&self.velocity)),
-                field("volume_ratio", FieldValues::Scalar(&self.node_ratio)),
-                field("pinned", FieldValues::Flag(&self.pinned)),
-            ],
-            cell: vec![
-                field("volume_ratio", FieldValues::Scalar(&self.tet_ratio)),
-                field("inverted", FieldValues::Flag(&self.inverted)),
-            ],
-        }
-    }
-}
-
-/// The map from each node's written frame to the simulation: the identity in simulation
-/// units, the object's placement in the input's.
-fn node_transforms(model: &Model, units: OutputUnits) -> Vec<Similarity> {
-    let mut out = vec![Similarity::IDENTITY; model.node_count()];
-    if units == OutputUnits::Input {
-        for (k, placement) in model.placements.iter().enumerate() {
-            let (lo, hi) = (model.objects[k] as usize, model.objects[k + 1] as usize);
-            out[lo..hi].fill(*placement);
-        }
-    }
-    out
-}
-
-/// The model's boundary surface at `positions`, with only the nodes it uses.
-pub fn deformed_surface(model: &Model, positions: &[DVec3]) -> SurfaceMesh {
-    deformed_surface_nodes(model, positions).0
-}
-
-/// [`deformed_surface`] and, for each of its vertices, the model node it is.
-fn deformed_surface_nodes(model: &Model, positions: &[DVec3]) -> (SurfaceMesh, Vec<usize>) {
-    let mut index = vec![u32::MAX; positions.len()];
-    let mut nodes = Vec::new();
-    let triangles = model
-        .surface
-        .iter()
-        .map(|f| {
-            f.map(|i| {
-                let slot = &mut index[i as usize];
-                if *slot == u32::MAX {
-                    *slot = nodes.len() as u32;
-                    nodes.push(i as usize);
-                }
-                *slot
-            })
-        })
-        .collect();
-    let surface = SurfaceMesh {
-        vertices: nodes.iter().map(|&i| positions[i]).collect(),
-        triangles,
-    };
-    (surface, nodes)
 }
 
 /// Writes `bytes` to `path` through a temporary file and a rename.

@@ -117,6 +117,7 @@ pub mod error;
 pub mod gpu;
 pub mod metrics;
 pub mod model;
+pub mod output;
 pub mod params;
 #[doc(hidden)]
 pub mod physics;

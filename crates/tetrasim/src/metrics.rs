@@ -144,6 +144,45 @@ pub struct RunRecord {
 }
 
 impl RunRecord {
+    /// A record of `frames` frames of a prepared problem on `backend`, before any frame ran
+    /// (also what `bench` fills in).
+    pub fn new(problem: &Problem, mesh_label: &str, frames: u32, backend: &str) -> Self {
+        let (model, params) = (&problem.model, &problem.params);
+        RunRecord {
+            method: params.method.name().to_string(),
+            backend: backend.to_string(),
+            mesh: mesh_label.to_string(),
+            nodes: model.node_count(),
+            tets: model.tets.len(),
+            springs: model.springs.len(),
+            frames,
+            frames_run: 0,
+            params: params.clone(),
+            derived: RecordFacts::of(problem),
+            time_s: Vec::with_capacity(frames as usize),
+            contact_time_s: if params.floor {
+                model.floor_contact_time(params.gravity)
+            } else {
+                None
+            },
+            volume_pct: Vec::with_capacity(frames as usize),
+            inverted_tets: Vec::with_capacity(frames as usize),
+            local_error_pct: Vec::with_capacity(frames as usize),
+            min_volume_pct: 0.0,
+            avg_volume_pct: 0.0,
+            max_inverted_tets: 0,
+            avg_local_error_pct: 0.0,
+            max_local_error_pct: 0.0,
+            ms_per_frame: 0.0,
+            wall_s: 0.0,
+            diverged: false,
+            divergence: None,
+            device: None,
+            atomics: None,
+            passes: None,
+        }
+    }
+
     /// The contact time, when the run ended before it: its volume figures then measure a
     /// free fall, not the drop the paper's column is about.
     pub fn ends_before_contact(&self) -> Option<f64> {

@@ -44,8 +44,9 @@ pub struct GpuReport {
     pub validation_messages: Vec<String>,
 }
 
-/// A solver backend advancing one model in time.
-pub trait Backend {
+/// A solver backend advancing one model in time. Backends are `Send`: a program (the Python
+/// package) steps one on another thread than the one that made it.
+pub trait Backend: Send {
     /// Short name used on the command line and in reports (`cpu-ref`, `cpu`, `vulkan`).
     fn name(&self) -> &'static str;
     /// Advances one frame (`substeps` time steps).

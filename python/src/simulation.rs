@@ -1,0 +1,239 @@
+//! `tetrasim.Simulation`: one model under one parameter set on one backend, stepped frame by
+//! frame through the engine's frame driver (the same as `tetrasim run`), with the state as
+//! numpy arrays and the run record as JSON.
+
+use std::path::PathBuf;
+use std::sync::Mutex;
+
+use numpy::{PyArray2, PyReadonlyArray2};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use tetrasim::backend::vulkan::EngineOptions;
+use tetrasim::backend::{Backend, State};
+use tetrasim::metrics::RunRecord;
+use tetrasim::model::{Model, ModelBuilder};
+use tetrasim::params::{Placement, SimParams};
+use tetrasim::problem::Problem;
+use tetrasim::sim::{Advance, BackendFactory};
+
+use crate::arrays::{points_from_numpy, points_to_numpy};
+use crate::mesh::Mesh;
+use crate::{to_py, DivergedError};
+
+/// The default parameters (`SimParams`) as JSON: every run parameter by its name.
+#[pyfunction]
+pub fn default_params() -> PyResult<String> {
+    serde_json::to_string(&SimParams::default()).map_err(|e| PyValueError::new_err(e.to_string()))
+}
+
+/// `json` (the keys of `SimParams`) as parameters; an error names the first key whose value
+/// is wrong.
+fn parse_params(json: &str) -> PyResult<SimParams> {
+    let error = match serde_json::from_str::<SimParams>(json) {
+        Ok(params) => return Ok(params),
+        Err(e) => e,
+    };
+    let given: serde_json::Map<String, serde_json::Value> = serde_json::from_str(json)
+        .map_err(|e| PyValueError::new_err(format!("invalid parameters: {e}")))?;
+    let base = serde_json::to_value(SimParams::default())
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    for (key, value) in given {
+        let mut trial = base.clone();
+        trial[&key] = value.clone();
+        if let Err(e) = serde_json::from_value::<SimParams>(trial) {
+            return Err(PyValueError::new_err(format!(
+                "invalid parameter `{key}` = {value}: {e}"
+            )));
+        }
+    }
+    Err(PyValueError::new_err(format!(
+        "invalid parameters: {error}"
+    )))
+}
+
+/// A simulation of one mesh. Built by the Python layer's `tetrasim.Simulation`, which turns
+/// keyword parameters into `params_json` (the keys of `SimParams`).
+#[pyclass(module = "tetrasim", name = "_Simulation")]
+pub struct Simulation {
+    model: Model,
+    /// In a mutex only to be `Sync` (PyO3's classes are); `&mut self` reaches it unlocked.
+    backend: Mutex<Box<dyn Backend>>,
+    driver: tetrasim::sim::Simulation,
+    record: RunRecord,
+}
+
+impl Simulation {
+    fn backend(&mut self) -> PyResult<&mut Box<dyn Backend>> {
+        backend_of(&mut self.backend)
+    }
+}
+
+/// The backend in `slot`; an error only if a panic poisoned it.
+fn backend_of(slot: &mut Mutex<Box<dyn Backend>>) -> PyResult<&mut Box<dyn Backend>> {
+    slot.get_mut()
+        .map_err(|_| PyRuntimeError::new_err("the backend panicked earlier and is unusable"))
+}
+
+#[pymethods]
+impl Simulation {
+    /// Places `mesh` (`fit_size` [m] across, lowest node `drop_height` [m] above the floor;
+    /// `None` keeps the mesh's own size or position), pins the nodes `pins` and those inside
+    /// the boxes `pin_boxes` (`((x0, y0, z0), (x1, y1, z1))` [m], after placement), prepares
+    /// the problem under `params_json` and creates `backend`.
+    #[new]
+    // The Python keyword signature: one argument per keyword.
+    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (mesh, params_json, backend = "cpu", fit_size = Some(1.0), drop_height = Some(0.1), pins = Vec::new(), pin_boxes = Vec::new()))]
+    fn new(
+        py: Python<'_>,
+        mesh: &Mesh,
+        params_json: &str,
+        backend: &str,
+        fit_size: Option<f64>,
+        drop_height: Option<f64>,
+        pins: Vec<u32>,
+        pin_boxes: Vec<([f64; 3], [f64; 3])>,
+    ) -> PyResult<Self> {
+        let params = parse_params(params_json)?;
+        let n = mesh.inner.nodes.len();
+        if let Some(&bad) = pins.iter().find(|&&i| i as usize >= n) {
+            return Err(PyValueError::new_err(format!(
+                "`pins` holds node {bad}, outside 0..{n}"
+            )));
+        }
+        let mut builder = ModelBuilder::new(&mesh.inner)
+            .placement(Placement {
+                fit_size,
+                drop_height,
+            })
+            .mass(params.mass)
+            .pinned(pins);
+        for (lo, hi) in pin_boxes {
+            builder = builder.pinned_in_box(lo.into(), hi.into());
+        }
+        let model = builder.build().map_err(to_py)?;
+        let problem = Problem::new(&model, &params).map_err(to_py)?;
+        let backend = py
+            .allow_threads(|| {
+                BackendFactory::new(EngineOptions::default()).create(backend, &problem)
+            })
+            .map_err(to_py)?;
+        let record = RunRecord::new(&problem, &mesh.label, 0, backend.name());
+        Ok(Simulation {
+            driver: tetrasim::sim::Simulation::new(&model, &params),
+            model,
+            backend: Mutex::new(backend),
+            record,
+        })
+    }
+
+    /// Advances `frames` frames (each `substeps` time steps) without holding the GIL,
+    /// measuring the volume after each. Raises `DivergedError` when the run diverges (the
+    /// frames before it stay in the record).
+    #[pyo3(signature = (frames = 1))]
+    fn step(&mut self, py: Python<'_>, frames: u32) -> PyResult<()> {
+        let backend = backend_of(&mut self.backend)?;
+        let driver = &mut self.driver;
+        let result = py.allow_threads(|| {
+            for _ in 0..frames {
+                if driver.advance(backend.as_mut(), true)? == Advance::Stopped {
+                    break;
+                }
+            }
+            Ok::<_, tetrasim::Error>(())
+        });
+        result.map_err(to_py)?;
+        match &self.driver.divergence {
+            Some(d) => Err(DivergedError::new_err(d.clone())),
+            None => Ok(()),
+        }
+    }
+
+    /// Node positions [m], (n, 3) float64 (a copy read back from the backend).
+    #[getter]
+    fn positions<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let state = self.backend()?.state().map_err(to_py)?;
+        Ok(points_to_numpy(py, &state.positions))
+    }
+
+    /// Node velocities [m/s], (n, 3) float64 (a copy).
+    #[getter]
+    fn velocities<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let state = self.backend()?.state().map_err(to_py)?;
+        Ok(points_to_numpy(py, &state.velocities))
+    }
+
+    /// Replaces every node's position [m] and velocity [m/s] ((n, 3) arrays; `velocities`
+    /// `None` keeps the current ones). Pinned nodes stay where they are put and move at the
+    /// velocity they are given. Raises `ValueError` on a wrong shape or a non-finite value.
+    #[pyo3(signature = (positions, velocities = None))]
+    fn set_state(
+        &mut self,
+        positions: PyReadonlyArray2<'_, f64>,
+        velocities: Option<PyReadonlyArray2<'_, f64>>,
+    ) -> PyResult<()> {
+        let n = self.model.node_count();
+        let positions = points_from_numpy(&positions, "positions", Some(n))?;
+        let velocities = match velocities {
+            Some(v) => points_from_numpy(&v, "velocities", Some(n))?,
+            None => self.backend()?.state().map_err(to_py)?.velocities,
+        };
+        let state = State {
+            positions,
+            velocities,
+        };
+        self.backend()?.set_state(&state).map_err(to_py)
+    }
+
+    /// The total volume over the rest volume now (1.0: kept).
+    #[getter]
+    fn volume_ratio(&mut self) -> PyResult<f64> {
+        let sample = self.backend()?.volume().map_err(to_py)?;
+        Ok(sample.volume / self.model.total_rest_volume())
+    }
+
+    /// Frames completed.
+    #[getter]
+    fn frames(&self) -> u32 {
+        self.driver.frames()
+    }
+
+    /// Simulated time [s].
+    #[getter]
+    fn time(&self) -> f64 {
+        self.driver.time()
+    }
+
+    /// The backend's name (`cpu-ref`, `cpu` or `vulkan`).
+    #[getter(backend)]
+    fn backend_name(&mut self) -> PyResult<&'static str> {
+        Ok(self.backend()?.name())
+    }
+
+    /// The run record so far as JSON (what `tetrasim run --json` writes for one method).
+    fn record_json(&mut self) -> PyResult<String> {
+        let mut record = self.record.clone();
+        let frames = self.driver.frames();
+        record.frames = frames;
+        self.driver.fill_record(&mut record);
+        record.ms_per_frame = match frames {
+            0 => 0.0,
+            _ => 1e3 * self.driver.stepping_s / f64::from(frames),
+        };
+        record.wall_s = self.driver.stepping_s;
+        if let Some(gpu) = self.backend()?.gpu_report().map_err(to_py)? {
+            record.device = Some(gpu.device);
+            record.atomics = Some(gpu.atomics);
+            record.passes = Some(gpu.passes);
+        }
+        serde_json::to_string(&record).map_err(|e| PyValueError::new_err(e.to_string()))
+    }
+
+    /// Writes the deformed mesh to `path` as `tetrasim run --format` does, the format from
+    /// the extension (`.ply`, `.obj`, `.vtk`, `.vtu`); the tet formats carry the fields
+    /// `displacement`, `velocity`, `volume_ratio`, `pinned` and `inverted`.
+    fn write(&mut self, path: PathBuf) -> PyResult<()> {
+        let state = self.backend()?.state().map_err(to_py)?;
+        tetrasim::output::write_state(&path, &self.model, &state).map_err(to_py)
+    }
+}

@@ -1,0 +1,137 @@
+"""Simulations: the seed table equals the command line's to the last digit, state in and
+out as numpy arrays, records, output files, and the exceptions bad input raises."""
+
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+import tetrasim
+
+SERIES = ("time_s", "volume_pct", "local_error_pct", "inverted_tets")
+SUMMARY = ("min_volume_pct", "avg_volume_pct", "max_inverted_tets", "avg_local_error_pct", "max_local_error_pct", "contact_time_s", "diverged")
+
+
+@pytest.mark.parametrize("backend", ["cpu", "cpu-ref"])
+def test_the_seed_table_equals_the_command_lines(cli, tmp_path, backend):
+    out = tmp_path / "seed.json"
+    subprocess.run(
+        [cli, "run", "--mesh", "meshes/sphere", "--preset", "seed", "--method", "all",
+         "--backend", backend, "--json", str(out), "--quiet"],
+        check=True, capture_output=True,
+    )
+    records = json.loads(out.read_text())
+    assert [r["method"] for r in records] == ["mss", "distance", "volume"]
+    mesh = tetrasim.read_mesh("meshes/sphere")
+    for cli_record in records:
+        sim = tetrasim.Simulation(mesh, backend=backend, method=cli_record["method"])
+        sim.step(400)
+        mine = sim.record()
+        for key in SERIES + SUMMARY + ("params", "groups", "global_volume", "nodes", "tets", "frames"):
+            assert mine[key] == cli_record[key], (cli_record["method"], key)
+        assert len(mine["volume_pct"]) == 400
+
+
+@pytest.mark.parametrize("backend", ["cpu-ref", "cpu"])
+def test_state_comes_back_as_numpy_and_survives_set_state(backend):
+    sim = tetrasim.Simulation("meshes/sphere", method="volume", iterations=5, backend=backend)
+    x0 = sim.positions
+    assert x0.shape == (823, 3) and x0.dtype == np.float64
+    # Placement: fitted to 1 m, lowest node 0.1 m up (exact in f64, to f32 rounding on cpu).
+    assert x0[:, 1].min() == pytest.approx(0.1, abs=1e-7)
+    assert np.ptp(x0, axis=0).max() == pytest.approx(1.0, abs=1e-6)
+    # Any state set comes back as set (cpu holds float32: set values it can hold).
+    x0 = x0.astype(np.float32).astype(np.float64)
+    sim.step(20)
+    x, v = sim.positions, sim.velocities
+    assert v[:, 1].mean() < -0.1  # falling
+    assert (sim.frames, sim.time) == (20, pytest.approx(0.02))
+    lifted = (x + [0.0, 1.0, 0.0]).astype(np.float32).astype(np.float64)
+    sim.set_state(lifted, np.zeros_like(v))
+    assert np.array_equal(sim.positions, lifted)
+    assert np.array_equal(sim.velocities, np.zeros_like(v))
+    sim.set_state(x0)  # velocities kept
+    assert np.array_equal(sim.positions, x0) and np.array_equal(sim.velocities, np.zeros_like(v))
+    assert sim.volume_ratio == pytest.approx(1.0, abs=1e-6)
+
+
+def test_pins_hold_nodes_and_materials_take_physical_units():
+    sim = tetrasim.Simulation(
+        "meshes/box", method="volume", springs="implicit", youngs_modulus=1e5,
+        poisson_ratio=0.45, density=1000.0, drop_height=0.5,
+        pin_boxes=[((-1.0, 0.0, -1.0), (-0.45, 2.0, 1.0))],
+    )
+    x0 = sim.positions
+    pinned = x0[:, 0] <= -0.45
+    assert pinned.sum() > 10
+    sim.step(100)
+    x = sim.positions
+    assert np.array_equal(x[pinned], x0[pinned])
+    assert x[~pinned, 1].min() < x0[~pinned, 1].min() - 0.01  # the free end sags
+    record = sim.record()
+    assert record["params"]["youngs_modulus"] == 1e5 and record["damping"] > 0
+    assert record["params"]["mass"] == {"mode": "density", "density": 1000.0}
+
+
+def test_the_deformed_mesh_is_written_with_its_fields(tmp_path):
+    import meshio
+
+    sim = tetrasim.Simulation("meshes/sphere", method="distance", iterations=5)
+    sim.step(10)
+    sim.write(tmp_path / "f.vtu")
+    m = meshio.read(tmp_path / "f.vtu")
+    assert np.allclose(m.points, sim.positions)
+    assert {"displacement", "velocity", "volume_ratio", "pinned"} <= set(m.point_data)
+    sim.write(tmp_path / "f.ply")
+    assert (tmp_path / "f.ply").stat().st_size > 0
+
+
+def test_bad_parameters_raise_with_the_engines_message():
+    with pytest.raises(TypeError, match="itterations"):
+        tetrasim.Simulation("meshes/sphere", itterations=3)
+    with pytest.raises(ValueError, match="dt"):
+        tetrasim.Simulation("meshes/sphere", dt=-1.0)
+    with pytest.raises(ValueError, match="method"):
+        tetrasim.Simulation("meshes/sphere", method="magic")
+    with pytest.raises(ValueError, match="backend"):
+        tetrasim.Simulation("meshes/sphere", backend="abacus")
+    with pytest.raises(ValueError, match="pins"):
+        tetrasim.Simulation("meshes/sphere", pins=[100000])
+    with pytest.raises(ValueError, match="density"):
+        tetrasim.Simulation("meshes/sphere", density=1.0, node_mass=1.0)
+    sim = tetrasim.Simulation("meshes/sphere", iterations=2)
+    with pytest.raises(ValueError, match="positions"):
+        sim.set_state(np.zeros((5, 3)))
+    with pytest.raises(ValueError, match="not finite"):
+        sim.set_state(np.full((823, 3), np.nan))
+
+
+def test_a_diverging_run_raises_and_keeps_its_record():
+    sim = tetrasim.Simulation("meshes/sphere", method="mss", ks=5e7, dt=1e-2)
+    with pytest.raises(tetrasim.DivergedError):
+        sim.step(200)
+    record = sim.record()
+    assert record["diverged"] and record["divergence"]
+    assert len(record["volume_pct"]) < 200
+
+
+def test_a_record_rebuilds_its_simulation():
+    sim = tetrasim.Simulation("meshes/torus", method="volume", iterations=4, backend="cpu-ref")
+    sim.step(30)
+    again = tetrasim.Simulation.from_record(sim.record(), fit_size=1.0, drop_height=0.1)
+    again.step(30)
+    assert again.record()["volume_pct"] == sim.record()["volume_pct"]
+
+
+def test_the_gpu_backend_runs_from_python():
+    sim = tetrasim.Simulation("meshes/sphere", method="volume", backend="vulkan")
+    sim.step(150)
+    record = sim.record()
+    assert record["backend"] == "vulkan" and record["device"]
+    assert [p["name"] for p in record["passes"]][-1] in ("check", "volume_sum")
+    assert sim.positions.shape == (823, 3)
+    reference = tetrasim.Simulation("meshes/sphere", method="volume", backend="cpu-ref")
+    reference.step(150)
+    assert np.abs(sim.positions - reference.positions).max() < 1e-3
+    assert abs(sim.volume_ratio - reference.volume_ratio) < 1e-4

@@ -1,0 +1,228 @@
+"""tetrasim: volume-preserving soft bodies on tetrahedral meshes, from Python.
+
+The engine (Rust: a CPU reference, a multi-threaded CPU backend and a Vulkan GPU backend)
+with numpy arrays in and out::
+
+    import tetrasim
+    sim = tetrasim.Simulation("meshes/sphere", method="volume", backend="cpu")
+    sim.step(400)                  # 400 frames of 1 ms
+    print(sim.volume_ratio, sim.positions.shape)
+    record = sim.record()          # what `tetrasim run --json` writes
+
+Units are SI throughout: metres, seconds, kilograms, newtons, pascals. See docs/PYTHON.md
+for every call.
+"""
+
+from __future__ import annotations
+
+import copyreg
+import json
+import os
+from typing import Any, Iterable, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _tetrasim
+from ._tetrasim import BACKENDS, HAS_TETGEN, DivergedError, Mesh, __version__
+
+__all__ = [
+    "BACKENDS",
+    "HAS_TETGEN",
+    "DivergedError",
+    "Mesh",
+    "Simulation",
+    "default_params",
+    "mesh_from_meshio",
+    "mesh_to_meshio",
+    "prep",
+    "read_mesh",
+    "sweep",
+    "__version__",
+]
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+def default_params() -> dict:
+    """Every run parameter by its name, with its default (the keys `Simulation` takes)."""
+    return json.loads(_tetrasim.default_params())
+
+
+def read_mesh(path: PathLike, target_tets: Optional[int] = None) -> Mesh:
+    """Reads a tet mesh (TetGen prefix or ``.node``, ``.vtk``, ``.vtu``, ``.msh``, ``.mesh``;
+    the bundled ``meshes/sphere``, ``meshes/box``, ``meshes/torus`` from any folder), or
+    meshes a surface file (``.ply``, ``.obj``, ``.off``, ``.stl``) aiming at ``target_tets``.
+
+    Raises ``FileNotFoundError``, ``OSError`` or ``ValueError`` (bad content)."""
+    return _tetrasim.read_mesh(os.fspath(path), target_tets)
+
+
+def prep(
+    surface: PathLike,
+    target_tets: Optional[int] = None,
+    mesher: str = "tetgen",
+    quality: Optional[float] = 2.0,
+) -> Mesh:
+    """Meshes a closed surface file into tets as ``tetprep`` does (repair, then TetGen with
+    the radius-edge bound ``quality``, aiming at ``target_tets``; ``mesher="voxel"`` for the
+    grid mesher). Raises ``FileNotFoundError``, ``ValueError`` or ``RuntimeError``."""
+    return _tetrasim.prep(os.fspath(surface), target_tets, mesher, quality)
+
+
+def mesh_from_meshio(m: Any, label: str = "meshio") -> Mesh:
+    """A ``Mesh`` from a ``meshio.Mesh`` holding a ``tetra`` cell block (other blocks are
+    ignored; unused nodes are kept). Raises ``ValueError`` without tetrahedra."""
+    blocks = [c.data for c in m.cells if c.type == "tetra"]
+    if not blocks:
+        raise ValueError("the meshio mesh has no `tetra` cells")
+    tets = np.concatenate(blocks).astype(np.int64)
+    return Mesh(np.asarray(m.points, dtype=np.float64)[:, :3], tets, label)
+
+
+def mesh_to_meshio(mesh: Mesh) -> Any:
+    """The mesh as a ``meshio.Mesh`` (points and one ``tetra`` block)."""
+    import meshio
+
+    return meshio.Mesh(mesh.nodes, [("tetra", mesh.tets)])
+
+
+# Mesh methods in the Python layer, and pickling (for Ray and process pools).
+Mesh.from_meshio = staticmethod(mesh_from_meshio)  # type: ignore[attr-defined]
+Mesh.to_meshio = mesh_to_meshio  # type: ignore[attr-defined]
+copyreg.pickle(Mesh, lambda m: (Mesh, (m.nodes, m.tets, m.label)))
+
+
+def _mesh(mesh: Union[Mesh, PathLike]) -> Mesh:
+    if isinstance(mesh, Mesh):
+        return mesh
+    return read_mesh(mesh)
+
+
+def _params(overrides: dict) -> str:
+    params = default_params()
+    unknown = sorted(set(overrides) - set(params) - {"density", "node_mass"})
+    if unknown:
+        raise TypeError(
+            f"unknown parameter(s) {', '.join(unknown)}; known: {', '.join(sorted(params))}, "
+            "density, node_mass"
+        )
+    overrides = dict(overrides)
+    density = overrides.pop("density", None)
+    node_mass = overrides.pop("node_mass", None)
+    if density is not None and node_mass is not None:
+        raise ValueError("give `density` or `node_mass`, not both")
+    if density is not None:
+        params["mass"] = {"mode": "density", "density": float(density)}
+    if node_mass is not None:
+        params["mass"] = {"mode": "per-node", "mass": float(node_mass)}
+    params.update(overrides)
+    return json.dumps(params)
+
+
+class Simulation:
+    """One mesh under one parameter set on one backend.
+
+    ``mesh``: a ``Mesh`` or a path for ``read_mesh``. ``backend``: ``"cpu"`` (all cores),
+    ``"cpu-ref"`` (the double-precision reference) or ``"vulkan"`` (the GPU).
+    ``fit_size`` [m]: scale the mesh so its largest side is this (``None``: keep its size);
+    ``drop_height`` [m]: its lowest node this far above the floor, centred over the origin
+    when fitted (``None``: keep its position). ``pins``: node indices that never move (unless
+    ``set_state`` moves them); ``pin_boxes``: ``((x0, y0, z0), (x1, y1, z1))`` boxes [m,
+    after placement] whose nodes are pinned. ``params``: any run parameter by its name
+    (``default_params()`` lists them, e.g. ``method="volume"``, ``dt=1e-3``,
+    ``iterations=10``, ``solver="gauss-seidel"``, ``youngs_modulus=1e5``,
+    ``poisson_ratio=0.45``), plus ``density`` [kg/m^3] or ``node_mass`` [kg].
+
+    Raises ``TypeError`` for an unknown parameter name, ``ValueError`` for a bad value (the
+    engine's message names it), ``OSError`` for mesh files, ``RuntimeError`` for the GPU.
+    """
+
+    def __init__(
+        self,
+        mesh: Union[Mesh, PathLike],
+        *,
+        backend: str = "cpu",
+        fit_size: Optional[float] = 1.0,
+        drop_height: Optional[float] = 0.1,
+        pins: Iterable[int] = (),
+        pin_boxes: Sequence[Tuple[Sequence[float], Sequence[float]]] = (),
+        **params: Any,
+    ) -> None:
+        self.mesh = _mesh(mesh)
+        boxes = [(tuple(map(float, lo)), tuple(map(float, hi))) for lo, hi in pin_boxes]
+        self._sim = _tetrasim._Simulation(
+            self.mesh,
+            _params(params),
+            backend,
+            fit_size,
+            drop_height,
+            [int(i) for i in pins],
+            boxes,
+        )
+
+    @classmethod
+    def from_record(cls, record: dict, mesh: Union[Mesh, PathLike, None] = None, **kw: Any) -> "Simulation":
+        """A simulation with the parameters and backend of a run record (``record()`` or a
+        record of ``tetrasim run --json``), on ``mesh`` (default: the record's)."""
+        return cls(mesh if mesh is not None else record["mesh"], backend=record["backend"], **record["params"], **kw)
+
+    def step(self, frames: int = 1) -> None:
+        """Advances ``frames`` frames (``substeps`` time steps of ``dt`` each), releasing the
+        GIL. Raises ``DivergedError`` when the run diverges."""
+        self._sim.step(frames)
+
+    @property
+    def positions(self) -> np.ndarray:
+        """Node positions [m], ``(n, 3)`` float64 (a copy)."""
+        return self._sim.positions
+
+    @property
+    def velocities(self) -> np.ndarray:
+        """Node velocities [m/s], ``(n, 3)`` float64 (a copy)."""
+        return self._sim.velocities
+
+    def set_state(self, positions: Any, velocities: Any = None) -> None:
+        """Replaces positions [m] and velocities [m/s] (``(n, 3)``; ``velocities=None`` keeps
+        the current ones)."""
+        positions = np.ascontiguousarray(positions, dtype=np.float64)
+        if velocities is not None:
+            velocities = np.ascontiguousarray(velocities, dtype=np.float64)
+        self._sim.set_state(positions, velocities)
+
+    @property
+    def volume_ratio(self) -> float:
+        """Total volume over rest volume now (1.0: kept)."""
+        return self._sim.volume_ratio
+
+    @property
+    def frames(self) -> int:
+        """Frames completed."""
+        return self._sim.frames
+
+    @property
+    def time(self) -> float:
+        """Simulated time [s]."""
+        return self._sim.time
+
+    @property
+    def backend(self) -> str:
+        """The backend's name."""
+        return self._sim.backend
+
+    def record(self) -> dict:
+        """The run record so far (per-frame ``volume_pct``, ``local_error_pct``,
+        ``inverted_tets``, ``time_s``, their summaries, ``params``): what ``tetrasim run
+        --json`` writes for one method."""
+        return json.loads(self._sim.record_json())
+
+    def write(self, path: PathLike) -> None:
+        """Writes the deformed mesh, the format from the extension: ``.vtk``, ``.vtu`` (tet
+        mesh with displacement, velocity, volume ratio, pinned and inverted fields), ``.ply``
+        (surface with per-vertex volume ratio) or ``.obj`` (surface)."""
+        self._sim.write(os.fspath(path))
+
+    def __repr__(self) -> str:
+        return f"Simulation({self.mesh!r}, backend={self.backend!r}, frames={self.frames})"
+
+
+from .sweep import sweep  # noqa: E402  (uses Simulation)
