@@ -10,9 +10,10 @@
 
 pub mod bench;
 pub mod cli;
-pub mod launch;
-pub mod overrides;
 pub mod preset;
 pub mod render_session;
 pub mod runner;
-pub mod scene;
+
+/// Scene files, their staging and the parameter overrides: the `tetrascene` crate (shared
+/// with the Python package), under the names the command line has always used.
+pub use tetrascene::{launch, overrides, scene};

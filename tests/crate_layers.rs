@@ -112,3 +112,34 @@ fn tetprep_builds_without_the_engine() {
         "tetprep meshes with TetGen"
     );
 }
+
+/// The scene format is shared by the command line and the Python package: the engine, serde
+/// and toml, and no command line unless its `clap` feature asks (then clap alone).
+#[test]
+fn the_scene_crate_reads_toml_without_the_command_line() {
+    assert_eq!(
+        application_crates_in("tetrascene", &[]),
+        vec!["toml".to_string()]
+    );
+    assert_eq!(
+        application_crates_in("tetrascene", &["clap"]),
+        vec!["clap".to_string(), "toml".to_string()]
+    );
+}
+
+/// The Python package embeds the engine and the scene format, with TetGen (its `prep`) and
+/// nothing else of the application: no command line, plots, images or progress bars.
+#[test]
+fn the_python_package_embeds_the_engine_alone() {
+    let deps = dependencies("tetrasim-py", &[]);
+    for needed in ["tetrasim", "tetrascene", "pyo3", "numpy"] {
+        assert!(
+            deps.iter().any(|d| d == needed),
+            "the package lacks {needed}"
+        );
+    }
+    assert_eq!(
+        application_crates_in("tetrasim-py", &[]),
+        vec!["tetgen-sys".to_string(), "toml".to_string()]
+    );
+}

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::sync::Mutex;
 
 use numpy::{PyArray2, PyReadonlyArray2};
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyFileNotFoundError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use tetrasim::backend::vulkan::EngineOptions;
 use tetrasim::backend::{Backend, State};
@@ -63,6 +63,29 @@ pub struct Simulation {
 }
 
 impl Simulation {
+    /// `model` under `params` on `backend`, before its first frame.
+    fn of_model(
+        py: Python<'_>,
+        model: Model,
+        params: &SimParams,
+        label: &str,
+        backend: &str,
+    ) -> PyResult<Self> {
+        let problem = Problem::new(&model, params).map_err(to_py)?;
+        let backend = py
+            .allow_threads(|| {
+                BackendFactory::new(EngineOptions::default()).create(backend, &problem)
+            })
+            .map_err(to_py)?;
+        let record = RunRecord::new(&problem, label, 0, backend.name());
+        Ok(Simulation {
+            driver: tetrasim::sim::Simulation::new(&model, params),
+            model,
+            backend: Mutex::new(backend),
+            record,
+        })
+    }
+
     fn backend(&mut self) -> PyResult<&mut Box<dyn Backend>> {
         backend_of(&mut self.backend)
     }
@@ -112,19 +135,29 @@ impl Simulation {
             builder = builder.pinned_in_box(lo.into(), hi.into());
         }
         let model = builder.build().map_err(to_py)?;
-        let problem = Problem::new(&model, &params).map_err(to_py)?;
-        let backend = py
+        Simulation::of_model(py, model, &params, &mesh.label, backend)
+    }
+
+    /// The scene file `path` (objects, materials, pins, velocities, colliders, `[solver]`;
+    /// its `[output]` is the command line's and not written here) staged as `tetrasim run
+    /// --scene` stages it, on `backend`; also returns the frames the scene asks for.
+    #[staticmethod]
+    #[pyo3(signature = (path, backend = "cpu"))]
+    fn from_scene(py: Python<'_>, path: PathBuf, backend: &str) -> PyResult<(Self, u32)> {
+        if !path.exists() {
+            return Err(PyFileNotFoundError::new_err(format!(
+                "{}: the file does not exist",
+                path.display()
+            )));
+        }
+        let staged = py
             .allow_threads(|| {
-                BackendFactory::new(EngineOptions::default()).create(backend, &problem)
+                let scene = tetrascene::scene::Scene::load(&path)?;
+                tetrascene::launch::stage(&scene)
             })
             .map_err(to_py)?;
-        let record = RunRecord::new(&problem, &mesh.label, 0, backend.name());
-        Ok(Simulation {
-            driver: tetrasim::sim::Simulation::new(&model, &params),
-            model,
-            backend: Mutex::new(backend),
-            record,
-        })
+        let sim = Simulation::of_model(py, staged.model, &staged.params, &staged.label, backend)?;
+        Ok((sim, staged.frames))
     }
 
     /// Advances `frames` frames (each `substeps` time steps) without holding the GIL,

@@ -135,3 +135,32 @@ def test_the_gpu_backend_runs_from_python():
     reference.step(150)
     assert np.abs(sim.positions - reference.positions).max() < 1e-3
     assert abs(sim.volume_ratio - reference.volume_ratio) < 1e-4
+
+
+def test_a_scene_runs_as_the_command_line_runs_it(cli, root, tmp_path):
+    scene = tmp_path / "two.toml"
+    scene.write_text(
+        "[solver]\nframes = 120\niterations = 5\n"
+        "[[object]]\nmesh = \"{root}/meshes/sphere\"\nmethod = \"volume\"\nfit_size = 0.4\n"
+        "drop_height = 0.05\nvelocity = [0.5, 0.0, 0.0]\n"
+        "[[object]]\nmesh = \"{root}/meshes/torus\"\nmethod = \"volume\"\nfit_size = 0.5\n"
+        "drop_height = 0.6\nmaterial = {{ ks = 3000.0 }}\npin = {{ nodes = [0, 1, 2] }}\n"
+        "[[collider]]\ntype = \"floor\"\nfriction = 0.3\n"
+        "[output]\njson = \"out.json\"\n".format(root=root)
+    )
+    run = subprocess.run([cli, "run", "--scene", str(scene), "--backend", "cpu", "--quiet"], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    cli_record = json.loads((tmp_path / "out.json").read_text())[0]
+    sim = tetrasim.Simulation.from_scene(scene, backend="cpu")
+    assert sim.scene_frames == 120 and sim.mesh is None
+    sim.step(sim.scene_frames)
+    mine = sim.record()
+    for key in SERIES + SUMMARY + ("params", "nodes", "tets", "mesh"):
+        assert mine[key] == cli_record[key], key
+    assert mine["params"]["friction"] == 0.3
+    with pytest.raises(FileNotFoundError):
+        tetrasim.Simulation.from_scene(tmp_path / "missing.toml")
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[[object]]\nmesh = \"x\"\nfit_size = -1.0\n")
+    with pytest.raises(ValueError, match=r"object\[0\].fit_size"):
+        tetrasim.Simulation.from_scene(bad)

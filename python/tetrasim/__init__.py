@@ -160,6 +160,22 @@ class Simulation:
             boxes,
         )
 
+    #: Frames the scene asks for (``solver.frames``), for a simulation made by ``from_scene``.
+    scene_frames: Optional[int] = None
+
+    @classmethod
+    def from_scene(cls, path: PathLike, backend: str = "cpu") -> "Simulation":
+        """The scene file ``path`` (TOML: objects with their meshes, placement, materials,
+        pins and velocities, colliders, ``[solver]``) staged as ``tetrasim run --scene``
+        stages it, on ``backend``. ``scene_frames`` is the frames it asks for; its
+        ``[output]`` is the command line's and not written here (``record()`` and ``write``
+        are). ``mesh`` is ``None`` (the objects are one model). Raises ``FileNotFoundError``,
+        ``ValueError`` naming the scene key that is wrong, ``OSError``."""
+        self = cls.__new__(cls)
+        self.mesh = None
+        self._sim, self.scene_frames = _tetrasim._Simulation.from_scene(os.fspath(path), backend)
+        return self
+
     @classmethod
     def from_record(cls, record: dict, mesh: Union[Mesh, PathLike, None] = None, **kw: Any) -> "Simulation":
         """A simulation with the parameters and backend of a run record (``record()`` or a
@@ -222,7 +238,8 @@ class Simulation:
         self._sim.write(os.fspath(path))
 
     def __repr__(self) -> str:
-        return f"Simulation({self.mesh!r}, backend={self.backend!r}, frames={self.frames})"
+        what = repr(self.mesh) if self.mesh is not None else "scene"
+        return f"Simulation({what}, backend={self.backend!r}, frames={self.frames})"
 
 
 from .sweep import sweep  # noqa: E402  (uses Simulation)

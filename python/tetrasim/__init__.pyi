@@ -45,7 +45,8 @@ def mesh_from_meshio(m: Any, label: str = "meshio") -> Mesh: ...
 def mesh_to_meshio(mesh: Mesh) -> Any: ...
 
 class Simulation:
-    mesh: Mesh
+    mesh: Optional[Mesh]
+    scene_frames: Optional[int]
     def __init__(
         self,
         mesh: Union[Mesh, PathLike],
@@ -57,6 +58,8 @@ class Simulation:
         pin_boxes: Sequence[Tuple[Sequence[float], Sequence[float]]] = (),
         **params: Any,
     ) -> None: ...
+    @classmethod
+    def from_scene(cls, path: PathLike, backend: str = "cpu") -> "Simulation": ...
     @classmethod
     def from_record(
         cls, record: Dict[str, Any], mesh: Union[Mesh, PathLike, None] = None, **kw: Any

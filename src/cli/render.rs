@@ -102,7 +102,7 @@ pub fn execute(args: RenderArgs) -> anyhow::Result<()> {
         anyhow::bail!("the scene's output.json is not written by `render`; use `tetrasim run`");
     }
     let output = &scene.output;
-    output.prepare()?;
+    crate::runner::prepare_outputs(output)?;
     if let Some(dir) = &args.frames_dir {
         crate::runner::create_dir(dir)?;
     }
@@ -137,7 +137,7 @@ pub fn execute(args: RenderArgs) -> anyhow::Result<()> {
             gif_every: args.gif_every,
             sheet: args.sheet.clone(),
             sheet_columns: args.sheet_frames,
-            meshes: output.frames()?,
+            meshes: crate::runner::frame_output(output)?,
         },
         engine,
         progress: !run.quiet,

@@ -48,7 +48,7 @@ impl MethodChoice {
 /// Arguments of `tetrasim run`. Every physics value defaults to the preset's.
 #[derive(Debug, clap::Args)]
 pub struct RunArgs {
-    /// A scene file (TOML, documented in src/scene.rs): objects, colliders, solver and outputs.
+    /// A scene file (TOML, documented in crates/tetrascene/src/scene.rs): objects, colliders, solver and outputs.
     /// The mesh, physics and output flags below must not be given with it.
     #[arg(long, conflicts_with_all = scene_conflicts())]
     pub scene: Option<PathBuf>,
@@ -294,7 +294,7 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
             tetrasim::Error::param("every", "acts only with --out-dir, and none is given").into(),
         );
     }
-    scene.output.prepare()?;
+    crate::runner::prepare_outputs(&scene.output)?;
     let staged = stage(&scene).with_context(|| match &args.scene {
         Some(path) => format!("staging the scene {}", path.display()),
         None => format!("building the model of {}", args.mesh.display()),
@@ -326,7 +326,7 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
         );
     }
     let out = &scene.output;
-    let output = out.frames()?;
+    let output = crate::runner::frame_output(out)?;
     let options = RunOptions {
         backend: backend.to_string(),
         frames: staged.frames,

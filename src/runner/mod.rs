@@ -6,7 +6,8 @@
 mod output;
 
 pub use output::{
-    create_dir, prepare_output_file, write_atomically, FrameOutput, OutputFormat, OutputUnits,
+    create_dir, frame_output, prepare_output_file, prepare_outputs, write_atomically, FrameOutput,
+    OutputFormat, OutputUnits,
 };
 
 use std::time::Instant;

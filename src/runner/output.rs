@@ -99,6 +99,34 @@ impl FrameOutput {
     }
 }
 
+/// The periodic mesh output a scene's `[output]` asks for (its folder created), if any.
+pub fn frame_output(output: &tetrascene::scene::Output) -> Result<Option<FrameOutput>> {
+    output
+        .dir
+        .as_ref()
+        .map(|dir| {
+            FrameOutput::new(
+                dir,
+                output.every.unwrap_or(tetrascene::scene::DEFAULT_EVERY),
+                output.format.unwrap_or_default(),
+                output.units.unwrap_or_default(),
+            )
+        })
+        .transpose()
+}
+
+/// Creates a scene's output folders (and the JSON file's folder) before any work starts, or
+/// says why one cannot be; refuses a JSON path that is a folder.
+pub fn prepare_outputs(output: &tetrascene::scene::Output) -> Result<()> {
+    if let Some(path) = &output.json {
+        prepare_output_file(path)?;
+    }
+    if let Some(dir) = &output.dir {
+        create_dir(dir)?;
+    }
+    Ok(())
+}
+
 /// Creates `dir` and its parents, or says why it cannot (e.g. a file is in the way).
 pub fn create_dir(dir: &Path) -> Result<()> {
     if dir.exists() && !dir.is_dir() {

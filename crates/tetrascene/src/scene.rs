@@ -168,42 +168,15 @@ pub struct Output {
     /// Frames between mesh files (default [`DEFAULT_EVERY`]); needs `dir`.
     pub every: Option<u32>,
     /// Mesh file format (default `ply`); needs `dir`.
-    pub format: Option<crate::runner::OutputFormat>,
+    pub format: Option<tetrasim::output::OutputFormat>,
     /// Units and frame of written positions (default `simulation`); needs `dir`.
-    pub units: Option<crate::runner::OutputUnits>,
+    pub units: Option<tetrasim::output::OutputUnits>,
 }
 
 /// Frames between mesh files when `every` is not given.
 pub const DEFAULT_EVERY: u32 = 10;
 
 impl Output {
-    /// The periodic mesh output this section asks for (its folder created), if any.
-    pub fn frames(&self) -> Result<Option<crate::runner::FrameOutput>> {
-        self.dir
-            .as_ref()
-            .map(|dir| {
-                crate::runner::FrameOutput::new(
-                    dir,
-                    self.every.unwrap_or(DEFAULT_EVERY),
-                    self.format.unwrap_or_default(),
-                    self.units.unwrap_or_default(),
-                )
-            })
-            .transpose()
-    }
-
-    /// Creates the output folders (and the JSON file's folder) before any work starts, or
-    /// says why one cannot be; refuses a JSON path that is a folder.
-    pub fn prepare(&self) -> Result<()> {
-        if let Some(path) = &self.json {
-            crate::runner::prepare_output_file(path)?;
-        }
-        if let Some(dir) = &self.dir {
-            crate::runner::create_dir(dir)?;
-        }
-        Ok(())
-    }
-
     /// Error naming the first of `every`, `format`, `units` given without `dir`; `key` turns
     /// a field name into the name the user wrote (`output.every`, `--every`).
     pub fn check(&self, key: impl Fn(&str) -> String, dir_key: &str) -> Result<()> {

@@ -1,7 +1,8 @@
 //! Optional overrides of [`SimParams`]: the one list of the parameters a user sets. Each
-//! struct is both a part of `tetrasim run`'s flags (clap, flattened into `RunArgs`; the doc
-//! comments are the `--help` text) and a table of a scene file (serde: `[solver]` and an
-//! object's `material`); `apply` writes the given values onto a [`SimParams`].
+//! struct is both a table of a scene file (serde: `[solver]` and an object's `material`)
+//! and, with the `clap` feature, a part of `tetrasim run`'s flags (flattened into `RunArgs`;
+//! the doc comments are the `--help` text); `apply` writes the given values onto a
+//! [`SimParams`].
 //!
 //! A new parameter is a field of [`SimParams`] (with its default) and a field here (with its
 //! line in `apply`).
@@ -12,58 +13,59 @@ use tetrasim::params::{ConstraintCombine, MassMode, SimParams, Solver, SpringKin
 
 /// Time stepping and the constraint solver, shared by all objects: a scene's `[solver]`
 /// table and `run`'s solver flags. `None` keeps the base value (the preset's).
-#[derive(Debug, Clone, Default, PartialEq, clap::Args, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 #[serde(deny_unknown_fields)]
 pub struct SolverOverrides {
     /// Time step [s].
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub dt: Option<f64>,
     /// Time steps per frame.
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub substeps: Option<u32>,
     /// Constraint iterations per time step.
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub iterations: Option<u32>,
     /// Relaxation factor of the constraint forces.
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub omega: Option<f64>,
     /// How constraint forces are combined: `scaled` (momentum-conserving, default), `sum`
     /// (the paper's literal reading), `average` (first edition, drifts; for comparison).
-    #[arg(long, value_enum)]
+    #[cfg_attr(feature = "clap", arg(long, value_enum))]
     pub combine: Option<ConstraintCombine>,
     /// How each iteration sweeps the constraints: `gauss-seidel` (colour groups, default),
     /// `jacobi` (the paper's method) or `chebyshev` (Jacobi with Chebyshev semi-iteration).
-    #[arg(long, value_enum)]
+    #[cfg_attr(feature = "clap", arg(long, value_enum))]
     pub solver: Option<Solver>,
     /// Colour groups of the Gauss-Seidel solver (default 8).
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub groups: Option<u32>,
     /// One global volume constraint per object, solved after the local constraints in every
     /// iteration: `true` (`--global-volume` alone) or `false`; default: on for
     /// `gauss-seidel`, off for `jacobi` (the paper's method) and `chebyshev`.
-    #[arg(long, num_args = 0..=1, default_missing_value = "true", value_name = "BOOL")]
+    #[cfg_attr(feature = "clap", arg(long, num_args = 0..=1, default_missing_value = "true", value_name = "BOOL"))]
     pub global_volume: Option<bool>,
     /// Springs as the paper's explicit forces (`explicit`, default) or as compliant
     /// constraints solved with the others (`implicit`: stable for any mass and stiffness;
     /// methods mss and volume).
-    #[arg(long, value_enum)]
+    #[cfg_attr(feature = "clap", arg(long, value_enum))]
     pub springs: Option<SpringKind>,
     /// Implicit springs start each step from the last step's multipliers: stiffness
     /// independent of the iteration count for slow, quasi-static loads (not through impacts;
     /// default false).
-    #[arg(long, num_args = 0..=1, default_missing_value = "true", value_name = "BOOL")]
+    #[cfg_attr(feature = "clap", arg(long, num_args = 0..=1, default_missing_value = "true", value_name = "BOOL"))]
     pub warm_start: Option<bool>,
     /// Spectral radius estimate of the Chebyshev solver, in (0, 1) (default 0.95).
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub rho: Option<f64>,
     /// Skip a constraint whose denominator A is at or below this.
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub epsilon: Option<f64>,
     /// Gravity along -Y [m/s^2].
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub gravity: Option<f64>,
     /// Frames to simulate (the length of the run, not a `SimParams` value).
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub frames: Option<u32>,
 }
 
@@ -85,9 +87,27 @@ impl SolverOverrides {
         set(&mut params.gravity, self.gravity);
     }
 
+    /// Every key (a `[solver]` key, a flag's id).
+    pub const KEYS: [&'static str; 14] = [
+        "dt",
+        "substeps",
+        "iterations",
+        "omega",
+        "combine",
+        "solver",
+        "groups",
+        "global_volume",
+        "springs",
+        "warm_start",
+        "rho",
+        "epsilon",
+        "gravity",
+        "frames",
+    ];
+
     /// Whether `key` is one of these values (a flag's id, a `[solver]` key).
     pub fn has(key: &str) -> bool {
-        has_arg::<Self>(key)
+        Self::KEYS.contains(&key)
     }
 
     /// A value given for a solver that does not use it, refused rather than ignored: the
@@ -106,40 +126,58 @@ impl SolverOverrides {
 
 /// Spring constants or an elastic material, and mass, of an object: a scene object's
 /// `material` table and `run`'s material flags. `None` keeps the base value (the preset's).
-#[derive(Debug, Clone, Default, PartialEq, clap::Args, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 #[serde(deny_unknown_fields)]
 pub struct MaterialOverrides {
     /// Spring stiffness [N/m].
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub ks: Option<f64>,
     /// Spring damping [N s/m].
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub kd: Option<f64>,
     /// Mass of every node [kg] (the preset: 1).
-    #[arg(long, conflicts_with = "density")]
+    #[cfg_attr(feature = "clap", arg(long, conflicts_with = "density"))]
     pub node_mass: Option<f64>,
     /// Lumped masses from this density [kg/m^3] instead of equal node masses.
-    #[arg(long)]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub density: Option<f64>,
     /// Young's modulus [Pa]: spring stiffnesses from the material (Van Gelder) instead of
     /// --ks; use with --density (scene key `youngs_modulus`).
-    #[arg(long = "youngs", value_name = "PA", conflicts_with_all = ["ks", "kd"])]
+    #[cfg_attr(feature = "clap", arg(long = "youngs", value_name = "PA", conflicts_with_all = ["ks", "kd"]))]
     pub youngs_modulus: Option<f64>,
     /// Poisson's ratio in [0, 0.5] of the --youngs material: compliant volume constraints
     /// (bulk modulus E / (3 (1 - 2 nu))); default and 0.5: incompressible (scene key
     /// `poisson_ratio`).
-    #[arg(long = "poisson", value_name = "NU", requires = "youngs_modulus")]
+    #[cfg_attr(
+        feature = "clap",
+        arg(long = "poisson", value_name = "NU", requires = "youngs_modulus")
+    )]
     pub poisson_ratio: Option<f64>,
     /// Damping time [s] of the --youngs material: each spring's damping is this times its
     /// stiffness (default 0.003, the paper's kd / ks).
-    #[arg(long, value_name = "S", requires = "youngs_modulus")]
+    #[cfg_attr(
+        feature = "clap",
+        arg(long, value_name = "S", requires = "youngs_modulus")
+    )]
     pub damping: Option<f64>,
 }
 
 impl MaterialOverrides {
+    /// Every key (a `material` key, a flag's id).
+    pub const KEYS: [&'static str; 7] = [
+        "ks",
+        "kd",
+        "node_mass",
+        "density",
+        "youngs_modulus",
+        "poisson_ratio",
+        "damping",
+    ];
+
     /// Whether `key` is one of these values (a flag's id, a `material` key).
     pub fn has(key: &str) -> bool {
-        has_arg::<Self>(key)
+        Self::KEYS.contains(&key)
     }
 
     /// Two given values that exclude each other (the flags refuse them through clap, scenes
@@ -186,13 +224,6 @@ impl MaterialOverrides {
     }
 }
 
-/// Whether the flags of `A` include one with id `key` (the field's name).
-fn has_arg<A: clap::Args>(key: &str) -> bool {
-    A::augment_args(clap::Command::new("keys"))
-        .get_arguments()
-        .any(|arg| arg.get_id() == key)
-}
-
 /// `*target = value` when there is one.
 fn set<T>(target: &mut T, value: Option<T>) {
     if let Some(v) = value {
@@ -234,5 +265,60 @@ mod tests {
         assert_eq!(solver.misplaced(Solver::Chebyshev), None);
         assert!(SolverOverrides::has("global_volume") && !SolverOverrides::has("ks"));
         assert!(MaterialOverrides::has("node_mass") && !MaterialOverrides::has("dt"));
+    }
+
+    /// The key lists are the structs' fields: every key a scene table accepts, and (with
+    /// `clap`) every flag's id.
+    #[test]
+    fn the_key_lists_name_every_field() {
+        for key in SolverOverrides::KEYS {
+            let text = format!("{key} = 1");
+            let err = toml::from_str::<SolverOverrides>(&text)
+                .err()
+                .map(|e| e.to_string());
+            assert!(!err.unwrap_or_default().contains("unknown field"), "{key}");
+        }
+        for key in MaterialOverrides::KEYS {
+            let text = format!("{key} = 1.0");
+            let err = toml::from_str::<MaterialOverrides>(&text)
+                .err()
+                .map(|e| e.to_string());
+            assert!(!err.unwrap_or_default().contains("unknown field"), "{key}");
+        }
+        let unknown = toml::from_str::<SolverOverrides>("nope = 1")
+            .unwrap_err()
+            .to_string();
+        let expected = unknown.split("expected one of").nth(1).unwrap_or_default();
+        assert_eq!(
+            expected.matches('`').count(),
+            2 * SolverOverrides::KEYS.len(),
+            "{unknown}"
+        );
+        let unknown = toml::from_str::<MaterialOverrides>("nope = 1")
+            .unwrap_err()
+            .to_string();
+        let expected = unknown.split("expected one of").nth(1).unwrap_or_default();
+        assert_eq!(
+            expected.matches('`').count(),
+            2 * MaterialOverrides::KEYS.len(),
+            "{unknown}"
+        );
+        #[cfg(feature = "clap")]
+        {
+            use clap::Args;
+            let ids = |cmd: clap::Command| -> Vec<String> {
+                cmd.get_arguments()
+                    .map(|a| a.get_id().to_string())
+                    .collect()
+            };
+            assert_eq!(
+                ids(SolverOverrides::augment_args(clap::Command::new("s"))),
+                SolverOverrides::KEYS
+            );
+            assert_eq!(
+                ids(MaterialOverrides::augment_args(clap::Command::new("m"))),
+                MaterialOverrides::KEYS
+            );
+        }
     }
 }
