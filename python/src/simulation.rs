@@ -4,6 +4,7 @@
 
 use std::path::PathBuf;
 use std::sync::Mutex;
+use std::time::Instant;
 
 use numpy::{PyArray2, PyReadonlyArray2};
 use pyo3::exceptions::{PyFileNotFoundError, PyRuntimeError, PyValueError};
@@ -60,6 +61,8 @@ pub struct Simulation {
     backend: Mutex<Box<dyn Backend>>,
     driver: tetrasim::sim::Simulation,
     record: RunRecord,
+    /// When the simulation was made (the record's `wall_s` counts from here).
+    created: Instant,
 }
 
 impl Simulation {
@@ -83,6 +86,7 @@ impl Simulation {
             model,
             backend: Mutex::new(backend),
             record,
+            created: Instant::now(),
         })
     }
 
@@ -253,7 +257,7 @@ impl Simulation {
             0 => 0.0,
             _ => 1e3 * self.driver.stepping_s / f64::from(frames),
         };
-        record.wall_s = self.driver.stepping_s;
+        record.wall_s = self.created.elapsed().as_secs_f64();
         if let Some(gpu) = self.backend()?.gpu_report().map_err(to_py)? {
             record.device = Some(gpu.device);
             record.atomics = Some(gpu.atomics);

@@ -164,3 +164,4 @@ def test_a_scene_runs_as_the_command_line_runs_it(cli, root, tmp_path):
     bad.write_text("[[object]]\nmesh = \"x\"\nfit_size = -1.0\n")
     with pytest.raises(ValueError, match=r"object\[0\].fit_size"):
         tetrasim.Simulation.from_scene(bad)
+

@@ -129,7 +129,8 @@ class Simulation:
     when fitted (``None``: keep its position). ``pins``: node indices that never move (unless
     ``set_state`` moves them); ``pin_boxes``: ``((x0, y0, z0), (x1, y1, z1))`` boxes [m,
     after placement] whose nodes are pinned. ``params``: any run parameter by its name
-    (``default_params()`` lists them, e.g. ``method="volume"``, ``dt=1e-3``,
+    (``default_params()`` lists them, e.g. ``method="distance"`` (default ``"volume"``),
+    ``dt=1e-3``,
     ``iterations=10``, ``solver="gauss-seidel"``, ``youngs_modulus=1e5``,
     ``poisson_ratio=0.45``), plus ``density`` [kg/m^3] or ``node_mass`` [kg].
 
