@@ -127,6 +127,42 @@ fn without_fitting_the_mesh_keeps_its_size_and_is_only_lifted() {
     }
 }
 
+/// `offset` moves an object after `fit_size` and `drop_height`: every node by exactly the
+/// offset, pin boxes see the moved object, and the recorded placement includes it (so
+/// `--units input` still undoes it).
+#[test]
+fn an_offset_moves_the_placed_object_and_its_pin_box() {
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("ball");
+    write_tetgen(&prefix, &ball_mesh(1.5)).unwrap();
+    let scene = |offset: &str| {
+        let text = format!(
+            "[[object]]\nmesh = {:?}\nfit_size = 0.5\ndrop_height = 0.1\noffset = {offset}\n\
+             pin = {{ box = {{ min = [1.9, -5.0, -5.0], max = [3.0, 5.0, 5.0] }} }}\n",
+            prefix.display().to_string()
+        );
+        tetrasim_cli::launch::stage(&Scene::parse(&text).unwrap()).unwrap()
+    };
+    let (still, moved) = (scene("[0.0, 0.0, 0.0]"), scene("[2.0, 0.5, -1.0]"));
+    let shift = glam::DVec3::new(2.0, 0.5, -1.0);
+    for (p, q) in still.model.positions.iter().zip(&moved.model.positions) {
+        assert!((*q - *p - shift).length() < 1e-12);
+    }
+    // The box x >= 1.9 holds the moved ball's nodes with x >= -0.1 (before the move), none
+    // of the unmoved ball's.
+    assert!(still.model.inv_mass.iter().all(|&w| w > 0.0));
+    let pinned = moved.model.inv_mass.iter().filter(|&&w| w == 0.0).count();
+    let expected = still.model.positions.iter().filter(|p| p.x >= -0.1).count();
+    assert_eq!(pinned, expected);
+    let placement = moved.model.placements[0];
+    let original = ball_mesh(1.5).nodes[7];
+    assert!((placement.apply(original) - moved.model.positions[7]).length() < 1e-12);
+    let err = Scene::parse("[[object]]\nmesh = \"a\"\noffset = [1.0, inf, 0.0]\n")
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("object[0].offset"), "{err}");
+}
+
 /// Two objects, two materials: each model keeps its own per-spring stiffness, and the run
 /// goes through (it used to be refused).
 #[test]

@@ -104,13 +104,13 @@ fn backend_of(slot: &mut Mutex<Box<dyn Backend>>) -> PyResult<&mut Box<dyn Backe
 #[pymethods]
 impl Simulation {
     /// Places `mesh` (`fit_size` [m] across, lowest node `drop_height` [m] above the floor;
-    /// `None` keeps the mesh's own size or position), pins the nodes `pins` and those inside
+    /// `None` keeps the mesh's own size or position; then moved by `offset` [m]), pins the nodes `pins` and those inside
     /// the boxes `pin_boxes` (`((x0, y0, z0), (x1, y1, z1))` [m], after placement), prepares
     /// the problem under `params_json` and creates `backend`.
     #[new]
     // The Python keyword signature: one argument per keyword.
     #[allow(clippy::too_many_arguments)]
-    #[pyo3(signature = (mesh, params_json, backend = "cpu", fit_size = Some(1.0), drop_height = Some(0.1), pins = Vec::new(), pin_boxes = Vec::new()))]
+    #[pyo3(signature = (mesh, params_json, backend = "cpu", fit_size = Some(1.0), drop_height = Some(0.1), pins = Vec::new(), pin_boxes = Vec::new(), offset = [0.0; 3]))]
     fn new(
         py: Python<'_>,
         mesh: &Mesh,
@@ -120,6 +120,7 @@ impl Simulation {
         drop_height: Option<f64>,
         pins: Vec<u32>,
         pin_boxes: Vec<([f64; 3], [f64; 3])>,
+        offset: [f64; 3],
     ) -> PyResult<Self> {
         let params = parse_params(params_json)?;
         let n = mesh.inner.nodes.len();
@@ -133,6 +134,7 @@ impl Simulation {
                 fit_size,
                 drop_height,
             })
+            .offset(offset.into())
             .mass(params.mass)
             .pinned(pins);
         for (lo, hi) in pin_boxes {

@@ -56,6 +56,14 @@ def test_state_comes_back_as_numpy_and_survives_set_state(backend):
     assert sim.volume_ratio == pytest.approx(1.0, abs=1e-6)
 
 
+def test_an_offset_moves_the_placed_mesh():
+    still = tetrasim.Simulation("meshes/torus", backend="cpu-ref")
+    moved = tetrasim.Simulation("meshes/torus", backend="cpu-ref", offset=(1.5, 0.25, -2.0))
+    assert np.allclose(moved.positions - still.positions, [1.5, 0.25, -2.0], atol=1e-12)
+    with pytest.raises(ValueError, match="offset"):
+        tetrasim.Simulation("meshes/torus", offset=(0.0, float("nan"), 0.0))
+
+
 def test_pins_hold_nodes_and_materials_take_physical_units():
     sim = tetrasim.Simulation(
         "meshes/box", method="volume", springs="implicit", youngs_modulus=1e5,

@@ -126,7 +126,8 @@ class Simulation:
     ``"cpu-ref"`` (the double-precision reference) or ``"vulkan"`` (the GPU).
     ``fit_size`` [m]: scale the mesh so its largest side is this (``None``: keep its size);
     ``drop_height`` [m]: its lowest node this far above the floor, centred over the origin
-    when fitted (``None``: keep its position). ``pins``: node indices that never move (unless
+    when fitted (``None``: keep its position); ``offset`` [m]: then moved by this (objects
+    start apart). ``pins``: node indices that never move (unless
     ``set_state`` moves them); ``pin_boxes``: ``((x0, y0, z0), (x1, y1, z1))`` boxes [m,
     after placement] whose nodes are pinned. ``params``: any run parameter by its name
     (``default_params()`` lists them, e.g. ``method="distance"`` (default ``"volume"``),
@@ -145,6 +146,7 @@ class Simulation:
         backend: str = "cpu",
         fit_size: Optional[float] = 1.0,
         drop_height: Optional[float] = 0.1,
+        offset: Sequence[float] = (0.0, 0.0, 0.0),
         pins: Iterable[int] = (),
         pin_boxes: Sequence[Tuple[Sequence[float], Sequence[float]]] = (),
         **params: Any,
@@ -159,6 +161,7 @@ class Simulation:
             drop_height,
             [int(i) for i in pins],
             boxes,
+            tuple(map(float, offset)),
         )
 
     #: Frames the scene asks for (``solver.frames``), for a simulation made by ``from_scene``.

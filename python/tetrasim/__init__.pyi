@@ -54,6 +54,7 @@ class Simulation:
         backend: str = "cpu",
         fit_size: Optional[float] = 1.0,
         drop_height: Optional[float] = 0.1,
+        offset: Sequence[float] = (0.0, 0.0, 0.0),
         pins: Iterable[int] = (),
         pin_boxes: Sequence[Tuple[Sequence[float], Sequence[float]]] = (),
         **params: Any,

@@ -51,6 +51,7 @@ class _Simulation:
         drop_height: Optional[float] = 0.1,
         pins: Sequence[int] = (),
         pin_boxes: Sequence[Tuple[Tuple[float, float, float], Tuple[float, float, float]]] = (),
+        offset: Tuple[float, float, float] = (0.0, 0.0, 0.0),
     ) -> None: ...
     @staticmethod
     def from_scene(path: str, backend: str = "cpu") -> Tuple["_Simulation", int]: ...

@@ -187,6 +187,7 @@ impl RunArgs {
                     true => self.drop_height,
                     false => self.drop_height.or(preset.placement.drop_height),
                 },
+                offset: [0.0; 3],
                 velocity: [0.0; 3],
                 material: self.material.clone(),
                 pin: Pin::default(),

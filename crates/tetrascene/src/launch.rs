@@ -67,6 +67,7 @@ pub fn stage(scene: &Scene) -> Result<Staged> {
         let mut builder = ModelBuilder::new(&loaded.mesh)
             .placement(scene.placement_for(i))
             .material(&scene.params_for(i))
+            .offset(DVec3::from(object.offset))
             .pinned(object.pin.nodes.iter().copied())
             .velocity(DVec3::from(object.velocity));
         if let Some(b) = object.pin.region {

@@ -29,6 +29,7 @@
 //! method = "volume"
 //! fit_size = 1.0             # m, largest bounding-box side (omit to keep the mesh's size)
 //! drop_height = 0.1          # m, lowest node above y = 0 (omit to keep the position)
+//! offset = [0.0, 0.0, 0.0]   # m, added after fit_size and drop_height (objects start apart)
 //! velocity = [0.0, 0.0, 0.0] # m/s, initial
 //! material = { ks = 5000.0, kd = 15.0, node_mass = 1.0 }   # or density = 1000.0 (kg/m^3)
 //! # or a material in physical units, instead of ks and kd:
@@ -98,6 +99,10 @@ pub struct Object {
     /// mesh where it is.
     #[serde(default)]
     pub drop_height: Option<f64>,
+    /// Moves the placed mesh by this much [m] (added after `fit_size` and `drop_height`), so
+    /// that objects start apart.
+    #[serde(default)]
+    pub offset: [f64; 3],
     /// Initial velocity [m/s].
     #[serde(default)]
     pub velocity: [f64; 3],
@@ -276,6 +281,9 @@ impl Scene {
             }
             if o.velocity.iter().any(|v| !v.is_finite()) {
                 return Err(Error::param(key("velocity"), "must be finite"));
+            }
+            if o.offset.iter().any(|v| !v.is_finite()) {
+                return Err(Error::param(key("offset"), "must be finite"));
             }
             if let Some((a, b)) = o.material.conflict() {
                 return Err(Error::param(
@@ -458,6 +466,10 @@ mod tests {
             (
                 "[[object]]\nmesh = \"a\"\nmaterial = { density = -1.0 }\n",
                 "object[0].material.density",
+            ),
+            (
+                "[[object]]\nmesh = \"a\"\noffset = [0.0, nan, 0.0]\n",
+                "object[0].offset",
             ),
         ] {
             let err = Scene::parse(text).unwrap_err().to_string();

@@ -261,6 +261,7 @@ pub struct ModelBuilder<'a> {
     pinned: Vec<u32>,
     pin_boxes: Vec<(DVec3, DVec3)>,
     velocity: DVec3,
+    offset: DVec3,
     material: Option<SimParams>,
 }
 
@@ -274,6 +275,7 @@ impl<'a> ModelBuilder<'a> {
             pinned: Vec::new(),
             pin_boxes: Vec::new(),
             velocity: DVec3::ZERO,
+            offset: DVec3::ZERO,
             material: None,
         }
     }
@@ -291,6 +293,13 @@ impl<'a> ModelBuilder<'a> {
     /// Where to put the mesh.
     pub fn placement(mut self, placement: Placement) -> Self {
         self.placement = placement;
+        self
+    }
+
+    /// Moves the placed mesh by `offset` [m] (after `fit_size` and `drop_height`; pin boxes
+    /// and the recorded placement see the moved mesh), so that objects start apart.
+    pub fn offset(mut self, offset: DVec3) -> Self {
+        self.offset = offset;
         self
     }
 
@@ -341,7 +350,14 @@ impl<'a> ModelBuilder<'a> {
                 )));
             }
         }
-        let placement = place(&mesh.nodes, self.placement)?;
+        let mut placement = place(&mesh.nodes, self.placement)?;
+        if !self.offset.is_finite() {
+            return Err(Error::param(
+                "offset",
+                format!("must be finite, not {:?}", self.offset),
+            ));
+        }
+        placement.offset += self.offset;
         let positions: Vec<DVec3> = mesh.nodes.iter().map(|&p| placement.apply(p)).collect();
         let diag = bounds_of(&positions)
             .map(|(lo, hi)| (hi - lo).length())
