@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use numpy::{PyArray2, PyReadonlyArray2};
 use pyo3::exceptions::{PyFileNotFoundError, PyValueError};
 use pyo3::prelude::*;
-use tetrasim::mesh::{io, topology, SurfaceMesh, TetMesh};
+use tetrasim::mesh::{io, topology, TetMesh};
 
 use crate::arrays::{indices_from_numpy, indices_to_numpy, points_from_numpy, points_to_numpy};
 use crate::{mesh_error, to_py};
@@ -104,7 +104,9 @@ pub fn write_mesh(path: &Path, mesh: &TetMesh, faces: &[[u32; 3]]) -> PyResult<(
         Some("vtk") => io::write_vtk_fields(path, mesh, &io::Fields::default()),
         Some("vtu") => io::write_vtu(path, mesh, &io::Fields::default()),
         Some("node") => io::tetgen::write_tetgen(path.with_extension(""), mesh),
-        Some("ply" | "obj" | "off" | "stl") => io::write_surface(path, &surface(mesh, faces)),
+        Some("ply" | "obj" | "off" | "stl") => {
+            io::write_surface(path, &tetrasim::output::surface_of(&mesh.nodes, faces).0)
+        }
         _ => {
             return Err(PyValueError::new_err(format!(
                 "{}: unknown mesh format; give .vtk, .vtu, .node (tet mesh) or .ply, .obj, .off, .stl (surface)",
@@ -113,29 +115,6 @@ pub fn write_mesh(path: &Path, mesh: &TetMesh, faces: &[[u32; 3]]) -> PyResult<(
         }
     };
     result.map_err(mesh_error)
-}
-
-/// The surface of `faces` with only the nodes it uses.
-fn surface(mesh: &TetMesh, faces: &[[u32; 3]]) -> SurfaceMesh {
-    let mut index = vec![u32::MAX; mesh.nodes.len()];
-    let mut vertices = Vec::new();
-    let triangles = faces
-        .iter()
-        .map(|f| {
-            f.map(|i| {
-                let slot = &mut index[i as usize];
-                if *slot == u32::MAX {
-                    *slot = vertices.len() as u32;
-                    vertices.push(mesh.nodes[i as usize]);
-                }
-                *slot
-            })
-        })
-        .collect();
-    SurfaceMesh {
-        vertices,
-        triangles,
-    }
 }
 
 /// Reads a tet mesh: TetGen (`prefix` or `prefix.node`), `.vtk`, `.vtu`, `.msh`, `.mesh`,

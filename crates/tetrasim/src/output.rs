@@ -95,7 +95,7 @@ pub fn write_frame(
     let data = FrameData::new(model, state, units);
     match format {
         OutputFormat::Ply => {
-            let (surface, nodes) = deformed_surface_nodes(model, &data.positions);
+            let (surface, nodes) = surface_of(&data.positions, &model.surface);
             let quality: Vec<f64> = nodes.iter().map(|&i| data.node_ratio[i]).collect();
             Ok(io::ply::write_with_quality(
                 path,
@@ -232,15 +232,15 @@ fn node_transforms(model: &Model, units: OutputUnits) -> Vec<Similarity> {
 
 /// The model's boundary surface at `positions`, with only the nodes it uses.
 pub fn deformed_surface(model: &Model, positions: &[DVec3]) -> SurfaceMesh {
-    deformed_surface_nodes(model, positions).0
+    surface_of(positions, &model.surface).0
 }
 
-/// [`deformed_surface`] and, for each of its vertices, the model node it is.
-fn deformed_surface_nodes(model: &Model, positions: &[DVec3]) -> (SurfaceMesh, Vec<usize>) {
+/// The surface of the triangles `faces` (node indices) at `positions`, with only the nodes
+/// it uses, and for each of its vertices the node it is.
+pub fn surface_of(positions: &[DVec3], faces: &[[u32; 3]]) -> (SurfaceMesh, Vec<usize>) {
     let mut index = vec![u32::MAX; positions.len()];
     let mut nodes = Vec::new();
-    let triangles = model
-        .surface
+    let triangles = faces
         .iter()
         .map(|f| {
             f.map(|i| {
