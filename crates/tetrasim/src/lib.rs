@@ -112,6 +112,7 @@ pub mod prelude {
 pub use glam;
 
 pub mod backend;
+pub mod collider;
 pub mod error;
 #[doc(hidden)]
 pub mod gpu;

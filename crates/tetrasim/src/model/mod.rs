@@ -90,6 +90,9 @@ pub struct Model {
     /// `run` give every object its own); `None`: the solver's `ks`, `kd` and hard volume
     /// constraints ([`Model::element_material`]).
     pub material: Option<ElementMaterial>,
+    /// The kinematic colliders every object meets (besides the floor of
+    /// [`SimParams::floor`]); none unless a scene or [`Model::with_colliders`] adds them.
+    pub colliders: Vec<crate::collider::Collider>,
 }
 
 /// A uniform scale followed by a translation: `p -> scale * p + offset`.
@@ -457,6 +460,7 @@ impl<'a> ModelBuilder<'a> {
             objects: vec![0, n as u32],
             placements: vec![placement],
             material: None,
+            colliders: Vec::new(),
         };
         model.material = self
             .material
@@ -466,6 +470,19 @@ impl<'a> ModelBuilder<'a> {
 }
 
 impl Model {
+    /// The same model with `colliders` added (each is checked; `collider[k]` names a bad
+    /// one, counted from the model's first).
+    pub fn with_colliders(
+        mut self,
+        colliders: impl IntoIterator<Item = crate::collider::Collider>,
+    ) -> Result<Self> {
+        for c in colliders {
+            c.validate(&format!("collider[{}]", self.colliders.len()))?;
+            self.colliders.push(c);
+        }
+        Ok(self)
+    }
+
     /// When the first free node would reach the floor `y = 0` falling freely from the start
     /// state under `gravity` (along -Y) [s]: 0 if one starts on or below it, `None` if none
     /// ever does. Exact until the first contact, since nothing but gravity acts on a body
@@ -535,6 +552,7 @@ impl Model {
             out.objects
                 .extend(m.objects.iter().skip(1).map(|o| o + nodes));
             out.placements.extend_from_slice(&m.placements);
+            out.colliders.extend_from_slice(&m.colliders);
             out.material = match (&out.material, &m.material) {
                 (None, None) => None,
                 (Some(a), Some(b)) => Some(ElementMaterial::concat(a, b)),

@@ -1,0 +1,389 @@
+//! Kinematic colliders (physics.md, third edition, "Kinematic colliders"): shapes with a
+//! signed distance (negative inside) and outward normal, each with its friction and its
+//! motion. A node in contact has the one-sided constraint `phi(x) - thickness >= 0`, solved
+//! like the floor's in the same iterations ([`crate::physics::contact_push`]); the collider
+//! is never pushed back (infinite mass).
+//!
+//! The floor of `SimParams::floor` stays its own, cheaper path (the plane `y = 0`); a
+//! [`Shape::Plane`] is any other half-space.
+
+mod grid;
+mod motion;
+
+use std::sync::Arc;
+
+use glam::{DQuat, DVec3};
+
+pub use grid::DistanceGrid;
+use motion::{finite_vector, param, unit_quaternion};
+pub use motion::{Keyframe, Motion, Pose};
+
+use crate::error::Result;
+use crate::physics::{contact_push, end_position, surface_friction};
+
+/// A collider's shape in its local frame (see [`Collider::pose`] for how it is placed).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Shape {
+    /// The half-space below the local plane `y = 0` (the outward normal is local +Y).
+    Plane,
+    /// A ball of this radius [m] about the local origin.
+    Sphere {
+        /// Radius [m].
+        radius: f64,
+    },
+    /// A box `|x| <= half_extents` about the local origin.
+    Cuboid {
+        /// Half its size along local X, Y, Z [m].
+        half_extents: DVec3,
+    },
+    /// The points within `radius` of the local segment from `(0, -half_length, 0)` to
+    /// `(0, half_length, 0)`.
+    Capsule {
+        /// Half the length of its axis [m].
+        half_length: f64,
+        /// Radius [m].
+        radius: f64,
+    },
+    /// A closed surface, as a sampled signed distance.
+    Grid(Arc<DistanceGrid>),
+}
+
+/// The `kind` numbers of the shapes on the GPU (`SHAPE_*` in glsl/physics/contact.glsl).
+impl Shape {
+    /// The GPU's shape code.
+    pub fn code(&self) -> u32 {
+        match self {
+            Shape::Plane => 0,
+            Shape::Sphere { .. } => 1,
+            Shape::Cuboid { .. } => 2,
+            Shape::Capsule { .. } => 3,
+            Shape::Grid(_) => 4,
+        }
+    }
+
+    /// The shape's name in scene files.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Shape::Plane => "plane",
+            Shape::Sphere { .. } => "sphere",
+            Shape::Cuboid { .. } => "box",
+            Shape::Capsule { .. } => "capsule",
+            Shape::Grid(_) => "mesh",
+        }
+    }
+
+    /// Signed distance [m] of the local point `p` and the outward unit normal there.
+    pub fn distance(&self, p: DVec3) -> (f64, DVec3) {
+        match self {
+            Shape::Plane => (p.y, DVec3::Y),
+            Shape::Sphere { radius } => ball(p, *radius),
+            Shape::Cuboid { half_extents } => cuboid(p, *half_extents),
+            Shape::Capsule {
+                half_length,
+                radius,
+            } => ball(
+                p - DVec3::new(0.0, p.y.clamp(-half_length, *half_length), 0.0),
+                *radius,
+            ),
+            Shape::Grid(grid) => grid.sample(p),
+        }
+    }
+}
+
+/// Distance to a ball of radius `r` about the origin (a point at the centre goes up).
+fn ball(p: DVec3, r: f64) -> (f64, DVec3) {
+    let length = p.length();
+    match length > 0.0 {
+        true => (length - r, p / length),
+        false => (-r, DVec3::Y),
+    }
+}
+
+/// Distance to the box `|p| <= h`: outside, to its nearest point; inside, minus the depth
+/// below its nearest face (whose normal is the normal).
+fn cuboid(p: DVec3, h: DVec3) -> (f64, DVec3) {
+    let q = p.abs() - h;
+    let outside = q.max(DVec3::ZERO);
+    if outside != DVec3::ZERO {
+        let length = outside.length();
+        return (length, p.signum() * outside / length);
+    }
+    let axis = if q.x >= q.y && q.x >= q.z {
+        DVec3::X
+    } else if q.y >= q.z {
+        DVec3::Y
+    } else {
+        DVec3::Z
+    };
+    (q.max_element(), axis * p.signum())
+}
+
+/// A kinematic collider: its shape, where it is declared, how it moves and its friction.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Collider {
+    /// The shape in its local frame.
+    pub shape: Shape,
+    /// Its declared placement (at rest, before any motion): the local origin is its centre.
+    pub pose: Pose,
+    /// How it moves from the declared placement.
+    pub motion: Motion,
+    /// Fraction of a contacting node's tangential velocity (relative to the collider's
+    /// surface) removed per step, in `[0, 1]`.
+    pub friction: f64,
+    /// Contact thickness `r` [m]: nodes are kept at `phi >= r`.
+    pub thickness: f64,
+}
+
+impl Collider {
+    /// A fixed collider of `shape` at `pose`, frictionless and without thickness.
+    pub fn new(shape: Shape, pose: Pose) -> Self {
+        Collider {
+            shape,
+            pose,
+            motion: Motion::Fixed,
+            friction: 0.0,
+            thickness: 0.0,
+        }
+    }
+
+    /// The half-space `normal . x <= offset` (`normal` need not be unit). Fails on a zero
+    /// or non-finite normal (named `normal`).
+    pub fn plane(normal: DVec3, offset: f64) -> Result<Self> {
+        let n = normal.try_normalize().ok_or_else(|| {
+            param(
+                "normal",
+                format!("must be a non-zero, finite vector, got {normal:?}"),
+            )
+        })?;
+        let pose = Pose {
+            position: n * offset,
+            rotation: DQuat::from_rotation_arc(DVec3::Y, n),
+        };
+        Ok(Collider::new(Shape::Plane, pose))
+    }
+
+    /// A ball.
+    pub fn sphere(center: DVec3, radius: f64) -> Self {
+        Collider::new(
+            Shape::Sphere { radius },
+            Pose {
+                position: center,
+                rotation: DQuat::IDENTITY,
+            },
+        )
+    }
+
+    /// An oriented box.
+    pub fn cuboid(center: DVec3, half_extents: DVec3, rotation: DQuat) -> Self {
+        Collider::new(
+            Shape::Cuboid { half_extents },
+            Pose {
+                position: center,
+                rotation,
+            },
+        )
+    }
+
+    /// A capsule around the segment `a`-`b` (`a == b`: a ball).
+    pub fn capsule(a: DVec3, b: DVec3, radius: f64) -> Self {
+        let axis = b - a;
+        let rotation = match axis.try_normalize() {
+            Some(d) => DQuat::from_rotation_arc(DVec3::Y, d),
+            None => DQuat::IDENTITY,
+        };
+        let shape = Shape::Capsule {
+            half_length: axis.length() / 2.0,
+            radius,
+        };
+        Collider::new(
+            shape,
+            Pose {
+                position: (a + b) / 2.0,
+                rotation,
+            },
+        )
+    }
+
+    /// A closed surface's sampled distance, in its own coordinates.
+    pub fn mesh(grid: DistanceGrid) -> Self {
+        Collider::new(Shape::Grid(Arc::new(grid)), Pose::IDENTITY)
+    }
+
+    /// The same collider with `motion`.
+    pub fn moving(mut self, motion: Motion) -> Self {
+        self.motion = motion;
+        self
+    }
+
+    /// The same collider with `friction`.
+    pub fn with_friction(mut self, friction: f64) -> Self {
+        self.friction = friction;
+        self
+    }
+
+    /// Its placement at time `t` [s].
+    pub fn pose_at(&self, t: f64) -> Pose {
+        let (translation, rotation) = self.motion.displacement(t);
+        Pose {
+            position: self.pose.position + translation,
+            rotation: (rotation * self.pose.rotation).normalize(),
+        }
+    }
+
+    /// Checks its values; `key` names it in messages (e.g. `collider[1]`).
+    pub fn validate(&self, key: &str) -> Result<()> {
+        let positive = |name: &str, value: f64| match value.is_finite() && value > 0.0 {
+            true => Ok(()),
+            false => Err(param(
+                &format!("{key}.{name}"),
+                format!("must be positive and finite, got {value}"),
+            )),
+        };
+        match &self.shape {
+            Shape::Plane => {}
+            Shape::Sphere { radius } => positive("radius", *radius)?,
+            Shape::Cuboid { half_extents } => {
+                for (axis, h) in ["x", "y", "z"].iter().zip(half_extents.to_array()) {
+                    positive(&format!("half_extents.{axis}"), h)?;
+                }
+            }
+            Shape::Capsule {
+                half_length,
+                radius,
+            } => {
+                positive("radius", *radius)?;
+                if !half_length.is_finite() {
+                    return Err(param(&format!("{key}.b"), "must be finite"));
+                }
+            }
+            Shape::Grid(grid) => {
+                if grid.dims.iter().any(|&d| d < 2)
+                    || grid.values.len() != grid.dims.iter().map(|&d| d as usize).product::<usize>()
+                    || grid.values.iter().any(|v| !v.is_finite())
+                    || !(grid.cell > 0.0)
+                {
+                    return Err(param(
+                        &format!("{key}.path"),
+                        "the distance grid is malformed",
+                    ));
+                }
+            }
+        }
+        finite_vector(&format!("{key}.center"), self.pose.position)?;
+        unit_quaternion(&format!("{key}.rotation"), self.pose.rotation)?;
+        if !(0.0..=1.0).contains(&self.friction) {
+            return Err(param(
+                &format!("{key}.friction"),
+                format!("must be in [0, 1], got {}", self.friction),
+            ));
+        }
+        if !(self.thickness.is_finite() && self.thickness >= 0.0) {
+            return Err(param(
+                &format!("{key}.thickness"),
+                format!("must be finite and >= 0, got {}", self.thickness),
+            ));
+        }
+        self.motion.validate(&format!("{key}.motion"))
+    }
+}
+
+/// A collider during one time step: its placement at the step's start and end.
+#[derive(Debug, Clone, Copy)]
+pub struct ColliderAt<'a> {
+    /// The collider.
+    pub collider: &'a Collider,
+    /// Its placement at the start of the step.
+    pub start: Pose,
+    /// Its placement at the end of the step (the constraint's).
+    pub end: Pose,
+}
+
+impl<'a> ColliderAt<'a> {
+    /// `collider` over the step from `t` to `t + dt` [s].
+    pub fn new(collider: &'a Collider, t: f64, dt: f64) -> Self {
+        ColliderAt {
+            collider,
+            start: collider.pose_at(t),
+            end: collider.pose_at(t + dt),
+        }
+    }
+
+    /// Signed distance [m] of the world point `x` from the collider at the step's end, and
+    /// the outward unit normal there.
+    pub fn distance(&self, x: DVec3) -> (f64, DVec3) {
+        let (phi, normal) = self.collider.shape.distance(self.end.invert(x));
+        (phi, self.end.rotation * normal)
+    }
+
+    /// Velocity [m/s] of the collider's surface point at `x` (at the step's end) over the
+    /// step: where that point was at the step's start, to `x`, over `dt`.
+    pub fn surface_velocity(&self, x: DVec3, dt: f64) -> DVec3 {
+        (x - self.start.apply(self.end.invert(x))) / dt
+    }
+}
+
+/// What [`solve_node`] found for one node.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NodeContact {
+    /// The colliders' total force on the node [N].
+    pub force: DVec3,
+    /// The last collider that pushed it (`None`: no contact), with the normal it pushed
+    /// along.
+    pub touching: Option<(usize, DVec3)>,
+}
+
+/// Re-solves one node's collider contacts against its total force `f` [N], which holds the
+/// colliders' force found so far, `contact`: each collider in turn pushes the node's
+/// end-of-step position (given the forces so far) out to its thickness along its normal
+/// ([`contact_push`]). Returns the new total force and contact. A pinned node (`w = 0`) gets
+/// none. The GPU's twin is `colliders_solve` in glsl/physics/contact.glsl.
+pub fn solve_node(
+    colliders: &[ColliderAt<'_>],
+    f: DVec3,
+    contact: DVec3,
+    x: DVec3,
+    v: DVec3,
+    w: f64,
+    dt: f64,
+) -> (DVec3, NodeContact) {
+    let other = f - contact;
+    let mut out = NodeContact {
+        force: DVec3::ZERO,
+        touching: None,
+    };
+    if w <= 0.0 {
+        return (other, out);
+    }
+    for (k, c) in colliders.iter().enumerate() {
+        let (phi, normal) = c.distance(end_position(x, v, other + out.force, w, dt));
+        let push = contact_push(phi, c.collider.thickness, w, dt);
+        if push > 0.0 {
+            out.force += normal * push;
+            out.touching = Some((k, normal));
+        }
+    }
+    (other + out.force, out)
+}
+
+/// A node's velocity after the step's update `v1`, with the friction of the collider it
+/// touches ([`surface_friction`] relative to the collider's surface velocity at its new
+/// position `x + dt v1`).
+pub fn friction_of(
+    colliders: &[ColliderAt<'_>],
+    contact: &NodeContact,
+    x: DVec3,
+    v1: DVec3,
+    dt: f64,
+) -> DVec3 {
+    match contact.touching {
+        Some((k, normal)) => {
+            let c = &colliders[k];
+            let surface = c.surface_velocity(x + v1 * dt, dt);
+            surface_friction(v1, surface, normal, c.collider.friction)
+        }
+        None => v1,
+    }
+}
+
+#[cfg(test)]
+mod tests;

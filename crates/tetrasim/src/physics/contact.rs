@@ -1,0 +1,66 @@
+//! Contact with kinematic colliders (physics.md, third edition, "Kinematic colliders"): the
+//! one-sided constraint `phi(x) - r >= 0` on one node, solved like the floor's (exactly for
+//! a plane, linearised along the normal for curved shapes, re-solved every iteration). The
+//! GLSL twins, same names, are in glsl/physics/contact.glsl.
+
+use super::{Real, Vector};
+
+/// Where a node at `x` [m] with velocity `v` [m/s], total force `f` [N] and inverse mass `w`
+/// [1/kg] ends the step of `dt` [s] by symplectic Euler: `x + dt (v + dt w f)`.
+#[inline]
+pub fn end_position<V: Vector>(x: V, v: V, f: V, w: V::Real, dt: V::Real) -> V {
+    x + (v + f * (w * dt)) * dt
+}
+
+/// The normal force [N] that moves a node whose end-of-step position is at signed distance
+/// `phi` [m] from a collider out to distance `thickness` along the normal:
+/// `(thickness - phi) / (dt^2 w)`, and 0 when it is already there or pinned (`w = 0`).
+#[inline]
+pub fn contact_push<R: Real>(phi: R, thickness: R, w: R, dt: R) -> R {
+    if w <= R::ZERO || phi >= thickness {
+        return R::ZERO;
+    }
+    (thickness - phi) / (dt * dt * w)
+}
+
+/// Friction of a node in contact with a moving surface: the part of its velocity `v` [m/s]
+/// relative to the surface's `surface` [m/s] that is tangential to `normal` (unit) loses
+/// `friction` of itself; the normal part is kept.
+#[inline]
+pub fn surface_friction<V: Vector>(v: V, surface: V, normal: V, friction: V::Real) -> V {
+    let relative = v - surface;
+    let normal_part = normal * relative.dot(normal);
+    surface + normal_part + (relative - normal_part) * (V::Real::ONE - friction)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    #[test]
+    fn the_push_lands_the_node_on_the_surface() {
+        let (x, v, w, dt) = (
+            DVec3::new(0.0, 0.001, 0.0),
+            DVec3::new(0.0, -2.0, 0.0),
+            0.5,
+            1e-3,
+        );
+        let f = DVec3::new(0.0, -10.0, 0.0);
+        let end = end_position(x, v, f, w, dt);
+        let push = contact_push(end.y, 0.0, w, dt);
+        let landed = end_position(x, v, f + DVec3::Y * push, w, dt);
+        assert!(landed.y.abs() < 1e-15, "ends on the plane: {}", landed.y);
+        assert_eq!(contact_push(0.01, 0.0, w, dt), 0.0, "no pull");
+        assert_eq!(contact_push(-0.01, 0.0, 0.0, dt), 0.0, "pinned");
+    }
+
+    #[test]
+    fn friction_acts_on_the_relative_tangential_velocity() {
+        let surface = DVec3::new(1.0, 0.0, 0.0);
+        let v = DVec3::new(3.0, -1.0, 0.0);
+        let held = surface_friction(v, surface, DVec3::Y, 1.0);
+        assert_eq!(held, DVec3::new(1.0, -1.0, 0.0));
+        assert_eq!(surface_friction(v, surface, DVec3::Y, 0.0), v);
+    }
+}
