@@ -7,6 +7,7 @@
 //! The floor of `SimParams::floor` stays its own, cheaper path (the plane `y = 0`); a
 //! [`Shape::Plane`] is any other half-space.
 
+mod clamp;
 mod grid;
 mod motion;
 
@@ -14,6 +15,7 @@ use std::sync::Arc;
 
 use glam::{DQuat, DVec3};
 
+pub use clamp::{drive, Clamp};
 pub use grid::DistanceGrid;
 use motion::{finite_vector, param, unit_quaternion};
 pub use motion::{Keyframe, Motion, Pose};

@@ -522,6 +522,16 @@ impl ReferenceBackend {
     /// faster than the speed limit, if any.
     fn step(&mut self) -> Option<(usize, Bad)> {
         let limit = self.problem.speed_limit;
+        let (model, dt) = (&self.problem.model, self.problem.params.dt);
+        let (x, v) = (&self.x, &mut self.v);
+        collider::drive(
+            &model.clamps,
+            &model.positions,
+            self.steps,
+            dt,
+            |i| x[i],
+            |i, u| v[i] = u,
+        );
         let mut forces = self.forces();
         let f = forces.total();
         if self.problem.params.warm_start {

@@ -7,7 +7,8 @@ use super::iterations::{self, Inputs, Outputs};
 use super::shared::SharedSlice;
 use super::team::Team;
 use super::*;
-use crate::collider::Collider;
+use crate::collider::{Clamp, Collider};
+use glam::DVec3;
 use std::sync::Arc;
 
 /// The fast CPU solver (`cpu`).
@@ -41,6 +42,8 @@ pub struct ParallelBackend {
     team: Team,
     /// The floor's normal force on each node in the current step [N] (`>= 0`).
     floor_force: Vec<f32>,
+    /// The moving pins and the initial positions they move from (none without them).
+    clamps: Option<(Vec<Clamp>, Vec<DVec3>)>,
     /// The kinematic colliders (shared with the problem).
     colliders: Arc<[Collider]>,
     /// The colliders' force on each node in the current step [N] (zeros without them).
@@ -141,6 +144,8 @@ impl ParallelBackend {
             }),
             team: Team::for_work(n, mean_group_size(&sweeps)),
             floor_force: vec![0.0; n],
+            clamps: (!model.clamps.is_empty())
+                .then(|| (model.clamps.clone(), model.positions.clone())),
             colliders: model.colliders.clone().into(),
             contact: vec![Vec3A::ZERO; n],
             steps: 0,
@@ -326,6 +331,17 @@ impl ParallelBackend {
     fn step(&mut self, team: &Team) -> Option<(usize, Bad)> {
         let colliders = Arc::clone(&self.colliders);
         let at = collider::at_step(&colliders, self.steps, self.dt);
+        if let Some((clamps, rest)) = &self.clamps {
+            let (x, v) = (&self.x, &mut self.v);
+            collider::drive(
+                clamps,
+                rest,
+                self.steps,
+                self.dt,
+                |i| x[i].to_dvec3(),
+                |i, u| v[i] = Vec3A::from_dvec3(u),
+            );
+        }
         self.steps += 1;
         let mut k = 0;
         while k < self.dispatches.len() {
