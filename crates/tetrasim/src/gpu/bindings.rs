@@ -80,4 +80,7 @@ bindings! {
     /// float per tet: a compliant volume constraint's multiplier so far in the step (method
     /// `volume`; hard tets leave theirs unused; like [`SPRING_MULTIPLIERS`]).
     VOLUME_MULTIPLIERS = 27,
+    /// Per surface node, its body contact of the step: the triangle, barycentric weights,
+    /// normal and accumulated multiplier (contact_find.comp, contact_solve.comp).
+    CONTACTS = 28,
 }

@@ -96,6 +96,9 @@ pub struct Model {
     /// Pinned nodes that move (each set follows its motion from its initial positions);
     /// none unless [`ModelBuilder::pin_motion`] gives the pins a motion.
     pub clamps: Vec<crate::collider::Clamp>,
+    /// Per object, whether its surface collides with itself ([`ModelBuilder::self_contact`];
+    /// different objects always collide, [`crate::contact`]).
+    pub self_contact: Vec<bool>,
 }
 
 /// A uniform scale followed by a translation: `p -> scale * p + offset`.
@@ -267,6 +270,7 @@ pub struct ModelBuilder<'a> {
     pinned: Vec<u32>,
     pin_boxes: Vec<(DVec3, DVec3)>,
     pin_motion: crate::collider::Motion,
+    self_contact: bool,
     velocity: DVec3,
     offset: DVec3,
     material: Option<SimParams>,
@@ -282,6 +286,7 @@ impl<'a> ModelBuilder<'a> {
             pinned: Vec::new(),
             pin_boxes: Vec::new(),
             pin_motion: crate::collider::Motion::Fixed,
+            self_contact: false,
             velocity: DVec3::ZERO,
             offset: DVec3::ZERO,
             material: None,
@@ -334,6 +339,12 @@ impl<'a> ModelBuilder<'a> {
     /// checked by [`Self::build`] (named `pin.motion`).
     pub fn pin_motion(mut self, motion: crate::collider::Motion) -> Self {
         self.pin_motion = motion;
+        self
+    }
+
+    /// Whether the object's surface collides with itself (off by default).
+    pub fn self_contact(mut self, on: bool) -> Self {
+        self.self_contact = on;
         self
     }
 
@@ -495,6 +506,7 @@ impl<'a> ModelBuilder<'a> {
             material: None,
             colliders: Vec::new(),
             clamps,
+            self_contact: vec![self.self_contact],
         };
         model.material = self
             .material
@@ -587,6 +599,7 @@ impl Model {
                 .extend(m.objects.iter().skip(1).map(|o| o + nodes));
             out.placements.extend_from_slice(&m.placements);
             out.colliders.extend_from_slice(&m.colliders);
+            out.self_contact.extend_from_slice(&m.self_contact);
             out.clamps
                 .extend(m.clamps.iter().map(|c| crate::collider::Clamp {
                     nodes: c.nodes.iter().map(|i| i + nodes).collect(),

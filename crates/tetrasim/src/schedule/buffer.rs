@@ -65,6 +65,8 @@ pub enum BufferId {
     GlobalState,
     /// vec4 per node (Chebyshev).
     ChebyshevBefore,
+    /// Per surface node, its contact of the step and multiplier (body contact).
+    Contacts,
 }
 
 impl BufferId {
@@ -99,6 +101,7 @@ impl BufferId {
             BufferId::SurfaceGradients => "surface gradients",
             BufferId::GlobalState => "global state",
             BufferId::ChebyshevBefore => "chebyshev before",
+            BufferId::Contacts => "body contacts",
         }
     }
 
@@ -133,6 +136,7 @@ impl BufferId {
             BufferId::SurfaceGradients => binding::SURFACE_GRADIENTS,
             BufferId::GlobalState => binding::GLOBAL_STATE,
             BufferId::ChebyshevBefore => binding::CHEBYSHEV_BEFORE,
+            BufferId::Contacts => binding::CONTACTS,
         }
     }
 }

@@ -8,6 +8,7 @@ use super::shared::SharedSlice;
 use super::team::Team;
 use super::*;
 use crate::collider::{Clamp, Collider};
+use crate::contact::Contact;
 use glam::DVec3;
 use std::sync::Arc;
 
@@ -42,6 +43,10 @@ pub struct ParallelBackend {
     team: Team,
     /// The floor's normal force on each node in the current step [N] (`>= 0`).
     floor_force: Vec<f32>,
+    /// Body contact with its problem (for the model and parameters its sweep reads), when
+    /// two surfaces can meet, and the step's contacts with their multipliers.
+    bodies: Option<Problem>,
+    body_contacts: Vec<(Contact, f64)>,
     /// The moving pins and the initial positions they move from (none without them).
     clamps: Option<(Vec<Clamp>, Vec<DVec3>)>,
     /// The kinematic colliders (shared with the problem).
@@ -144,6 +149,8 @@ impl ParallelBackend {
             }),
             team: Team::for_work(n, mean_group_size(&sweeps)),
             floor_force: vec![0.0; n],
+            bodies: problem.bodies.is_some().then(|| problem.clone()),
+            body_contacts: Vec::new(),
             clamps: (!model.clamps.is_empty())
                 .then(|| (model.clamps.clone(), model.positions.clone())),
             colliders: model.colliders.clone().into(),
@@ -358,6 +365,15 @@ impl ParallelBackend {
                 PassKind::SpringScatter | PassKind::SpringGather | PassKind::SpringWarmStart => {
                     self.spring_pass()
                 }
+                PassKind::ContactFind => {
+                    if let Some(problem) = &self.bodies {
+                        let bodies = problem.bodies.as_ref().expect("body contact");
+                        let x: Vec<DVec3> = self.x.iter().map(|p| p.to_dvec3()).collect();
+                        let v: Vec<DVec3> = self.v.iter().map(|p| p.to_dvec3()).collect();
+                        let found = bodies.find(&problem.model, &x, &v, self.dt);
+                        self.body_contacts = found.into_iter().map(|c| (c, 0.0)).collect();
+                    }
+                }
                 PassKind::GlobalVolumePrepare => {
                     if let Some(global) = &mut self.global {
                         global.prepare(&self.x);
@@ -479,6 +495,8 @@ impl ParallelBackend {
             f,
             floor_force,
             contact,
+            bodies,
+            body_contacts,
             pair_out,
             tet_out,
             ..
@@ -507,6 +525,9 @@ impl ParallelBackend {
                 w: inv_mass,
                 dt: k.dt,
             }),
+            bodies: bodies
+                .as_ref()
+                .and_then(|p| p.bodies.as_ref().map(|b| (b, p))),
             springs,
             tets,
             sweeps,
@@ -519,6 +540,7 @@ impl ParallelBackend {
             f: SharedSlice::new(f),
             floor_force: SharedSlice::new(floor_force),
             contact: SharedSlice::new(contact),
+            body_contacts: SharedSlice::new(body_contacts),
             multipliers: multipliers
                 .iter_mut()
                 .map(|m| SharedSlice::new(m))
