@@ -9,6 +9,7 @@
 
 mod grid;
 mod motion;
+mod surface;
 
 use std::sync::Arc;
 
@@ -17,6 +18,7 @@ use glam::{DQuat, DVec3};
 pub use grid::DistanceGrid;
 use motion::{finite_vector, param, unit_quaternion};
 pub use motion::{Keyframe, Motion, Pose};
+pub use surface::{MAX_CELLS, MIN_CELLS, PAD_CELLS};
 
 use crate::error::Result;
 use crate::physics::{contact_push, end_position, surface_friction};
@@ -260,7 +262,8 @@ impl Collider {
                 if grid.dims.iter().any(|&d| d < 2)
                     || grid.values.len() != grid.dims.iter().map(|&d| d as usize).product::<usize>()
                     || grid.values.iter().any(|v| !v.is_finite())
-                    || !(grid.cell > 0.0)
+                    || grid.cell.is_nan()
+                    || grid.cell <= 0.0
                 {
                     return Err(param(
                         &format!("{key}.path"),
