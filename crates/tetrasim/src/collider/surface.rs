@@ -30,7 +30,7 @@ impl DistanceGrid {
     /// Errors (`Error::Param`): key `path` for an empty surface, a non-finite vertex, an index
     /// out of range, a triangle repeating a vertex, an open surface (an edge not shared by
     /// exactly two triangles), inconsistent orientation or no enclosed volume; key `cells`
-    /// outside [[`MIN_CELLS`], [`MAX_CELLS`]].
+    /// below [`MIN_CELLS`] or above [`MAX_CELLS`].
     pub fn from_surface(
         vertices: &[DVec3],
         triangles: &[[u32; 3]],
