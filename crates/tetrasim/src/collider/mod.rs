@@ -10,6 +10,7 @@
 mod clamp;
 mod grid;
 mod motion;
+mod surface;
 
 use std::sync::Arc;
 
@@ -19,6 +20,7 @@ pub use clamp::{drive, Clamp};
 pub use grid::DistanceGrid;
 use motion::{finite_vector, param, unit_quaternion};
 pub use motion::{Keyframe, Motion, Pose};
+pub use surface::{MAX_CELLS, MIN_CELLS, PAD_CELLS};
 
 use crate::error::Result;
 use crate::physics::{contact_push, end_position, surface_friction};
