@@ -409,6 +409,48 @@ pub fn solve_node(
     (other + out.force, out)
 }
 
+/// Half the smallest distance [m] from the point `x` to any collider's thickness shell at the
+/// step's end (`phi - thickness`, or a lower bound of it for a far collider): while a node
+/// starting at `x` ends the step less than this far from `x`, no collider can touch it (the
+/// shapes' distances grow at most as fast as the point moves; halved for the sampled grid's
+/// interpolation). Negative when it starts inside one.
+pub fn clearance(colliders: &[ColliderAt<'_>], x: DVec3) -> f64 {
+    let mut least = f64::INFINITY;
+    for c in colliders {
+        let gap = match c.may_touch(x) {
+            true => c.distance(x).0 - c.collider.thickness,
+            false => x.distance(c.end.position) - c.reach,
+        };
+        least = least.min(gap);
+    }
+    0.5 * least
+}
+
+/// [`solve_node`] for a node with the step's [`clearance`] `clear`: the same result, without
+/// evaluating any collider while the node's end position (without collider forces) stays
+/// within `clear` of `x`.
+#[allow(clippy::too_many_arguments)]
+pub fn solve_node_clear(
+    colliders: &[ColliderAt<'_>],
+    clear: f64,
+    f: DVec3,
+    contact: DVec3,
+    x: DVec3,
+    v: DVec3,
+    w: f64,
+    dt: f64,
+) -> (DVec3, NodeContact) {
+    let other = f - contact;
+    if end_position(x, v, other, w, dt).distance(x) < clear {
+        let none = NodeContact {
+            force: DVec3::ZERO,
+            touching: None,
+        };
+        return (other, none);
+    }
+    solve_node(colliders, f, contact, x, v, w, dt)
+}
+
 /// A node's velocity after the step's update `v1`, with the friction of the collider it
 /// touches ([`surface_friction`] relative to the collider's surface velocity at its new
 /// position `x + dt v1`).

@@ -91,6 +91,8 @@ struct StepForces {
     floor: Vec<f64>,
     /// The colliders' force and contact so far.
     contacts: Vec<NodeContact>,
+    /// Each node's [`collider::clearance`] in this step (empty until the first solve).
+    clearance: Vec<f64>,
     /// The compliant constraints' multipliers found so far in this step (the warm start's
     /// for the springs).
     spring_lambda: Vec<f64>,
@@ -118,6 +120,7 @@ impl StepForces {
             total: Vec::new(),
             floor: vec![0.0; n],
             contacts: vec![NO_CONTACT; n],
+            clearance: Vec::new(),
             spring_lambda: backend.spring_warm.clone(),
             volume_lambda: vec![0.0; problem.model.tets.len()],
             before_total: Vec::new(),
@@ -430,14 +433,18 @@ impl ReferenceBackend {
             return;
         }
         let at = collider::at_step(&model.colliders, self.steps, dt);
-        for (i, (f, c)) in step
-            .total
-            .iter_mut()
-            .zip(step.contacts.iter_mut())
-            .enumerate()
-        {
-            let w = model.inv_mass[i];
-            (*f, *c) = collider::solve_node(&at, *f, c.force, self.x[i], self.v[i], w, dt);
+        if step.clearance.is_empty() {
+            step.clearance = self
+                .x
+                .iter()
+                .map(|&x| collider::clearance(&at, x))
+                .collect();
+        }
+        let nodes = step.total.iter_mut().zip(step.contacts.iter_mut());
+        for (i, (f, c)) in nodes.enumerate() {
+            let (w, clear) = (model.inv_mass[i], step.clearance[i]);
+            (*f, *c) =
+                collider::solve_node_clear(&at, clear, *f, c.force, self.x[i], self.v[i], w, dt);
         }
     }
 

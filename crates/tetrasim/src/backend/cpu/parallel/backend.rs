@@ -51,6 +51,8 @@ pub struct ParallelBackend {
     clamps: Option<(Vec<Clamp>, Vec<DVec3>)>,
     /// The kinematic colliders (shared with the problem).
     colliders: Arc<[Collider]>,
+    /// Each node's [`collider::clearance`] in the current step (empty without colliders).
+    clearance: Vec<f64>,
     /// The colliders' force on each node in the current step [N] (zeros without them).
     contact: Vec<Vec3A>,
     /// Time steps taken since creation (the colliders' clock; [`Self::set_state`] keeps
@@ -155,6 +157,7 @@ impl ParallelBackend {
                 .then(|| (model.clamps.clone(), model.positions.clone())),
             colliders: model.colliders.clone().into(),
             contact: vec![Vec3A::ZERO; n],
+            clearance: Vec::new(),
             steps: 0,
             dt: params.dt,
             x: model
@@ -288,6 +291,7 @@ impl ParallelBackend {
         let (w, k, mass) = (&self.inv_mass, self.k, &self.mass);
         let limit2 = self.speed_limit * self.speed_limit;
         let (on, dt) = (self.floor, self.k.dt);
+        let clearance = &self.clearance;
         self.x
             .par_iter_mut()
             .zip(self.v.par_iter_mut())
@@ -302,7 +306,7 @@ impl ParallelBackend {
                 let touch = match at.is_empty() {
                     true => None,
                     false => {
-                        let touch = collide(at, f, c, *x, *v, w[i], dt);
+                        let touch = collide(at, clearance[i], f, c, *x, *v, w[i], dt);
                         *c = Vec3A::ZERO;
                         touch.touching.is_some().then_some(touch)
                     }
@@ -338,6 +342,14 @@ impl ParallelBackend {
     fn step(&mut self, team: &Team) -> Option<(usize, Bad)> {
         let colliders = Arc::clone(&self.colliders);
         let at = collider::at_step(&colliders, self.steps, self.dt);
+        if !at.is_empty() {
+            let x = &self.x;
+            self.clearance = (0..x.len())
+                .into_par_iter()
+                .with_min_len(CHUNK)
+                .map(|i| collider::clearance(&at, x[i].to_dvec3()))
+                .collect();
+        }
         if let Some((clamps, rest)) = &self.clamps {
             let (x, v) = (&self.x, &mut self.v);
             collider::drive(
@@ -495,6 +507,7 @@ impl ParallelBackend {
             f,
             floor_force,
             contact,
+            clearance,
             bodies,
             body_contacts,
             pair_out,
@@ -524,6 +537,7 @@ impl ParallelBackend {
                 v,
                 w: inv_mass,
                 dt: k.dt,
+                clear: clearance,
             }),
             bodies: bodies
                 .as_ref()

@@ -14,7 +14,7 @@
 //! at least [`CHUNK`] on the same threads. Every result is computed
 //! by one thread with the same arithmetic in the same order whatever the thread count, so
 //! the states are bit-identical for any `RAYON_NUM_THREADS` (the unit tests in `tests.rs`).
-use glam::Vec3A;
+use glam::{DVec3, Vec3A};
 use rayon::prelude::*;
 
 use super::{check_state, diverged, Bad};
@@ -24,8 +24,8 @@ use crate::error::Result;
 use crate::model::{ConstraintKind, Csr, GlobalVolume, Model};
 use crate::params::{chebyshev_weights, Method, SimParams, Solver, SpringKind};
 use crate::physics::{
-    compliant_multiplier, face_volume, floor_solve, implicit_accumulate, implicit_multiplier,
-    integrate_node, spring_constraint, spring_force, tet_volume, Vector,
+    compliant_multiplier, end_position, face_volume, floor_solve, implicit_accumulate,
+    implicit_multiplier, integrate_node, spring_constraint, spring_force, tet_volume, Vector,
 };
 use crate::problem::Problem;
 use crate::schedule::family::{ConstraintFamily, Family};
@@ -211,6 +211,8 @@ pub(super) struct Colliders<'a> {
     pub v: &'a [Vec3A],
     pub w: &'a [f32],
     pub dt: f32,
+    /// Each node's [`collider::clearance`] in this step.
+    pub clear: &'a [f64],
 }
 
 impl Colliders<'_> {
@@ -219,15 +221,20 @@ impl Colliders<'_> {
     /// updated; returns the contact.
     #[inline]
     pub fn solve(&self, i: usize, f: &mut Vec3A, c: &mut Vec3A) -> NodeContact {
-        collide(self.at, f, c, self.x[i], self.v[i], self.w[i], self.dt)
+        let (x, v, w, clear) = (self.x[i], self.v[i], self.w[i], self.clear[i]);
+        collide(self.at, clear, f, c, x, v, w, self.dt)
     }
 }
 
 /// One node's collider contacts re-solved against its total force `f`, which holds their
-/// force so far, `c` ([`collider::solve_node`], in double precision): both updated.
+/// force so far, `c` ([`collider::solve_node`], in double precision): both updated. While
+/// its end position stays within its clearance `clear` of `x`, no collider is evaluated
+/// ([`collider::solve_node_clear`]).
 #[inline]
+#[allow(clippy::too_many_arguments)]
 pub(super) fn collide(
     at: &[ColliderAt<'_>],
+    clear: f64,
     f: &mut Vec3A,
     c: &mut Vec3A,
     x: Vec3A,
@@ -235,6 +242,15 @@ pub(super) fn collide(
     w: f32,
     dt: f32,
 ) -> NodeContact {
+    let other = *f - *c;
+    if f64::from((end_position(x, v, other, w, dt) - x).length()) < clear * (1.0 - 1e-5) {
+        *f = other;
+        *c = Vec3A::ZERO;
+        return NodeContact {
+            force: DVec3::ZERO,
+            touching: None,
+        };
+    }
     let (f1, contact) = collider::solve_node(
         at,
         f.to_dvec3(),
