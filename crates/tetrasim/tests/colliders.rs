@@ -4,7 +4,7 @@
 
 use glam::{DQuat, DVec3};
 use tetrasim::backend::Backend;
-use tetrasim::collider::{self, Collider, Keyframe, Motion};
+use tetrasim::collider::{self, Collider, Grab, Keyframe, Motion};
 use tetrasim::model::{Model, ModelBuilder};
 use tetrasim::params::{Placement, SimParams};
 use tetrasim::problem::Problem;
@@ -278,4 +278,91 @@ fn a_clamp_follows_its_keyframes_exactly_and_drags_the_body() {
             backend.name()
         );
     }
+}
+
+#[test]
+fn a_grab_pulls_a_clamped_block_up_and_lets_go() {
+    let mesh = bundled("meshes/box").expect("the bundled box");
+    let placement = Placement {
+        fit_size: Some(1.0),
+        drop_height: Some(0.0),
+    };
+    let free = ModelBuilder::new(&mesh)
+        .placement(placement)
+        .build()
+        .expect("a model");
+    let lo = free.positions.iter().map(|p| p.x).fold(f64::MAX, f64::min);
+    let hi = free.positions.iter().map(|p| p.x).fold(f64::MIN, f64::max);
+    let top = free.positions.iter().map(|p| p.y).fold(f64::MIN, f64::max);
+    let mid = (lo + hi) / 2.0;
+    let lift = Motion::Keyframes(vec![
+        Keyframe {
+            t: 0.0,
+            position: DVec3::ZERO,
+            rotation: DQuat::IDENTITY,
+        },
+        Keyframe {
+            t: 0.1,
+            position: DVec3::new(0.0, 0.2, 0.0),
+            rotation: DQuat::IDENTITY,
+        },
+    ]);
+    let grab = Grab::new(DVec3::new(mid, top, 0.0), 0.3)
+        .moving(lift)
+        .release_at(0.15);
+    // Clamped at both ends (static pins), grabbed on top in the middle.
+    let model = ModelBuilder::new(&mesh)
+        .placement(placement)
+        .pinned_in_box(
+            DVec3::new(lo - 1.0, -1.0, -1.0),
+            DVec3::new(lo + 1e-6, 2.0, 1.0),
+        )
+        .pinned_in_box(
+            DVec3::new(hi - 1e-6, -1.0, -1.0),
+            DVec3::new(hi + 1.0, 2.0, 1.0),
+        )
+        .build()
+        .and_then(|m| m.with_grab(grab))
+        .expect("a grabbed block");
+    let held = model.grabs[0].clone();
+    let problem = Problem::new(&model, &params(true)).expect("a problem");
+    for mut backend in backends(&problem) {
+        let mut peak: f64 = 0.0;
+        for frame in 1..=40u32 {
+            backend.step_frame().expect("a frame");
+            let x = backend.state().expect("state").positions;
+            let t = f64::from(frame * SUBSTEPS) * 1e-3;
+            let rise = (held.nodes.iter())
+                .map(|&i| x[i as usize].y - model.positions[i as usize].y)
+                .sum::<f64>()
+                / held.nodes.len() as f64;
+            peak = peak.max(rise);
+            if held.holds(t) {
+                let off = (held.nodes.iter())
+                    .map(|&i| x[i as usize].distance(held.target(model.positions[i as usize], t)))
+                    .fold(0.0, f64::max);
+                assert!(
+                    off < 1e-5,
+                    "{} at {t} s: a held node is {off:e} m off",
+                    backend.name()
+                );
+            }
+            if frame == 40 {
+                assert!(peak > 0.19, "{}: pulled up only {peak} m", backend.name());
+                assert!(
+                    rise < 0.5 * peak,
+                    "{}: still up {rise} m after letting go",
+                    backend.name()
+                );
+            }
+        }
+    }
+    let none = ModelBuilder::new(&mesh)
+        .build()
+        .and_then(|m| m.with_grab(Grab::new(DVec3::new(9.0, 9.0, 9.0), 0.1)))
+        .expect_err("a grab far from the body");
+    assert!(
+        none.to_string().contains("grab[0]") && none.to_string().contains("no node"),
+        "{none}"
+    );
 }

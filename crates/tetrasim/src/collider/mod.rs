@@ -8,6 +8,7 @@
 //! [`Shape::Plane`] is any other half-space.
 
 mod clamp;
+mod grab;
 mod grid;
 mod motion;
 mod surface;
@@ -17,6 +18,7 @@ use std::sync::Arc;
 use glam::{DQuat, DVec3};
 
 pub use clamp::{drive, Clamp};
+pub use grab::{attachments, Attachment, Grab};
 pub use grid::DistanceGrid;
 use motion::{finite_vector, param, unit_quaternion};
 pub use motion::{Keyframe, Motion, Pose};
@@ -386,6 +388,23 @@ pub fn solve_node(
     w: f64,
     dt: f64,
 ) -> (DVec3, NodeContact) {
+    solve_node_attached(colliders, None, f, contact, x, v, w, dt)
+}
+
+/// [`solve_node`] for a node that may be attached to a grab's handle: the attachment's force
+/// ([`Attachment::force`]) comes first, then the colliders push. Both are kept in the
+/// contact's force.
+#[allow(clippy::too_many_arguments)]
+pub fn solve_node_attached(
+    colliders: &[ColliderAt<'_>],
+    attachment: Option<Attachment>,
+    f: DVec3,
+    contact: DVec3,
+    x: DVec3,
+    v: DVec3,
+    w: f64,
+    dt: f64,
+) -> (DVec3, NodeContact) {
     let other = f - contact;
     let mut out = NodeContact {
         force: DVec3::ZERO,
@@ -393,6 +412,9 @@ pub fn solve_node(
     };
     if w <= 0.0 {
         return (other, out);
+    }
+    if let Some(attachment) = attachment {
+        out.force = attachment.force(end_position(x, v, other, w, dt), w, dt);
     }
     for (k, c) in colliders.iter().enumerate() {
         let end = end_position(x, v, other + out.force, w, dt);

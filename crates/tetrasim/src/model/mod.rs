@@ -99,6 +99,8 @@ pub struct Model {
     /// Per object, whether its surface collides with itself ([`ModelBuilder::self_contact`];
     /// different objects always collide, [`crate::contact`]).
     pub self_contact: Vec<bool>,
+    /// Grabs holding nodes to moving handles ([`Model::with_grab`]).
+    pub grabs: Vec<crate::collider::Grab>,
 }
 
 /// A uniform scale followed by a translation: `p -> scale * p + offset`.
@@ -507,6 +509,7 @@ impl<'a> ModelBuilder<'a> {
             colliders: Vec::new(),
             clamps,
             self_contact: vec![self.self_contact],
+            grabs: Vec::new(),
         };
         model.material = self
             .material
@@ -526,6 +529,31 @@ impl Model {
             c.validate(&format!("collider[{}]", self.colliders.len()))?;
             self.colliders.push(c);
         }
+        Ok(self)
+    }
+
+    /// The same model with `grab` holding every free node within its radius of its point
+    /// (at the initial positions). Fails, naming `grab[k]`, on a bad grab or one that
+    /// catches no node.
+    pub fn with_grab(mut self, mut grab: crate::collider::Grab) -> Result<Self> {
+        let key = format!("grab[{}]", self.grabs.len());
+        grab.validate(&key)?;
+        grab.nodes = (0..self.node_count() as u32)
+            .filter(|&i| {
+                self.inv_mass[i as usize] > 0.0
+                    && self.positions[i as usize].distance(grab.point) <= grab.radius
+            })
+            .collect();
+        if grab.nodes.is_empty() {
+            return Err(Error::param(
+                &key,
+                format!(
+                    "catches no node: no free node within {} m of {}",
+                    grab.radius, grab.point
+                ),
+            ));
+        }
+        self.grabs.push(grab);
         Ok(self)
     }
 
@@ -600,6 +628,11 @@ impl Model {
             out.placements.extend_from_slice(&m.placements);
             out.colliders.extend_from_slice(&m.colliders);
             out.self_contact.extend_from_slice(&m.self_contact);
+            out.grabs
+                .extend(m.grabs.iter().map(|g| crate::collider::Grab {
+                    nodes: g.nodes.iter().map(|i| i + nodes).collect(),
+                    ..g.clone()
+                }));
             out.clamps
                 .extend(m.clamps.iter().map(|c| crate::collider::Clamp {
                     nodes: c.nodes.iter().map(|i| i + nodes).collect(),

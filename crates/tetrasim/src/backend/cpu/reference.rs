@@ -93,6 +93,8 @@ struct StepForces {
     contacts: Vec<NodeContact>,
     /// Each node's [`collider::clearance`] in this step (empty until the first solve).
     clearance: Vec<f64>,
+    /// Each node's attachment to a grab in this step.
+    attached: Vec<Option<collider::Attachment>>,
     /// The compliant constraints' multipliers found so far in this step (the warm start's
     /// for the springs).
     spring_lambda: Vec<f64>,
@@ -121,6 +123,7 @@ impl StepForces {
             floor: vec![0.0; n],
             contacts: vec![NO_CONTACT; n],
             clearance: Vec::new(),
+            attached: Vec::new(),
             spring_lambda: backend.spring_warm.clone(),
             volume_lambda: vec![0.0; problem.model.tets.len()],
             before_total: Vec::new(),
@@ -429,7 +432,7 @@ impl ReferenceBackend {
                 (*f, *n) = floor_solve(*f, *n, self.x[i].y, self.v[i].y, model.inv_mass[i], dt);
             }
         }
-        if model.colliders.is_empty() {
+        if model.colliders.is_empty() && model.grabs.is_empty() {
             return;
         }
         let at = collider::at_step(&model.colliders, self.steps, dt);
@@ -439,12 +442,16 @@ impl ReferenceBackend {
                 .iter()
                 .map(|&x| collider::clearance(&at, x))
                 .collect();
+            let t = self.steps as f64 * dt;
+            step.attached = collider::attachments(&model.grabs, &model.positions, t, dt);
         }
         let nodes = step.total.iter_mut().zip(step.contacts.iter_mut());
         for (i, (f, c)) in nodes.enumerate() {
-            let (w, clear) = (model.inv_mass[i], step.clearance[i]);
-            (*f, *c) =
-                collider::solve_node_clear(&at, clear, *f, c.force, self.x[i], self.v[i], w, dt);
+            let (x, v, w, clear) = (self.x[i], self.v[i], model.inv_mass[i], step.clearance[i]);
+            (*f, *c) = match step.attached[i] {
+                Some(a) => collider::solve_node_attached(&at, Some(a), *f, c.force, x, v, w, dt),
+                None => collider::solve_node_clear(&at, clear, *f, c.force, x, v, w, dt),
+            };
         }
     }
 

@@ -183,11 +183,15 @@ impl VulkanBackend {
                  the vulkan backend does not solve them yet",
             ));
         }
-        if !model.clamps.is_empty() {
+        if !model.clamps.is_empty() || !model.grabs.is_empty() {
             return Err(Error::param(
-                "pin.motion",
-                "moving pins run on the cpu-ref and cpu backends; the vulkan backend does not \
-                 drive them yet",
+                if model.grabs.is_empty() {
+                    "pin.motion"
+                } else {
+                    "grab"
+                },
+                "moving pins and grabs run on the cpu-ref and cpu backends; the vulkan backend \
+                 does not drive them yet",
             ));
         }
         let info = ctx.info();

@@ -7,7 +7,7 @@ use super::iterations::{self, Inputs, Outputs};
 use super::shared::SharedSlice;
 use super::team::Team;
 use super::*;
-use crate::collider::{Clamp, Collider};
+use crate::collider::{Clamp, Collider, Grab};
 use crate::contact::Contact;
 use glam::DVec3;
 use std::sync::Arc;
@@ -53,6 +53,11 @@ pub struct ParallelBackend {
     colliders: Arc<[Collider]>,
     /// Each node's [`collider::clearance`] in the current step (empty without colliders).
     clearance: Vec<f64>,
+    /// The grabs, the initial positions they hold from, and each node's attachment in the
+    /// current step (all empty without grabs).
+    grabs: Vec<Grab>,
+    rest: Vec<DVec3>,
+    attached: Vec<Option<collider::Attachment>>,
     /// The colliders' force on each node in the current step [N] (zeros without them).
     contact: Vec<Vec3A>,
     /// Time steps taken since creation (the colliders' clock; [`Self::set_state`] keeps
@@ -158,6 +163,12 @@ impl ParallelBackend {
             colliders: model.colliders.clone().into(),
             contact: vec![Vec3A::ZERO; n],
             clearance: Vec::new(),
+            grabs: model.grabs.clone(),
+            rest: match model.grabs.is_empty() {
+                true => Vec::new(),
+                false => model.positions.clone(),
+            },
+            attached: Vec::new(),
             steps: 0,
             dt: params.dt,
             x: model
@@ -291,7 +302,7 @@ impl ParallelBackend {
         let (w, k, mass) = (&self.inv_mass, self.k, &self.mass);
         let limit2 = self.speed_limit * self.speed_limit;
         let (on, dt) = (self.floor, self.k.dt);
-        let clearance = &self.clearance;
+        let (clearance, attached) = (&self.clearance, &self.attached);
         self.x
             .par_iter_mut()
             .zip(self.v.par_iter_mut())
@@ -303,10 +314,11 @@ impl ParallelBackend {
                 if on {
                     (*f, *n) = floor_solve(*f, *n, x.y, v.y, w[i], dt);
                 }
-                let touch = match at.is_empty() {
+                let touch = match at.is_empty() && attached.is_empty() {
                     true => None,
                     false => {
-                        let touch = collide(at, clearance[i], f, c, *x, *v, w[i], dt);
+                        let held = attached.get(i).copied().flatten();
+                        let touch = collide(at, clearance[i], held, f, c, *x, *v, w[i], dt);
                         *c = Vec3A::ZERO;
                         touch.touching.is_some().then_some(touch)
                     }
@@ -342,7 +354,11 @@ impl ParallelBackend {
     fn step(&mut self, team: &Team) -> Option<(usize, Bad)> {
         let colliders = Arc::clone(&self.colliders);
         let at = collider::at_step(&colliders, self.steps, self.dt);
-        if !at.is_empty() {
+        if !self.grabs.is_empty() {
+            let t = self.steps as f64 * self.dt;
+            self.attached = collider::attachments(&self.grabs, &self.rest, t, self.dt);
+        }
+        if !at.is_empty() || !self.grabs.is_empty() {
             let x = &self.x;
             self.clearance = (0..x.len())
                 .into_par_iter()
@@ -508,6 +524,7 @@ impl ParallelBackend {
             floor_force,
             contact,
             clearance,
+            attached,
             bodies,
             body_contacts,
             pair_out,
@@ -531,13 +548,14 @@ impl ParallelBackend {
             inv_mass,
             k: *k,
             floor: *floor,
-            colliders: (!at.is_empty()).then_some(Colliders {
+            colliders: (!at.is_empty() || !attached.is_empty()).then_some(Colliders {
                 at,
                 x,
                 v,
                 w: inv_mass,
                 dt: k.dt,
                 clear: clearance,
+                attached,
             }),
             bodies: bodies
                 .as_ref()

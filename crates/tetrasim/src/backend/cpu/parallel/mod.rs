@@ -19,7 +19,7 @@ use rayon::prelude::*;
 
 use super::{check_state, diverged, Bad};
 use crate::backend::{Backend, State, VolumeSample};
-use crate::collider::{self, ColliderAt, NodeContact};
+use crate::collider::{self, Attachment, ColliderAt, NodeContact};
 use crate::error::Result;
 use crate::model::{ConstraintKind, Csr, GlobalVolume, Model};
 use crate::params::{chebyshev_weights, Method, SimParams, Solver, SpringKind};
@@ -213,6 +213,8 @@ pub(super) struct Colliders<'a> {
     pub dt: f32,
     /// Each node's [`collider::clearance`] in this step.
     pub clear: &'a [f64],
+    /// Each node's attachment to a grab in this step (empty without grabs).
+    pub attached: &'a [Option<Attachment>],
 }
 
 impl Colliders<'_> {
@@ -222,7 +224,8 @@ impl Colliders<'_> {
     #[inline]
     pub fn solve(&self, i: usize, f: &mut Vec3A, c: &mut Vec3A) -> NodeContact {
         let (x, v, w, clear) = (self.x[i], self.v[i], self.w[i], self.clear[i]);
-        collide(self.at, clear, f, c, x, v, w, self.dt)
+        let attached = self.attached.get(i).copied().flatten();
+        collide(self.at, clear, attached, f, c, x, v, w, self.dt)
     }
 }
 
@@ -235,6 +238,7 @@ impl Colliders<'_> {
 pub(super) fn collide(
     at: &[ColliderAt<'_>],
     clear: f64,
+    attached: Option<Attachment>,
     f: &mut Vec3A,
     c: &mut Vec3A,
     x: Vec3A,
@@ -243,7 +247,9 @@ pub(super) fn collide(
     dt: f32,
 ) -> NodeContact {
     let other = *f - *c;
-    if f64::from((end_position(x, v, other, w, dt) - x).length()) < clear * (1.0 - 1e-5) {
+    if attached.is_none()
+        && f64::from((end_position(x, v, other, w, dt) - x).length()) < clear * (1.0 - 1e-5)
+    {
         *f = other;
         *c = Vec3A::ZERO;
         return NodeContact {
@@ -251,8 +257,9 @@ pub(super) fn collide(
             touching: None,
         };
     }
-    let (f1, contact) = collider::solve_node(
+    let (f1, contact) = collider::solve_node_attached(
         at,
+        attached,
         f.to_dvec3(),
         c.to_dvec3(),
         x.to_dvec3(),
