@@ -65,6 +65,15 @@ pub enum BufferId {
     GlobalState,
     /// vec4 per node (Chebyshev).
     ChebyshevBefore,
+    /// vec4 per node: the colliders' contact force so far in the step (colliders).
+    Contacts,
+    /// 64 bytes per collider: shape and material (colliders).
+    Colliders,
+    /// f32 per distance-grid sample of every mesh collider (colliders).
+    ColliderGrids,
+    /// 64 bytes per frame slot, substep and collider: the step's poses (colliders;
+    /// host-visible).
+    ColliderPoses,
 }
 
 impl BufferId {
@@ -99,6 +108,10 @@ impl BufferId {
             BufferId::SurfaceGradients => "surface gradients",
             BufferId::GlobalState => "global state",
             BufferId::ChebyshevBefore => "chebyshev before",
+            BufferId::Contacts => "contacts",
+            BufferId::Colliders => "colliders",
+            BufferId::ColliderGrids => "collider grids",
+            BufferId::ColliderPoses => "collider poses",
         }
     }
 
@@ -133,6 +146,10 @@ impl BufferId {
             BufferId::SurfaceGradients => binding::SURFACE_GRADIENTS,
             BufferId::GlobalState => binding::GLOBAL_STATE,
             BufferId::ChebyshevBefore => binding::CHEBYSHEV_BEFORE,
+            BufferId::Contacts => binding::CONTACTS,
+            BufferId::Colliders => binding::COLLIDERS,
+            BufferId::ColliderGrids => binding::COLLIDER_GRIDS,
+            BufferId::ColliderPoses => binding::COLLIDER_POSES,
         }
     }
 }

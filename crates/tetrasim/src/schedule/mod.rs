@@ -154,6 +154,8 @@ pub struct Schedule {
     pub chebyshev: Vec<f64>,
     /// Whether the step has a floor.
     pub floor: bool,
+    /// Kinematic colliders, solved with the floor (0: none).
+    pub colliders: u32,
 }
 
 impl Schedule {
@@ -161,6 +163,7 @@ impl Schedule {
     pub fn of(problem: &Problem, metrics: bool) -> Self {
         let sweeps = problem.sweeps.iter().map(SweepPlan::of).collect();
         Schedule::new(&problem.params, sweeps, problem.global.is_some(), metrics)
+            .with_colliders(problem.model.colliders.len() as u32)
     }
 
     /// Whether `kind` runs in the frame.

@@ -1,0 +1,197 @@
+//! Kinematic colliders on the Vulkan engine: the bundled sphere dropped onto (a) a fixed
+//! ball, (b) a turning box swept by a keyframed capsule, (c) a mesh collider (a torus's
+//! sampled distance), with friction, matches `cpu-ref` per frame (volume) and at the end
+//! (positions), and no node ever ends a frame more than 1 mm inside a collider. Without the
+//! colliders' solve the sphere would fall through them (each scene checks that it touched
+//! its colliders), so these fail when the feature is off.
+//!
+//! Tolerances are those of tests/gpu_matches_cpu.rs (the GPU works in f32, the reference
+//! in f64).
+
+mod common;
+mod gpu_support;
+
+use glam::{DQuat, DVec3};
+use tetrasim::backend::cpu::ReferenceBackend;
+use tetrasim::collider::{Collider, DistanceGrid, Keyframe, Motion};
+use tetrasim::params::SimParams;
+use tetrasim::{Backend, Model};
+
+/// Largest allowed per-frame difference of the volume percentage [percentage points].
+const VOLUME_POINTS: f64 = 1e-3;
+/// Largest allowed final position difference, as a fraction of the bounding-box diagonal.
+const POSITION_FRACTION: f64 = 1e-5;
+/// How far a node may end a frame inside a collider [m].
+const PENETRATION: f64 = 1e-3;
+
+/// The bundled sphere per the `seed` placement (1 m across, its lowest node 0.1 m up).
+fn sphere_with(colliders: Vec<Collider>) -> Model {
+    common::seed_model(&gpu_support::bundled_sphere())
+        .with_colliders(colliders)
+        .unwrap()
+}
+
+/// A grid of the distance to a flat torus (major radius `r_major` about local Y, minor
+/// `r_minor`) centred at `centre`.
+fn torus_grid(centre: DVec3, r_major: f64, r_minor: f64) -> DistanceGrid {
+    let cell = 0.02;
+    let half = DVec3::new(
+        r_major + r_minor + 0.1,
+        r_minor + 0.1,
+        r_major + r_minor + 0.1,
+    );
+    let origin = centre - half;
+    let dims = (half * 2.0 / cell).ceil().as_uvec3() + 1;
+    let mut values = Vec::new();
+    for k in 0..dims.z {
+        for j in 0..dims.y {
+            for i in 0..dims.x {
+                let p = origin + DVec3::new(i as f64, j as f64, k as f64) * cell - centre;
+                let ring = DVec3::new(p.x, 0.0, p.z).length() - r_major;
+                values.push((ring * ring + p.y * p.y).sqrt() - r_minor);
+            }
+        }
+    }
+    DistanceGrid {
+        origin,
+        cell,
+        dims: dims.to_array(),
+        values,
+    }
+}
+
+/// The three scenes: name, model, parameters, frames.
+fn scenes() -> Vec<(&'static str, Model, SimParams, u32)> {
+    let fixed = Collider::sphere(DVec3::new(0.2, -0.3, 0.0), 0.35).with_friction(0.5);
+    let turning = Collider::cuboid(
+        DVec3::new(0.0, -0.1, 0.0),
+        DVec3::new(0.4, 0.12, 0.4),
+        DQuat::from_rotation_y(0.3),
+    )
+    .moving(Motion::Velocity {
+        linear: DVec3::ZERO,
+        angular: DVec3::new(0.0, 3.0, 0.0),
+    })
+    .with_friction(0.8);
+    let key = |t: f64, x: f64, turn: f64| Keyframe {
+        t,
+        position: DVec3::new(x, 0.0, 0.0),
+        rotation: DQuat::from_rotation_x(turn),
+    };
+    let sweeping = Collider::capsule(
+        DVec3::new(-0.8, 0.35, -0.4),
+        DVec3::new(-0.8, 0.35, 0.4),
+        0.1,
+    )
+    .moving(Motion::Keyframes(vec![
+        key(0.0, 0.0, 0.0),
+        key(0.1, 0.15, 0.2),
+        key(0.25, 0.3, 0.0),
+    ]));
+    let mesh =
+        Collider::mesh(torus_grid(DVec3::new(0.05, -0.05, 0.0), 0.3, 0.12)).with_friction(0.3);
+    let substeps = SimParams {
+        dt: 5e-4,
+        substeps: 2,
+        ..SimParams::default()
+    };
+    vec![
+        (
+            "fixed sphere",
+            sphere_with(vec![fixed]),
+            SimParams::default(),
+            220,
+        ),
+        (
+            "turning box and keyframed capsule",
+            sphere_with(vec![turning, sweeping]),
+            substeps,
+            220,
+        ),
+        (
+            "mesh torus",
+            sphere_with(vec![mesh]),
+            SimParams::default(),
+            220,
+        ),
+    ]
+}
+
+/// The least signed distance of any node from any collider of `model` at time `t` [s].
+fn least_distance(model: &Model, positions: &[DVec3], t: f64) -> (f64, usize, usize) {
+    let mut least = (f64::INFINITY, 0, 0);
+    for (k, c) in model.colliders.iter().enumerate() {
+        let pose = c.pose_at(t);
+        for (i, x) in positions.iter().enumerate() {
+            let phi = c.shape.distance(pose.invert(*x)).0;
+            if phi < least.0 {
+                least = (phi, k, i);
+            }
+        }
+    }
+    least
+}
+
+#[test]
+fn colliders_match_the_reference_and_keep_every_node_out() {
+    if !gpu_support::vulkan_available() {
+        return;
+    }
+    for (name, model, params, frames) in scenes() {
+        let rest = model.total_rest_volume();
+        let diag = model.bounds_diagonal();
+        let frame_time = params.frame_time();
+
+        // Vulkan: every frame's state, no node inside a collider.
+        let mut gpu = gpu_support::validated(&model, &params);
+        assert!(gpu.plan().has_pass("integrate") && gpu.plan().schedule.colliders > 0);
+        let mut volumes = Vec::new();
+        let mut closest = f64::INFINITY;
+        for frame in 0..frames {
+            gpu.step_frame().unwrap();
+            volumes.push(100.0 * gpu.volume().unwrap().volume / rest);
+            let state = gpu.state().unwrap();
+            let t = f64::from(frame + 1) * frame_time;
+            let (phi, k, i) = least_distance(&model, &state.positions, t);
+            assert!(
+                phi >= -PENETRATION,
+                "{name}: frame {frame}: node {i} is {phi} m inside collider {k}"
+            );
+            closest = closest.min(phi);
+        }
+        gpu_support::assert_no_validation_messages(&gpu);
+        let gpu_state = gpu.state().unwrap();
+        // Not vacuous: the sphere came down onto its colliders.
+        assert!(
+            closest < 2e-3,
+            "{name}: never touched a collider ({closest} m)"
+        );
+
+        // The reference, frame by frame.
+        if std::env::var("GPU_ONLY").is_ok() {
+            println!("{name}: closest {closest}");
+            continue;
+        let mut reference = ReferenceBackend::new(&model, &params).unwrap();
+        let mut worst_volume = 0.0f64;
+        for (frame, got) in volumes.iter().enumerate() {
+            reference.step_frame().unwrap();
+            let want = 100.0 * reference.volume().unwrap().volume / rest;
+            worst_volume = worst_volume.max((got - want).abs());
+            assert!(
+                (got - want).abs() <= VOLUME_POINTS,
+                "{name}: frame {frame}: volume {got:.5} % vs reference {want:.5} %"
+            );
+        }
+        let expected = reference.state().unwrap();
+        let worst = common::max_distance(&gpu_state.positions, &expected.positions);
+        println!(
+            "{name}: worst volume difference {worst_volume:.2e} points, worst position \
+             difference {:.2e} of the diagonal, closest approach {closest:.2e} m",
+            worst / diag
+        );
+        assert!(
+            worst <= POSITION_FRACTION * diag,
+            "{name}: a node is {worst} m from the reference (diagonal {diag} m)"
+        );
+    }
+}
