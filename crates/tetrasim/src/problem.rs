@@ -10,9 +10,9 @@
 use std::ops::Deref;
 use std::sync::Arc;
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::model::{ElementMaterial, GlobalVolume, Model, Sweep};
-use crate::params::SimParams;
+use crate::params::{SimParams, Solver};
 
 /// A validated model and parameter set with what every backend derives from them.
 #[derive(Debug, Clone)]
@@ -45,6 +45,15 @@ impl Problem {
     pub fn new(model: &Model, params: &SimParams) -> Result<Self> {
         params.validate()?;
         let sweeps = model.constraint_sweeps(params);
+        if params.solver == Solver::Chebyshev && !sweeps.is_empty() && !model.colliders.is_empty() {
+            return Err(Error::Param {
+                key: "solver".into(),
+                message: "the chebyshev solver does not solve collider contact (its \
+                          extrapolation would act on the contact forces); use gauss-seidel \
+                          or jacobi with colliders"
+                    .into(),
+            });
+        }
         let material = model.element_material(params).into_owned();
         let global = params
             .solves_global_volume()
@@ -84,7 +93,7 @@ mod tests {
     use super::*;
     use crate::mesh::grid::box_tets;
     use crate::model::ModelBuilder;
-    use crate::params::{Method, Solver};
+    use crate::params::Method;
     use glam::DVec3;
 
     fn model() -> Model {

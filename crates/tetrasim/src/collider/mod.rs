@@ -72,6 +72,22 @@ impl Shape {
         }
     }
 
+    /// The largest distance of a point of the shape from the local origin [m] (infinite
+    /// for a plane).
+    pub fn bound(&self) -> f64 {
+        match self {
+            Shape::Plane => f64::INFINITY,
+            Shape::Sphere { radius } => *radius,
+            Shape::Cuboid { half_extents } => half_extents.length(),
+            Shape::Capsule {
+                half_length,
+                radius,
+            } => half_length + radius,
+            // The shape lies inside the sampled box.
+            Shape::Grid(grid) => grid.origin.abs().max(grid.end().abs()).length(),
+        }
+    }
+
     /// Signed distance [m] of the local point `p` and the outward unit normal there.
     pub fn distance(&self, p: DVec3) -> (f64, DVec3) {
         match self {
@@ -260,7 +276,7 @@ impl Collider {
                 if grid.dims.iter().any(|&d| d < 2)
                     || grid.values.len() != grid.dims.iter().map(|&d| d as usize).product::<usize>()
                     || grid.values.iter().any(|v| !v.is_finite())
-                    || !(grid.cell > 0.0)
+                    || grid.cell.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
                 {
                     return Err(param(
                         &format!("{key}.path"),
@@ -296,6 +312,9 @@ pub struct ColliderAt<'a> {
     pub start: Pose,
     /// Its placement at the end of the step (the constraint's).
     pub end: Pose,
+    /// No point of the shape is farther than this from its centre [m] (infinite for a
+    /// plane): a node farther than `reach` from the end pose's centre cannot touch it.
+    reach: f64,
 }
 
 impl<'a> ColliderAt<'a> {
@@ -305,7 +324,14 @@ impl<'a> ColliderAt<'a> {
             collider,
             start: collider.pose_at(t),
             end: collider.pose_at(t + dt),
+            reach: collider.shape.bound() + collider.thickness,
         }
+    }
+
+    /// Whether the world point `x` may be within the contact thickness (a cheap test that
+    /// never says no to a point that is).
+    pub fn may_touch(&self, x: DVec3) -> bool {
+        x.distance_squared(self.end.position) <= self.reach * self.reach
     }
 
     /// Signed distance [m] of the world point `x` from the collider at the step's end, and
@@ -320,6 +346,16 @@ impl<'a> ColliderAt<'a> {
     pub fn surface_velocity(&self, x: DVec3, dt: f64) -> DVec3 {
         (x - self.start.apply(self.end.invert(x))) / dt
     }
+}
+
+/// `colliders` over time step `step` (counted from 0) of length `dt` [s]: from
+/// `t = step dt` to `t + dt` (the product taken in f64 on every backend).
+pub fn at_step(colliders: &[Collider], step: u64, dt: f64) -> Vec<ColliderAt<'_>> {
+    let t = step as f64 * dt;
+    colliders
+        .iter()
+        .map(|c| ColliderAt::new(c, t, dt))
+        .collect()
 }
 
 /// What [`solve_node`] found for one node.
@@ -355,7 +391,11 @@ pub fn solve_node(
         return (other, out);
     }
     for (k, c) in colliders.iter().enumerate() {
-        let (phi, normal) = c.distance(end_position(x, v, other + out.force, w, dt));
+        let end = end_position(x, v, other + out.force, w, dt);
+        if !c.may_touch(end) {
+            continue;
+        }
+        let (phi, normal) = c.distance(end);
         let push = contact_push(phi, c.collider.thickness, w, dt);
         if push > 0.0 {
             out.force += normal * push;

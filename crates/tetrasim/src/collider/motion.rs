@@ -227,7 +227,11 @@ mod tests {
 
     #[test]
     fn bad_motions_name_their_key() {
-        let key = |m: Motion| m.validate("collider[2].motion").unwrap_err().to_string();
+        let key = |m: Motion| {
+            m.validate("collider[2].motion")
+                .expect_err("refused")
+                .to_string()
+        };
         let k = |t: f64, w: f64| Keyframe {
             t,
             position: DVec3::ZERO,

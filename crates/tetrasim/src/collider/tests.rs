@@ -6,7 +6,7 @@ const DT: f64 = 1e-3;
 fn each_shape_measures_its_distance() {
     let cases: Vec<(Collider, DVec3, f64, DVec3)> = vec![
         (
-            Collider::plane(DVec3::new(0.0, 0.0, 2.0), 0.5).unwrap(),
+            Collider::plane(DVec3::new(0.0, 0.0, 2.0), 0.5).expect("a plane"),
             DVec3::new(3.0, 1.0, 0.2),
             -0.3,
             DVec3::Z,
@@ -105,7 +105,7 @@ fn solve_node_pushes_out_of_every_collider_and_pins_stay() {
 
 #[test]
 fn bad_colliders_name_their_key() {
-    let message = |c: Collider| c.validate("collider[3]").unwrap_err().to_string();
+    let message = |c: Collider| c.validate("collider[3]").expect_err("refused").to_string();
     assert!(message(Collider::sphere(DVec3::ZERO, 0.0)).contains("collider[3].radius"));
     assert!(message(Collider::capsule(DVec3::ZERO, DVec3::X, -1.0)).contains("collider[3].radius"));
     let flat = Collider::cuboid(DVec3::ZERO, DVec3::new(1.0, 0.0, 1.0), DQuat::IDENTITY);
@@ -117,6 +117,8 @@ fn bad_colliders_name_their_key() {
     );
     assert!(message(skew).contains("collider[3].rotation"));
     assert!(message(Collider::sphere(DVec3::ZERO, 1.0).with_friction(1.5)).contains("friction"));
-    let zero = Collider::plane(DVec3::ZERO, 0.0).unwrap_err().to_string();
+    let zero = Collider::plane(DVec3::ZERO, 0.0)
+        .expect_err("refused")
+        .to_string();
     assert!(zero.contains("normal"), "{zero}");
 }

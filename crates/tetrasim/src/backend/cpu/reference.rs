@@ -5,6 +5,7 @@ use glam::DVec3;
 
 use super::{check_state, diverged, Bad};
 use crate::backend::{Backend, State, VolumeSample};
+use crate::collider::{self, NodeContact};
 use crate::error::Result;
 use crate::model::{GlobalObject, GlobalVolume, Model};
 use crate::params::SimParams;
@@ -28,6 +29,9 @@ pub struct Forces {
     pub constraints: Vec<DVec3>,
     /// The floor's normal force (along +Y, `>= 0`; zero without a floor).
     pub floor: Vec<f64>,
+    /// The kinematic colliders' force and contact ([`collider::solve_node`]; none without
+    /// colliders).
+    pub contacts: Vec<NodeContact>,
     /// Per spring, the multiplier of its implicit spring after the step's iterations (the
     /// force is `-lambda grad C`); zeros with explicit springs.
     pub spring_multipliers: Vec<f64>,
@@ -41,7 +45,11 @@ impl Forces {
     pub fn total(&self) -> Vec<DVec3> {
         (0..self.gravity.len())
             .map(|i| {
-                self.gravity[i] + self.springs[i] + self.constraints[i] + DVec3::Y * self.floor[i]
+                self.gravity[i]
+                    + self.springs[i]
+                    + self.constraints[i]
+                    + DVec3::Y * self.floor[i]
+                    + self.contacts[i].force
             })
             .collect()
     }
@@ -55,6 +63,8 @@ pub struct ReferenceBackend {
     x: Vec<DVec3>,
     v: Vec<DVec3>,
     frame: u32,
+    /// Time steps taken since creation (the colliders' clock; [`Self::set_state`] keeps it).
+    steps: u64,
     /// Per sweep and group, each node's `(a_scale, apply_weight)` from its degree within the
     /// group.
     group_factors: Vec<Vec<Vec<(f64, f64)>>>,
@@ -78,6 +88,8 @@ struct StepForces {
     total: Vec<DVec3>,
     /// The floor's normal force so far.
     floor: Vec<f64>,
+    /// The colliders' force and contact so far.
+    contacts: Vec<NodeContact>,
     /// The compliant constraints' multipliers found so far in this step (the warm start's
     /// for the springs).
     spring_lambda: Vec<f64>,
@@ -102,6 +114,7 @@ impl StepForces {
             springs: vec![DVec3::ZERO; n],
             total: Vec::new(),
             floor: vec![0.0; n],
+            contacts: vec![NO_CONTACT; n],
             spring_lambda: backend.spring_warm.clone(),
             volume_lambda: vec![0.0; problem.model.tets.len()],
             before_total: Vec::new(),
@@ -159,6 +172,7 @@ impl ReferenceBackend {
             x: model.positions.clone(),
             v: model.velocities.clone(),
             frame: 0,
+            steps: 0,
             group_factors,
             spring_warm: vec![0.0; model.springs.len()],
             schedule,
@@ -194,16 +208,23 @@ impl ReferenceBackend {
             }
             self.run(dispatch, &mut step);
         }
-        self.floor_solve(&mut step.total, &mut step.floor);
+        self.contact_solve(&mut step);
         let n = self.problem.model.node_count();
         let constraints = (0..n)
-            .map(|i| step.total[i] - step.gravity[i] - step.springs[i] - DVec3::Y * step.floor[i])
+            .map(|i| {
+                step.total[i]
+                    - step.gravity[i]
+                    - step.springs[i]
+                    - DVec3::Y * step.floor[i]
+                    - step.contacts[i].force
+            })
             .collect();
         Forces {
             gravity: step.gravity,
             springs: step.springs,
             constraints,
             floor: step.floor,
+            contacts: step.contacts,
             spring_multipliers: step.spring_lambda,
             volume_multipliers: step.volume_lambda,
         }
@@ -232,7 +253,7 @@ impl ReferenceBackend {
                         }
                     }
                 }
-                self.floor_solve(&mut step.total, &mut step.floor);
+                self.contact_solve(step);
             }
             // Integration ends the step (`step`); the frame's check and volume are the
             // GPU's readbacks (this backend checks each node as it integrates it).
@@ -279,7 +300,7 @@ impl ReferenceBackend {
             }
             (step.before_total, step.before_floor) = (t, f);
         }
-        self.floor_solve(&mut step.total, &mut step.floor);
+        self.contact_solve(step);
     }
 
     /// With implicit springs: each spring's warm-start multiplier (zero without
@@ -360,15 +381,28 @@ impl ReferenceBackend {
         }
     }
 
-    /// Solves every node's floor contact against the current total force `total` (which
-    /// includes the floor forces `floor` found so far) and updates both.
-    fn floor_solve(&self, total: &mut [DVec3], floor: &mut [f64]) {
-        if !self.problem.params.floor {
+    /// Solves every node's contacts against the step's total force (which includes the
+    /// contact forces found so far) and updates both: the floor's, then the colliders' in
+    /// their order ([`collider::solve_node`]).
+    fn contact_solve(&self, step: &mut StepForces) {
+        let (model, dt) = (&self.problem.model, self.problem.params.dt);
+        if self.problem.params.floor {
+            for (i, (f, n)) in step.total.iter_mut().zip(step.floor.iter_mut()).enumerate() {
+                (*f, *n) = floor_solve(*f, *n, self.x[i].y, self.v[i].y, model.inv_mass[i], dt);
+            }
+        }
+        if model.colliders.is_empty() {
             return;
         }
-        for (i, (f, n)) in total.iter_mut().zip(floor.iter_mut()).enumerate() {
-            let w = self.problem.model.inv_mass[i];
-            (*f, *n) = floor_solve(*f, *n, self.x[i].y, self.v[i].y, w, self.problem.params.dt);
+        let at = collider::at_step(&model.colliders, self.steps, dt);
+        for (i, (f, c)) in step
+            .total
+            .iter_mut()
+            .zip(step.contacts.iter_mut())
+            .enumerate()
+        {
+            let w = model.inv_mass[i];
+            (*f, *c) = collider::solve_node(&at, *f, c.force, self.x[i], self.v[i], w, dt);
         }
     }
 
@@ -494,6 +528,7 @@ impl ReferenceBackend {
             std::mem::swap(&mut self.spring_warm, &mut forces.spring_multipliers);
         }
         let p = &self.problem.params;
+        let at = collider::at_step(&self.problem.model.colliders, self.steps, p.dt);
         let mut bad = None;
         let nodes = self
             .x
@@ -502,7 +537,12 @@ impl ReferenceBackend {
             .zip(f.iter().zip(&self.problem.model.inv_mass));
         for (i, ((x, v), (&f, &w))) in nodes.enumerate() {
             let contact = forces.floor[i] > 0.0;
-            (*x, *v) = integrate_node(*x, *v, f, w, p.dt, contact, p.friction);
+            let x0 = *x;
+            (*x, *v) = integrate_node(x0, *v, f, w, p.dt, contact, p.friction);
+            if forces.contacts[i].touching.is_some() {
+                *v = collider::friction_of(&at, &forces.contacts[i], x0, *v, p.dt);
+                *x = x0 + *v * p.dt;
+            }
             if bad.is_none() {
                 if !(x.is_finite() && v.is_finite()) {
                     bad = Some((i, Bad::NonFinite));
@@ -511,9 +551,16 @@ impl ReferenceBackend {
                 }
             }
         }
+        self.steps += 1;
         bad
     }
 }
+
+/// No collider contact.
+const NO_CONTACT: NodeContact = NodeContact {
+    force: DVec3::ZERO,
+    touching: None,
+};
 
 impl Backend for ReferenceBackend {
     fn name(&self) -> &'static str {

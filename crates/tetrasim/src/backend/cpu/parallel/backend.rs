@@ -2,10 +2,13 @@
 //! constraint sweeps, floor, integration) and the [`Backend`] interface. The sweeps' data
 //! and group solve are the parent module's.
 
+use super::collide;
 use super::iterations::{self, Inputs, Outputs};
 use super::shared::SharedSlice;
 use super::team::Team;
 use super::*;
+use crate::collider::Collider;
+use std::sync::Arc;
 
 /// The fast CPU solver (`cpu`).
 #[derive(Debug, Clone)]
@@ -38,6 +41,14 @@ pub struct ParallelBackend {
     team: Team,
     /// The floor's normal force on each node in the current step [N] (`>= 0`).
     floor_force: Vec<f32>,
+    /// The kinematic colliders (shared with the problem).
+    colliders: Arc<[Collider]>,
+    /// The colliders' force on each node in the current step [N] (zeros without them).
+    contact: Vec<Vec3A>,
+    /// Time steps taken since creation (the colliders' clock; [`Self::set_state`] keeps
+    /// it), and the step in f64 [s].
+    steps: u64,
+    dt: f64,
     x: Vec<Vec3A>,
     v: Vec<Vec3A>,
     /// Total force of the current step [N].
@@ -130,6 +141,10 @@ impl ParallelBackend {
             }),
             team: Team::for_work(n, mean_group_size(&sweeps)),
             floor_force: vec![0.0; n],
+            colliders: model.colliders.clone().into(),
+            contact: vec![Vec3A::ZERO; n],
+            steps: 0,
+            dt: params.dt,
             x: model
                 .positions
                 .iter()
@@ -254,10 +269,10 @@ impl ParallelBackend {
             });
     }
 
-    /// Stage `integrate`: the floor's final solve, symplectic Euler with floor friction, then
-    /// `F = m g` for the next step. Returns the first node that is non-finite or faster than
-    /// the speed limit.
-    fn integrate_pass(&mut self) -> Option<(usize, Bad)> {
+    /// Stage `integrate`: the floor's and the colliders' final solve, symplectic Euler with
+    /// floor and collider friction, then `F = m g` for the next step. Returns the first node
+    /// that is non-finite or faster than the speed limit.
+    fn integrate_pass(&mut self, at: &[ColliderAt<'_>]) -> Option<(usize, Bad)> {
         let (w, k, mass) = (&self.inv_mass, self.k, &self.mass);
         let limit2 = self.speed_limit * self.speed_limit;
         let (on, dt) = (self.floor, self.k.dt);
@@ -267,11 +282,31 @@ impl ParallelBackend {
             .zip(self.f.par_iter_mut().zip(self.floor_force.par_iter_mut()))
             .enumerate()
             .with_min_len(CHUNK)
-            .filter_map(|(i, ((x, v), (f, n)))| {
+            .zip(self.contact.par_iter_mut())
+            .filter_map(|((i, ((x, v), (f, n))), c)| {
                 if on {
                     (*f, *n) = floor_solve(*f, *n, x.y, v.y, w[i], dt);
                 }
-                let (x1, v1) = integrate_node(*x, *v, *f, w[i], k.dt, *n > 0.0, k.friction);
+                let touch = match at.is_empty() {
+                    true => None,
+                    false => {
+                        let touch = collide(at, f, c, *x, *v, w[i], dt);
+                        *c = Vec3A::ZERO;
+                        touch.touching.is_some().then_some(touch)
+                    }
+                };
+                let (mut x1, mut v1) = integrate_node(*x, *v, *f, w[i], k.dt, *n > 0.0, k.friction);
+                if let Some(touch) = touch {
+                    let v2 = collider::friction_of(
+                        at,
+                        &touch,
+                        x.to_dvec3(),
+                        v1.to_dvec3(),
+                        f64::from(dt),
+                    );
+                    v1 = Vec3A::from_dvec3(v2);
+                    x1 = *x + v1 * dt;
+                }
                 (*x, *v) = (x1, v1);
                 *n = 0.0;
                 *f = k.gravity * mass[i];
@@ -289,6 +324,9 @@ impl ParallelBackend {
     /// One time step (physics.md steps 1-3): the schedule's dispatches in order, those of
     /// the constraint iterations run by `team` (the backend's, taken out for the step).
     fn step(&mut self, team: &Team) -> Option<(usize, Bad)> {
+        let colliders = Arc::clone(&self.colliders);
+        let at = collider::at_step(&colliders, self.steps, self.dt);
+        self.steps += 1;
         let mut k = 0;
         while k < self.dispatches.len() {
             let dispatch = self.dispatches[k];
@@ -296,7 +334,7 @@ impl ParallelBackend {
                 let end = (k..self.dispatches.len())
                     .find(|&e| self.dispatches[e].iteration.is_none())
                     .unwrap_or(self.dispatches.len());
-                self.iterations(team, k..end);
+                self.iterations(team, k..end, &at);
                 k = end;
                 continue;
             }
@@ -309,7 +347,7 @@ impl ParallelBackend {
                         global.prepare(&self.x);
                     }
                 }
-                PassKind::Integrate => return self.integrate_pass(),
+                PassKind::Integrate => return self.integrate_pass(&at),
                 _ => {}
             }
             k += 1;
@@ -320,7 +358,7 @@ impl ParallelBackend {
     /// The step's constraint iterations, the dispatches `range`: the sweeps' multipliers
     /// (the warm start's for the springs) and the Chebyshev state set, the dispatches run by
     /// `team`, the springs' multipliers kept for the next step's warm start.
-    fn iterations(&mut self, team: &Team, range: std::ops::Range<usize>) {
+    fn iterations(&mut self, team: &Team, range: std::ops::Range<usize>, at: &[ColliderAt<'_>]) {
         let global = self.global.take();
         if let Some(c) = &mut self.chebyshev {
             c.before_f.clone_from(&self.f);
@@ -338,7 +376,7 @@ impl ParallelBackend {
                 _ => sweep.multipliers.fill(0.0),
             }
         }
-        self.iterate(team, &mut sweeps, global.as_ref(), range);
+        self.iterate(team, &mut sweeps, global.as_ref(), range, at);
         if !self.spring_warm.is_empty() {
             for sweep in sweeps.iter().filter(|s| s.kind == ConstraintKind::Spring) {
                 for (&m, &s) in sweep.multipliers.iter().zip(&sweep.members.items) {
@@ -401,6 +439,7 @@ impl ParallelBackend {
         sweeps: &mut [Sweep],
         global: Option<&Global>,
         range: std::ops::Range<usize>,
+        at: &[ColliderAt<'_>],
     ) {
         let mut multipliers: Vec<Vec<f32>> = (sweeps.iter_mut())
             .map(|s| std::mem::take(&mut s.multipliers))
@@ -423,6 +462,7 @@ impl ParallelBackend {
             dispatches,
             f,
             floor_force,
+            contact,
             pair_out,
             tet_out,
             ..
@@ -444,6 +484,13 @@ impl ParallelBackend {
             inv_mass,
             k: *k,
             floor: *floor,
+            colliders: (!at.is_empty()).then_some(Colliders {
+                at,
+                x,
+                v,
+                w: inv_mass,
+                dt: k.dt,
+            }),
             springs,
             tets,
             sweeps,
@@ -455,6 +502,7 @@ impl ParallelBackend {
         let outputs = Outputs {
             f: SharedSlice::new(f),
             floor_force: SharedSlice::new(floor_force),
+            contact: SharedSlice::new(contact),
             multipliers: multipliers
                 .iter_mut()
                 .map(|m| SharedSlice::new(m))

@@ -17,6 +17,8 @@ pub(super) struct Inputs<'a> {
     pub inv_mass: &'a [f32],
     pub k: Coefficients,
     pub floor: bool,
+    /// The colliders of the step, when there are any.
+    pub colliders: Option<Colliders<'a>>,
     pub springs: &'a [[u32; 2]],
     pub tets: &'a [[u32; 4]],
     /// The sweeps of an iteration, in order.
@@ -37,6 +39,8 @@ pub(super) struct Outputs<'a> {
     pub f: SharedSlice<'a, Vec3A>,
     /// Floor force per node.
     pub floor_force: SharedSlice<'a, f32>,
+    /// Collider force per node (empty without colliders).
+    pub contact: SharedSlice<'a, Vec3A>,
     /// Per sweep, per constraint in group order: the compliant multiplier so far.
     pub multipliers: Vec<SharedSlice<'a, f32>>,
     /// Per spring or distance constraint, in group order: force on end 0.
@@ -194,6 +198,10 @@ unsafe fn apply(
     let f = unsafe { outputs.f.part(nodes.clone()) };
     // SAFETY: as `f`.
     let floor_force = unsafe { outputs.floor_force.part(nodes.clone()) };
+    let contact = inputs.colliders.map(|colliders| {
+        // SAFETY: as `f`.
+        (colliders, unsafe { outputs.contact.part(nodes.clone()) })
+    });
     let chebyshev = match (&outputs.chebyshev, inputs.chebyshev_weights) {
         (Some((before_f, before_n)), Some(weights)) => Some((
             // SAFETY: as `f`.
@@ -213,6 +221,7 @@ unsafe fn apply(
                 f,
                 floor_force,
                 reach,
+                contact,
                 chebyshev,
                 sweep,
                 g,
@@ -227,6 +236,7 @@ unsafe fn apply(
                 f,
                 floor_force,
                 reach,
+                contact,
                 chebyshev,
                 sweep,
                 g,
@@ -285,8 +295,8 @@ unsafe fn global_sums(
 
 /// Every object's global volume multiplier from its partial sums (added in chunk order, as
 /// on one thread), applied to the member's surface nodes `mine` (per object, positions in
-/// [`GlobalVolume::nodes`] of those in its block of nodes `nodes`), then the floor's solve
-/// of those nodes.
+/// [`GlobalVolume::nodes`] of those in its block of nodes `nodes`), then the floor's and the
+/// colliders' solve of those nodes.
 ///
 /// # Safety
 /// Nobody may write `partial` during the call, or touch `nodes` of the forces and floor
@@ -300,11 +310,15 @@ unsafe fn global_apply(
 ) {
     let (v, w, dt) = (inputs.v, inputs.inv_mass, inputs.k.dt);
     // SAFETY: the caller's promise.
-    let (partial, f, floor_force) = unsafe {
+    let (partial, f, floor_force, contact) = unsafe {
         (
             outputs.partial.whole(),
             outputs.f.part(nodes.clone()),
             outputs.floor_force.part(nodes.clone()),
+            match inputs.colliders {
+                Some(_) => outputs.contact.part(nodes.clone()),
+                None => &mut [][..],
+            },
         )
     };
     for (o, (first, chunks)) in global_chunks(global).into_iter().enumerate() {
@@ -320,6 +334,9 @@ unsafe fn global_apply(
             *f -= g * lambda;
             if inputs.floor {
                 (*f, *n) = floor_solve(*f, *n, inputs.x[i].y, v[i].y, w[i], dt);
+            }
+            if let Some(colliders) = &inputs.colliders {
+                colliders.solve(i, f, &mut contact[i - nodes.start]);
             }
         }
     }

@@ -19,6 +19,7 @@ use rayon::prelude::*;
 
 use super::{check_state, diverged, Bad};
 use crate::backend::{Backend, State, VolumeSample};
+use crate::collider::{self, ColliderAt, NodeContact};
 use crate::error::Result;
 use crate::model::{ConstraintKind, Csr, GlobalVolume, Model};
 use crate::params::{chebyshev_weights, Method, SimParams, Solver, SpringKind};
@@ -200,6 +201,54 @@ fn floor_reach(y: f32, vy: f32, w: f32, dt: f32) -> f32 {
     -(y + dt * vy) / (dt * dt * w)
 }
 
+/// The colliders of a step and what their solve reads (none: no colliders).
+#[derive(Clone, Copy)]
+pub(super) struct Colliders<'a> {
+    /// The colliders over the step.
+    pub at: &'a [ColliderAt<'a>],
+    /// Positions, velocities and inverse masses at the step's start.
+    pub x: &'a [Vec3A],
+    pub v: &'a [Vec3A],
+    pub w: &'a [f32],
+    pub dt: f32,
+}
+
+impl Colliders<'_> {
+    /// Node `i`'s collider contacts re-solved against its total force `f`, which holds
+    /// their force so far, `c` ([`collider::solve_node`], in double precision): both
+    /// updated; returns the contact.
+    #[inline]
+    pub fn solve(&self, i: usize, f: &mut Vec3A, c: &mut Vec3A) -> NodeContact {
+        collide(self.at, f, c, self.x[i], self.v[i], self.w[i], self.dt)
+    }
+}
+
+/// One node's collider contacts re-solved against its total force `f`, which holds their
+/// force so far, `c` ([`collider::solve_node`], in double precision): both updated.
+#[inline]
+pub(super) fn collide(
+    at: &[ColliderAt<'_>],
+    f: &mut Vec3A,
+    c: &mut Vec3A,
+    x: Vec3A,
+    v: Vec3A,
+    w: f32,
+    dt: f32,
+) -> NodeContact {
+    let (f1, contact) = collider::solve_node(
+        at,
+        f.to_dvec3(),
+        c.to_dvec3(),
+        x.to_dvec3(),
+        v.to_dvec3(),
+        f64::from(w),
+        f64::from(dt),
+    );
+    *f = Vec3A::from_dvec3(f1);
+    *c = Vec3A::from_dvec3(contact.force);
+    contact
+}
+
 /// [`floor_solve`] with the node's [`floor_reach`]: bit for bit the same `(f, n)`.
 #[inline]
 fn floor_solve_reach(f: Vec3A, n: f32, reach: f32) -> (Vec3A, f32) {
@@ -208,16 +257,18 @@ fn floor_solve_reach(f: Vec3A, n: f32, reach: f32) -> (Vec3A, f32) {
     (f + Vec3A::Y * (n1 - n), n1)
 }
 
-/// Per node `i` of a block of nodes starting at `first` (`f`, `floor_force` and `reach`
-/// hold the block): `F += apply * gather(i's slots in group g)`, the Chebyshev
+/// Per node `i` of a block of nodes starting at `first` (`f`, `floor_force`, `reach` and
+/// `contact` hold the block): `F += apply * gather(i's slots in group g)`, the Chebyshev
 /// extrapolation when it is on, then the floor's solve (`reach`: each node's
-/// [`floor_reach`], when there is a floor).
+/// [`floor_reach`], when there is a floor) and the colliders' (`contact`: each node's
+/// collider force, when there are colliders).
 #[allow(clippy::too_many_arguments)]
 fn apply_block(
     first: usize,
     f: &mut [Vec3A],
     floor_force: &mut [f32],
     reach: Option<&[f32]>,
+    contact: Option<(Colliders<'_>, &mut [Vec3A])>,
     chebyshev: Option<ChebyshevState<'_>>,
     sweep: &Sweep,
     g: usize,
@@ -228,9 +279,16 @@ fn apply_block(
     let update = |i: usize, f: &mut Vec3A| {
         *f += gather(sweep.slots.row(g * n + i)) * apply[i];
     };
-    let floor = |i: usize, f: &mut Vec3A, fl: &mut f32| {
+    let (colliders, contact) = match contact {
+        Some((colliders, c)) => (Some(colliders), c),
+        None => (None, &mut [][..]),
+    };
+    let mut floor = |i: usize, f: &mut Vec3A, fl: &mut f32| {
         if let Some(reach) = reach {
             (*f, *fl) = floor_solve_reach(*f, *fl, reach[i - first]);
+        }
+        if let Some(colliders) = &colliders {
+            colliders.solve(i, f, &mut contact[i - first]);
         }
     };
     let nodes = f.iter_mut().zip(floor_force.iter_mut());

@@ -1,0 +1,215 @@
+//! Kinematic colliders on the CPU backends (issue 24, item 1; physics.md, "Kinematic
+//! colliders"): every shape keeps every node outside it while it moves, friction holds or
+//! lets go on a tilted plane, and `cpu` follows `cpu-ref`.
+
+use glam::{DQuat, DVec3};
+use tetrasim::backend::Backend;
+use tetrasim::collider::{self, Collider, Keyframe, Motion};
+use tetrasim::model::{Model, ModelBuilder};
+use tetrasim::params::{Placement, SimParams};
+use tetrasim::problem::Problem;
+use tetrasim::sim::bundled::bundled;
+
+/// Steps of 1 ms per frame.
+const SUBSTEPS: u32 = 5;
+
+/// The bundled sphere (1 m across), its lowest node `height` above y = 0, moved by
+/// `offset`, with `colliders`.
+fn sphere(height: f64, offset: DVec3, colliders: Vec<Collider>) -> Model {
+    let mesh = bundled("meshes/sphere").expect("the bundled sphere");
+    ModelBuilder::new(&mesh)
+        .placement(Placement {
+            fit_size: Some(1.0),
+            drop_height: Some(height),
+        })
+        .offset(offset)
+        .build()
+        .and_then(|m| m.with_colliders(colliders))
+        .expect("a model")
+}
+
+fn params(floor: bool) -> SimParams {
+    SimParams {
+        floor,
+        substeps: SUBSTEPS,
+        ..SimParams::default()
+    }
+}
+
+/// Backends under test: `cpu-ref` and `cpu`.
+fn backends(problem: &Problem) -> Vec<Box<dyn Backend>> {
+    vec![
+        Box::new(tetrasim::backend::cpu::ReferenceBackend::from_problem(
+            problem,
+        )),
+        Box::new(tetrasim::backend::cpu::ParallelBackend::from_problem(
+            problem,
+        )),
+    ]
+}
+
+/// The deepest any node is inside any collider [m] (0 when none is), at the collider poses
+/// after `frames` frames.
+fn deepest(model: &Model, positions: &[DVec3], frames: u32, dt: f64) -> f64 {
+    let steps = u64::from(frames * SUBSTEPS);
+    // The poses at the end of the last step are the start poses of the next.
+    let at = collider::at_step(&model.colliders, steps, dt);
+    let mut depth: f64 = 0.0;
+    for c in &at {
+        for &x in positions {
+            let local = c.start.invert(x);
+            depth = depth.max(-c.collider.shape.distance(local).0);
+        }
+    }
+    depth
+}
+
+/// Runs `frames` frames of every backend, checking after each that no node is more than
+/// 1 mm inside a collider; returns each backend's final positions.
+fn run_checked(model: &Model, params: &SimParams, frames: u32) -> Vec<Vec<DVec3>> {
+    let problem = Problem::new(model, params).expect("a problem");
+    backends(&problem)
+        .into_iter()
+        .map(|mut backend| {
+            let mut worst: f64 = 0.0;
+            for frame in 1..=frames {
+                backend.step_frame().expect("a frame");
+                let x = backend.state().expect("the state").positions;
+                worst = worst.max(deepest(model, &x, frame, params.dt));
+            }
+            assert!(
+                worst < 1e-3,
+                "{}: a node went {worst:e} m inside a collider",
+                backend.name()
+            );
+            backend.state().expect("the state").positions
+        })
+        .collect()
+}
+
+fn lowest(positions: &[DVec3]) -> f64 {
+    positions.iter().map(|p| p.y).fold(f64::INFINITY, f64::min)
+}
+
+fn centre(positions: &[DVec3]) -> DVec3 {
+    positions.iter().copied().sum::<DVec3>() / positions.len() as f64
+}
+
+#[test]
+fn every_shape_holds_the_sphere_up_while_it_moves() {
+    let half_turn = DQuat::from_rotation_y(std::f64::consts::PI);
+    let cases = vec![
+        (
+            "static ball",
+            Collider::sphere(DVec3::new(0.0, -0.4, 0.0), 0.5),
+        ),
+        (
+            "turning box",
+            Collider::cuboid(
+                DVec3::new(0.0, -0.2, 0.0),
+                DVec3::new(0.6, 0.2, 0.3),
+                DQuat::IDENTITY,
+            )
+            .moving(Motion::Velocity {
+                linear: DVec3::ZERO,
+                angular: DVec3::new(0.0, 3.0, 0.0),
+            }),
+        ),
+        (
+            "rising capsule",
+            Collider::capsule(DVec3::new(-0.5, -0.3, 0.0), DVec3::new(0.5, -0.3, 0.0), 0.2).moving(
+                Motion::Keyframes(vec![
+                    Keyframe {
+                        t: 0.0,
+                        position: DVec3::ZERO,
+                        rotation: DQuat::IDENTITY,
+                    },
+                    Keyframe {
+                        t: 0.1,
+                        position: DVec3::new(0.0, 0.1, 0.0),
+                        rotation: half_turn,
+                    },
+                ]),
+            ),
+        ),
+        (
+            "tilted plane",
+            Collider::plane(DVec3::new(0.3, 1.0, 0.0), -0.05).expect("a plane"),
+        ),
+    ];
+    for (name, collider) in cases {
+        let model = sphere(0.05, DVec3::ZERO, vec![collider.with_friction(0.3)]);
+        let finals = run_checked(&model, &params(false), 80);
+        // Falling freely for 0.4 s, the centre would be at 0.55 - 0.78 = -0.23 m.
+        for x in &finals {
+            assert!(centre(x).y > 0.1, "{name}: not held ({})", centre(x).y);
+        }
+        let d = (finals[0].iter().zip(&finals[1]))
+            .map(|(a, b)| a.distance(*b))
+            .fold(0.0, f64::max);
+        assert!(d < 2e-3, "{name}: cpu is {d:e} m from cpu-ref");
+    }
+}
+
+#[test]
+fn friction_holds_a_body_on_a_tilted_plane_and_zero_friction_lets_it_slide() {
+    let slope = 25f64.to_radians();
+    let normal = DVec3::new(-slope.sin(), slope.cos(), 0.0);
+    let slid = |friction: f64| {
+        let plane = Collider::plane(normal, 0.0)
+            .expect("a plane")
+            .with_friction(friction);
+        // A 0.3 m cube turned flat onto the plane, 2 mm above it.
+        let mesh = bundled("meshes/box").expect("the bundled box");
+        let mut model = ModelBuilder::new(&mesh)
+            .placement(Placement {
+                fit_size: Some(0.3),
+                drop_height: Some(0.0),
+            })
+            .build()
+            .and_then(|m| m.with_colliders([plane]))
+            .expect("a model");
+        let turn = DQuat::from_rotation_z(slope);
+        let lowest = model
+            .positions
+            .iter()
+            .map(|p| normal.dot(turn * *p))
+            .fold(f64::INFINITY, f64::min);
+        for p in &mut model.positions {
+            *p = turn * *p + normal * (0.002 - lowest);
+        }
+        let start = centre(&model.positions);
+        let problem = Problem::new(&model, &params(false)).expect("a problem");
+        let mut backend = tetrasim::backend::cpu::ReferenceBackend::from_problem(&problem);
+        for _ in 0..60 {
+            backend.step_frame().expect("a frame");
+        }
+        let end = centre(&backend.state().expect("state").positions);
+        -(end - start).y
+    };
+    // Free sliding drops g sin^2(slope) t^2 / 2 over t = 0.3 s (0.079 m here).
+    let free = 0.5 * 9.81 * slope.sin().powi(2) * 0.09;
+    let (ice, glue) = (slid(0.0), slid(1.0));
+    assert!(
+        ice > 0.8 * free,
+        "frictionless: dropped {ice} m of {free} m"
+    );
+    // It settles onto the plane (2 mm of gap and its own squash) but does not slide.
+    assert!(
+        glue < 0.15 * free,
+        "friction 1: dropped {glue} m of {free} m"
+    );
+}
+
+#[test]
+fn chebyshev_is_refused_with_colliders() {
+    let model = sphere(0.1, DVec3::ZERO, vec![Collider::sphere(DVec3::ZERO, 0.1)]);
+    let params = SimParams {
+        solver: tetrasim::params::Solver::Chebyshev,
+        ..SimParams::default()
+    };
+    let err = Problem::new(&model, &params)
+        .expect_err("refused")
+        .to_string();
+    assert!(err.contains("solver") && err.contains("collider"), "{err}");
+}
