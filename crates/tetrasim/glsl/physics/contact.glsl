@@ -94,7 +94,7 @@ float capsule(vec3 p, float half_length, float r, out vec3 normal) {
 // One collider's static data (src/gpu/layout.rs, GpuCollider).
 struct Collider {
     uint shape;       // SHAPE_*
-    uint pad;
+    float reach;      // no point within the thickness is farther from its centre [m]
     float friction;   // tangential fraction removed per step, relative to its surface
     float thickness;  // contact thickness r [m]
     vec4 size;        // sphere (radius), box (half extents), capsule (half length, radius)
@@ -204,8 +204,15 @@ vec3 colliders_solve(vec3 f, inout vec3 contact, vec3 x, vec3 v, float w, float 
         return other;
     }
     for (uint k = 0u; k < COLLIDERS; ++k) {
+        vec3 end = end_position(x, v, other + contact, w, dt);
+        // ColliderAt::may_touch: out of reach of the end pose's centre, no contact.
+        vec3 away = end - poses[pc.collider_first + k].end_position.xyz;
+        float reach = colliders[k].reach;
+        if (dot(away, away) > reach * reach) {
+            continue;
+        }
         vec3 n;
-        float phi = collider_distance(k, end_position(x, v, other + contact, w, dt), n);
+        float phi = collider_distance(k, end, n);
         float push = contact_push(phi, colliders[k].thickness, w, dt);
         if (push > 0.0) {
             contact += n * push;

@@ -159,8 +159,9 @@ pub struct GpuGlobalObject {
 pub struct GpuCollider {
     /// [`crate::collider::Shape::code`].
     pub shape: u32,
-    /// Padding.
-    pub pad: u32,
+    /// No point within the contact thickness is farther from its centre [m]
+    /// ([`crate::collider::Shape::bound`] + thickness; infinite for a plane).
+    pub reach: f32,
     /// Fraction of the tangential velocity relative to its surface removed per step.
     pub friction: f32,
     /// Contact thickness [m].
@@ -353,6 +354,7 @@ mod tests {
         let colliders: HashMap<_, _> = m.struct_offsets("Collider").into_iter().collect();
         for (name, offset) in [
             ("shape", offset_of!(GpuCollider, shape)),
+            ("reach", offset_of!(GpuCollider, reach)),
             ("friction", offset_of!(GpuCollider, friction)),
             ("thickness", offset_of!(GpuCollider, thickness)),
             ("size", offset_of!(GpuCollider, size)),

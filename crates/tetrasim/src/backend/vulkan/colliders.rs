@@ -17,7 +17,7 @@ pub(crate) fn static_data(colliders: &[Collider]) -> (Vec<GpuCollider>, Vec<f32>
         .map(|c| {
             let mut gpu = GpuCollider {
                 shape: c.shape.code(),
-                pad: 0,
+                reach: (c.shape.bound() + c.thickness) as f32,
                 friction: c.friction as f32,
                 thickness: c.thickness as f32,
                 size: [0.0; 4],

@@ -223,7 +223,7 @@ impl VulkanBackend {
                 }
                 .record_frame(
                     &plan,
-                    k as u32,
+                    k,
                     &passes,
                     &buffers,
                     &status_readback,
