@@ -1,10 +1,11 @@
 //! Kinematic colliders on the Vulkan engine: the bundled sphere dropped onto (a) a fixed
-//! ball (Jacobi: atomic sums), (b) a turning box swept by a keyframed capsule (two
-//! substeps a frame), (c) a mesh collider (a torus's sampled distance), with friction,
-//! matches `cpu-ref` per frame (volume) and at the end (positions), and no node ever ends a
-//! frame more than 1 mm inside a collider. Frames in flight read their own slot's poses. Without the
-//! colliders' solve the sphere would fall through them (each scene checks that it touched
-//! its colliders), so these fail when the feature is off.
+//! ball (Jacobi: atomic sums), (b) a turning box swept by a keyframed capsule (two substeps
+//! a frame), (c) a mesh collider (a torus's sampled distance) over a tilted plane (no
+//! floor), every one with friction, matches `cpu-ref` per frame (volume) and at the end
+//! (positions), and no node ever ends a frame more than 1 mm inside a collider. Frames in
+//! flight read their own slot's poses. Without the colliders' solve the sphere would fall
+//! through them (each scene checks that it touched every collider), so these fail when the
+//! feature is off.
 //!
 //! Tolerances are those of tests/gpu_matches_cpu.rs (the GPU works in f32, the reference
 //! in f64).
@@ -88,9 +89,13 @@ fn scenes() -> Vec<(&'static str, Model, SimParams, u32)> {
         key(0.0, 0.0, 0.0),
         key(0.1, 0.15, 0.2),
         key(0.25, 0.3, 0.0),
-    ]));
+    ]))
+    .with_friction(0.4);
     let mesh =
         Collider::mesh(torus_grid(DVec3::new(0.05, -0.05, 0.0), 0.3, 0.12)).with_friction(0.3);
+    let tilted = Collider::plane(DVec3::new(0.1, 1.0, 0.0), 0.0)
+        .unwrap()
+        .with_friction(0.2);
     let substeps = SimParams {
         dt: 5e-4,
         substeps: 2,
@@ -113,9 +118,12 @@ fn scenes() -> Vec<(&'static str, Model, SimParams, u32)> {
             220,
         ),
         (
-            "mesh torus",
-            sphere_with(vec![mesh]),
-            SimParams::default(),
+            "mesh torus over a tilted plane (no floor)",
+            sphere_with(vec![mesh, tilted]),
+            SimParams {
+                floor: false,
+                ..SimParams::default()
+            },
             220,
         ),
     ]
