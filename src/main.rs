@@ -8,11 +8,14 @@ fn main() -> std::process::ExitCode {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
-            // A diverged run exits with 3 (docs/STABILITY.md); other failures with 1.
+            // A diverged run exits with 3 (docs/STABILITY.md), a bad scene file with 2 (as
+            // clap does for bad flags); other failures with 1.
             let diverged = e.downcast_ref::<tetrasim_cli::cli::DivergedRun>().is_some()
                 || matches!(e.downcast_ref(), Some(tetrasim::Error::Diverged(_)));
             if diverged {
                 std::process::ExitCode::from(3)
+            } else if e.downcast_ref::<tetrasim_cli::cli::BadScene>().is_some() {
+                std::process::ExitCode::from(2)
             } else {
                 std::process::ExitCode::FAILURE
             }

@@ -12,7 +12,7 @@ mod tradeoff;
 
 pub use bench::BenchArgs;
 pub use render::RenderArgs;
-pub use run::{DivergedRun, RunArgs};
+pub use run::{BadScene, DivergedRun, RunArgs};
 pub use tradeoff::{ScalingArgs, TradeoffArgs};
 
 /// `tetrasim`: volume-preserving mass-spring simulation of tetrahedral meshes.

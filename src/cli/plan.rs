@@ -3,7 +3,6 @@
 //! the estimated bytes moved per frame. Printed from [`tetrasim::backend::vulkan::plan::EnginePlan`],
 //! the same value the engine is built from.
 
-use crate::launch::stage;
 use tetrasim::backend::vulkan::plan::EnginePlan;
 use tetrasim::backend::vulkan::{EngineOptions, VulkanBackend};
 use tetrasim::gpu::{device, list_devices, DeviceSelector};
@@ -19,7 +18,7 @@ const FALLBACK_WORKGROUP: u32 = 256;
 pub fn execute(args: RunArgs) -> anyhow::Result<()> {
     refuse_run_only_flags(&args)?;
     let (scene, methods) = args.scene_and_methods()?;
-    let staged = stage(&scene)?;
+    let staged = args.stage(&scene)?;
     let options = EngineOptions {
         volume_on_demand: args.scene.is_some() && scene.output.json.is_none(),
         ..args.gpu.engine_options()

@@ -4,10 +4,7 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use anyhow::Context as _;
-
 use super::run::RunArgs;
-use crate::launch::stage;
 use crate::render_session::{render_methods, Outputs, RenderJob};
 use tetrasim::gpu::{Context, ContextOptions};
 use tetrasim::render::{parse_size, Camera, ColourMode, RenderOptions};
@@ -113,10 +110,7 @@ pub fn execute(args: RenderArgs) -> anyhow::Result<()> {
         .every
         .or(scene.output.every)
         .unwrap_or(crate::scene::DEFAULT_EVERY);
-    let staged = stage(&scene).with_context(|| match &run.scene {
-        Some(path) => format!("staging the scene {}", path.display()),
-        None => format!("building the model of {}", run.mesh.display()),
-    })?;
+    let staged = run.stage(&scene)?;
     for note in &staged.notes {
         eprintln!("{note}");
     }

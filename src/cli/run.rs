@@ -8,7 +8,7 @@ use anyhow::Context as _;
 use tetrasim::backend::vulkan::EngineOptions;
 
 use super::gpu_args::GpuArgs;
-use crate::launch::stage;
+use crate::launch::{stage, Staged};
 use crate::overrides::{MaterialOverrides, SolverOverrides};
 use crate::preset::{Preset, PresetName};
 use crate::runner::{run_methods, OutputFormat, OutputUnits, RunOptions};
@@ -230,7 +230,7 @@ impl RunArgs {
     pub fn scene_and_methods(&self) -> anyhow::Result<(Scene, Vec<Method>)> {
         match &self.scene {
             Some(path) => {
-                let scene = Scene::load(path)?;
+                let scene = Scene::load(path).map_err(BadScene)?;
                 let method = scene.objects[0].method;
                 Ok((scene, vec![method]))
             }
@@ -251,6 +251,27 @@ impl RunArgs {
         }
     }
 }
+
+impl RunArgs {
+    /// Stages `scene` (the scene file, or the flags' scene), saying which it was; a scene
+    /// file that cannot be staged is a [`BadScene`].
+    pub fn stage(&self, scene: &Scene) -> anyhow::Result<Staged> {
+        match &self.scene {
+            Some(path) => stage(scene)
+                .map_err(BadScene)
+                .with_context(|| format!("staging the scene {}", path.display())),
+            None => stage(scene)
+                .with_context(|| format!("building the model of {}", self.mesh.display())),
+        }
+    }
+}
+
+/// A scene file that cannot be read, parsed, validated or staged (a bad key, value, mesh or
+/// collider surface): `tetrasim` exits with status 2, as for bad flags, having written
+/// nothing.
+#[derive(Debug, thiserror::Error)]
+#[error(transparent)]
+pub struct BadScene(pub tetrasim::Error);
 
 /// A run that diverged: `tetrasim` exits with status 3 (after writing the metrics).
 #[derive(Debug, thiserror::Error)]
@@ -295,11 +316,9 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
             tetrasim::Error::param("every", "acts only with --out-dir, and none is given").into(),
         );
     }
+    // Staged before the output folders are made, so that a bad scene writes nothing.
+    let staged = args.stage(&scene)?;
     crate::runner::prepare_outputs(&scene.output)?;
-    let staged = stage(&scene).with_context(|| match &args.scene {
-        Some(path) => format!("staging the scene {}", path.display()),
-        None => format!("building the model of {}", args.mesh.display()),
-    })?;
     for note in &staged.notes {
         eprintln!("{note}");
     }

@@ -1,7 +1,7 @@
 //! From a [`Scene`] to what a run needs: the meshes loaded, placed, pinned and given their
-//! initial velocities, combined into one [`Model`], and the [`SimParams`] shared by all
-//! objects. `tetrasim run` goes through here both with `--scene FILE` and with flags (which
-//! build a one-object scene), so there is one path.
+//! initial velocities, combined into one [`Model`] with the scene's colliders, and the
+//! [`SimParams`] shared by all objects. `tetrasim run` goes through here both with
+//! `--scene FILE` and with flags (which build a one-object scene), so there is one path.
 
 use glam::DVec3;
 
@@ -26,7 +26,8 @@ pub struct Staged {
     pub notes: Vec<String>,
 }
 
-/// Loads every object of `scene` and combines them. Objects may differ in material (each
+/// Loads every object of `scene` and combines them, with the scene's colliders
+/// ([`Scene::colliders`], read first so that a bad collider fails before any meshing). Objects may differ in material (each
 /// model carries its own, [`ModelBuilder::material`]) but must share everything else (one
 /// [`SimParams`] drives the engine); a scene mixing methods is an error naming the first
 /// object that differs (not supported yet).
@@ -54,6 +55,7 @@ pub fn stage(scene: &Scene) -> Result<Staged> {
             ));
         }
     }
+    let colliders = scene.colliders()?;
     let mut models = Vec::with_capacity(scene.objects.len());
     let mut labels = Vec::new();
     let mut notes = Vec::new();
@@ -83,7 +85,8 @@ pub fn stage(scene: &Scene) -> Result<Staged> {
         notes.extend(loaded.note);
     }
     Ok(Staged {
-        model: Model::concat(&models)?,
+        // Each collider was checked with its scene key by `Scene::colliders`.
+        model: Model::concat(&models)?.with_colliders(colliders)?,
         params,
         frames: scene.frames(),
         label: labels.join("+"),

@@ -1,7 +1,8 @@
 //! Scene files (TOML): objects, colliders, solver settings and outputs in one place.
 //! `tetrasim run --scene FILE` reads one; the command-line flags are shorthand for a
 //! one-object scene. Unknown keys and out-of-range values are errors naming the key's path
-//! (e.g. `object[0].material.ks`).
+//! (e.g. `object[0].material.ks`, `collider[2].motion.keyframes[1].t`; colliders are
+//! numbered in file order, the floor included).
 //!
 //! ```toml
 //! [solver]
@@ -37,8 +38,45 @@
 //! pin = { nodes = [0, 1], box = { min = [-1, 0, -1], max = [1, 0.12, 1] } }
 //!
 //! [[collider]]
-//! type = "floor"             # the plane y = 0
-//! friction = 0.0
+//! type = "floor"             # the plane y = 0 (the fast path; at most one)
+//! friction = 0.0             # in [0, 1]: tangential velocity removed per step in contact
+//!
+//! # Kinematic colliders (any number, in this order): every type below also takes
+//! # friction (in [0, 1], default 0), thickness (m, >= 0, default 0: nodes are kept this far
+//! # out) and an optional motion of its declared pose, either
+//! #   motion = { velocity = [0, -0.1, 0], angular_velocity = [0, 1, 0] }  # m/s, rad/s
+//! # (turning about the collider's centre) or keyframes in increasing time (positions
+//! # linear, rotations slerped, the last key held):
+//! #   motion = { keyframes = [{ t = 0.0 }, { t = 1.0, position = [0, -0.2, 0],
+//! #                                         rotation = [1, 0, 0, 0] }] }
+//! # (position: displacement of the centre, default [0, 0, 0]; rotation about the centre,
+//! # default none). Quaternions are [w, x, y, z], unit within 1e-3 (then normalised).
+//! [[collider]]
+//! type = "plane"             # the half-space normal . x <= offset
+//! normal = [0.1, 1.0, 0.0]   # need not be unit
+//! offset = 0.0               # m, along the unit normal
+//!
+//! [[collider]]
+//! type = "sphere"
+//! center = [0.0, 1.5, 0.0]
+//! radius = 0.2
+//!
+//! [[collider]]
+//! type = "box"
+//! center = [0.0, -0.1, 0.0]
+//! half_extents = [1.0, 0.1, 1.0]
+//! rotation = [1.0, 0.0, 0.0, 0.0]  # optional, default the identity
+//!
+//! [[collider]]
+//! type = "capsule"           # the points within radius of the segment a-b
+//! a = [-0.5, 1.2, 0.0]
+//! b = [0.5, 1.2, 0.0]
+//! radius = 0.1
+//!
+//! [[collider]]
+//! type = "mesh"              # a closed surface (.ply/.obj/.off/.stl), relative to the scene
+//! path = "tool.off"          # file, sampled as a signed distance grid; it turns about the
+//! cells = 48                 # centre of its bounds; cells along its longest side (8 to 512)
 //!
 //! [output]
 //! json = "out/metrics.json"  # the run records (`metrics` is accepted too)
@@ -50,11 +88,14 @@
 
 use std::path::{Path, PathBuf};
 
-use glam::DVec3;
+use glam::{DQuat, DVec3};
 use serde::Deserialize;
 
 use crate::overrides::{MaterialOverrides, SolverOverrides};
 
+use tetrasim::collider::{
+    Collider as EngineCollider, DistanceGrid, Keyframe, Motion, MAX_CELLS, MIN_CELLS,
+};
 use tetrasim::error::{Error, Result};
 use tetrasim::params::{Method, Placement, SimParams, SEED_FRAMES};
 
@@ -148,7 +189,9 @@ impl Aabb {
     }
 }
 
-/// `[[collider]]`: a collision shape.
+/// `[[collider]]`: a collision shape. `floor` is the plane `y = 0` of
+/// [`SimParams::floor`] (the fast path, at most one); the others become
+/// [`tetrasim::collider::Collider`]s on the staged model ([`Scene::colliders`]).
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, tag = "type", rename_all = "kebab-case")]
 pub enum Collider {
@@ -158,6 +201,323 @@ pub enum Collider {
         #[serde(default)]
         friction: f64,
     },
+    /// The half-space `normal . x <= offset`.
+    Plane {
+        /// Outward normal (need not be unit, must not be zero).
+        normal: [f64; 3],
+        /// Offset along the unit normal [m].
+        offset: f64,
+        /// Fraction of tangential velocity removed on contact, in [0, 1].
+        #[serde(default)]
+        friction: f64,
+        /// Contact thickness [m], >= 0.
+        #[serde(default)]
+        thickness: f64,
+        /// How it moves (absent: fixed).
+        #[serde(default)]
+        motion: Option<MotionSpec>,
+    },
+    /// A ball.
+    Sphere {
+        /// Centre [m].
+        center: [f64; 3],
+        /// Radius [m], > 0.
+        radius: f64,
+        /// Fraction of tangential velocity removed on contact, in [0, 1].
+        #[serde(default)]
+        friction: f64,
+        /// Contact thickness [m], >= 0.
+        #[serde(default)]
+        thickness: f64,
+        /// How it moves (absent: fixed).
+        #[serde(default)]
+        motion: Option<MotionSpec>,
+    },
+    /// An oriented box.
+    #[serde(rename = "box")]
+    Cuboid {
+        /// Centre [m].
+        center: [f64; 3],
+        /// Half its size along its own axes [m], each > 0.
+        half_extents: [f64; 3],
+        /// Orientation as a unit quaternion `[w, x, y, z]` (default the identity).
+        #[serde(default = "identity")]
+        rotation: [f64; 4],
+        /// Fraction of tangential velocity removed on contact, in [0, 1].
+        #[serde(default)]
+        friction: f64,
+        /// Contact thickness [m], >= 0.
+        #[serde(default)]
+        thickness: f64,
+        /// How it moves (absent: fixed).
+        #[serde(default)]
+        motion: Option<MotionSpec>,
+    },
+    /// The points within `radius` of the segment `a`-`b`.
+    Capsule {
+        /// One end of the axis [m].
+        a: [f64; 3],
+        /// The other end of the axis [m].
+        b: [f64; 3],
+        /// Radius [m], > 0.
+        radius: f64,
+        /// Fraction of tangential velocity removed on contact, in [0, 1].
+        #[serde(default)]
+        friction: f64,
+        /// Contact thickness [m], >= 0.
+        #[serde(default)]
+        thickness: f64,
+        /// How it moves (absent: fixed).
+        #[serde(default)]
+        motion: Option<MotionSpec>,
+    },
+    /// A closed triangle surface (`.ply`, `.obj`, `.off`, `.stl`; relative to the scene
+    /// file), sampled as a signed distance grid; it turns about the centre of its bounds.
+    Mesh {
+        /// The surface file.
+        path: PathBuf,
+        /// Grid cells along the longest side of its bounds (default [`DEFAULT_CELLS`]).
+        #[serde(default = "default_cells")]
+        cells: u32,
+        /// Fraction of tangential velocity removed on contact, in [0, 1].
+        #[serde(default)]
+        friction: f64,
+        /// Contact thickness [m], >= 0.
+        #[serde(default)]
+        thickness: f64,
+        /// How it moves (absent: fixed).
+        #[serde(default)]
+        motion: Option<MotionSpec>,
+    },
+}
+
+/// Grid cells along the longest side of a `mesh` collider when `cells` is not given.
+pub const DEFAULT_CELLS: u32 = 48;
+
+/// How far a quaternion's length may be from 1 (it is then normalised): scene files hold
+/// rounded values such as `[0.7071, 0.0, 0.7071, 0.0]`.
+pub const QUATERNION_TOLERANCE: f64 = 1e-3;
+
+fn identity() -> [f64; 4] {
+    [1.0, 0.0, 0.0, 0.0]
+}
+
+fn default_cells() -> u32 {
+    DEFAULT_CELLS
+}
+
+/// `motion`: `{ velocity = [..], angular_velocity = [..] }` (constant, about the collider's
+/// centre) or `{ keyframes = [{ t, position, rotation }, ...] }`.
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MotionSpec {
+    /// Linear velocity [m/s].
+    #[serde(default)]
+    pub velocity: Option<[f64; 3]>,
+    /// Angular velocity [rad/s] about the centre, its direction the axis.
+    #[serde(default)]
+    pub angular_velocity: Option<[f64; 3]>,
+    /// Keyframes in increasing time.
+    #[serde(default)]
+    pub keyframes: Option<Vec<KeyframeSpec>>,
+}
+
+/// One keyframe of a `motion`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KeyframeSpec {
+    /// Time [s].
+    pub t: f64,
+    /// Displacement of the declared centre [m] (default none).
+    #[serde(default)]
+    pub position: [f64; 3],
+    /// Rotation about the declared centre, a unit quaternion `[w, x, y, z]` (default none).
+    #[serde(default = "identity")]
+    pub rotation: [f64; 4],
+}
+
+impl MotionSpec {
+    /// The engine's motion; `key` names it (e.g. `collider[1].motion`).
+    pub fn motion(&self, key: &str) -> Result<Motion> {
+        let velocity = self.velocity.is_some() || self.angular_velocity.is_some();
+        let motion = match (&self.keyframes, velocity) {
+            (Some(_), true) => {
+                return Err(Error::param(
+                    key,
+                    "give velocity and angular_velocity, or keyframes, not both",
+                ))
+            }
+            (Some(keys), false) => Motion::Keyframes(
+                keys.iter()
+                    .enumerate()
+                    .map(|(j, k)| {
+                        Ok(Keyframe {
+                            t: k.t,
+                            position: DVec3::from(k.position),
+                            rotation: quaternion(
+                                &format!("{key}.keyframes[{j}].rotation"),
+                                k.rotation,
+                            )?,
+                        })
+                    })
+                    .collect::<Result<_>>()?,
+            ),
+            (None, true) => Motion::Velocity {
+                linear: DVec3::from(self.velocity.unwrap_or_default()),
+                angular: DVec3::from(self.angular_velocity.unwrap_or_default()),
+            },
+            (None, false) => Motion::Fixed,
+        };
+        motion.validate(key)?;
+        Ok(motion)
+    }
+}
+
+/// The quaternion `[w, x, y, z]`, normalised, or an error naming `key` unless its length is
+/// within [`QUATERNION_TOLERANCE`] of 1.
+fn quaternion(key: &str, [w, x, y, z]: [f64; 4]) -> Result<DQuat> {
+    let q = DQuat::from_xyzw(x, y, z, w);
+    let length = q.length();
+    match length.is_finite() && (length - 1.0).abs() <= QUATERNION_TOLERANCE {
+        true => Ok(q / length),
+        false => Err(Error::param(
+            key,
+            format!(
+                "must be a unit quaternion [w, x, y, z], got [{w}, {x}, {y}, {z}] (length {length})"
+            ),
+        )),
+    }
+}
+
+/// Error naming `key` unless every component of `v` is finite.
+fn finite(key: &str, v: &[f64]) -> Result<()> {
+    match v.iter().all(|x| x.is_finite()) {
+        true => Ok(()),
+        false => Err(Error::param(key, format!("must be finite, got {v:?}"))),
+    }
+}
+
+impl Collider {
+    /// The collider's `type` in scene files.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Collider::Floor { .. } => "floor",
+            Collider::Plane { .. } => "plane",
+            Collider::Sphere { .. } => "sphere",
+            Collider::Cuboid { .. } => "box",
+            Collider::Capsule { .. } => "capsule",
+            Collider::Mesh { .. } => "mesh",
+        }
+    }
+
+    /// The engine's collider of this `[[collider]]`, checked, `key` naming it in errors
+    /// (`collider[2]`); `None` for the floor. A `mesh` needs its sampled surface `grid`
+    /// ([`Scene::colliders`] reads it); without one only its other values are checked.
+    pub fn engine(&self, key: &str, grid: Option<DistanceGrid>) -> Result<Option<EngineCollider>> {
+        let at = |name: &str| format!("{key}.{name}");
+        let (collider, friction, thickness, motion) = match self {
+            Collider::Floor { .. } => return Ok(None),
+            Collider::Plane {
+                normal,
+                offset,
+                friction,
+                thickness,
+                motion,
+            } => {
+                finite(&at("normal"), normal)?;
+                finite(&at("offset"), &[*offset])?;
+                let plane =
+                    EngineCollider::plane(DVec3::from(*normal), *offset).map_err(|e| match e {
+                        Error::Param { key: k, message } => Error::param(at(&k), message),
+                        other => other,
+                    })?;
+                (plane, friction, thickness, motion)
+            }
+            Collider::Sphere {
+                center,
+                radius,
+                friction,
+                thickness,
+                motion,
+            } => {
+                finite(&at("center"), center)?;
+                let ball = EngineCollider::sphere(DVec3::from(*center), *radius);
+                (ball, friction, thickness, motion)
+            }
+            Collider::Cuboid {
+                center,
+                half_extents,
+                rotation,
+                friction,
+                thickness,
+                motion,
+            } => {
+                finite(&at("center"), center)?;
+                let rotation = quaternion(&at("rotation"), *rotation)?;
+                let cuboid = EngineCollider::cuboid(
+                    DVec3::from(*center),
+                    DVec3::from(*half_extents),
+                    rotation,
+                );
+                (cuboid, friction, thickness, motion)
+            }
+            Collider::Capsule {
+                a,
+                b,
+                radius,
+                friction,
+                thickness,
+                motion,
+            } => {
+                finite(&at("a"), a)?;
+                finite(&at("b"), b)?;
+                let capsule = EngineCollider::capsule(DVec3::from(*a), DVec3::from(*b), *radius);
+                (capsule, friction, thickness, motion)
+            }
+            Collider::Mesh {
+                cells,
+                friction,
+                thickness,
+                motion,
+                ..
+            } => {
+                if !(MIN_CELLS..=MAX_CELLS).contains(cells) {
+                    return Err(Error::param(
+                        at("cells"),
+                        format!("must be {MIN_CELLS} to {MAX_CELLS}, got {cells}"),
+                    ));
+                }
+                let mesh = match grid {
+                    // The grid is centred on its bounds: the mesh turns about that centre.
+                    Some(mut grid) => {
+                        let centre = (grid.origin + grid.end()) / 2.0;
+                        grid.origin -= centre;
+                        let mut mesh = EngineCollider::mesh(grid);
+                        mesh.pose.position = centre;
+                        mesh
+                    }
+                    // Checks the values the shape does not hold.
+                    None => EngineCollider::sphere(DVec3::ZERO, 1.0),
+                };
+                (mesh, friction, thickness, motion)
+            }
+        };
+        let mut collider = collider.with_friction(*friction);
+        collider.thickness = *thickness;
+        if let Some(motion) = motion {
+            collider = collider.moving(motion.motion(&at("motion"))?);
+        }
+        collider.validate(key)?;
+        Ok(Some(collider))
+    }
+
+    /// The surface file of a `mesh` collider.
+    pub fn path(&self) -> Option<&Path> {
+        match self {
+            Collider::Mesh { path, .. } => Some(path),
+            _ => None,
+        }
+    }
 }
 
 /// `[output]`: files to write.
@@ -218,6 +578,11 @@ impl Scene {
         let base = path.parent().unwrap_or(Path::new("."));
         for object in &mut scene.objects {
             object.mesh = base.join(&object.mesh);
+        }
+        for collider in &mut scene.colliders {
+            if let Collider::Mesh { path, .. } = collider {
+                *path = base.join(&*path);
+            }
         }
         let output = &mut scene.output;
         for p in [&mut output.json, &mut output.dir].into_iter().flatten() {
@@ -304,7 +669,38 @@ impl Scene {
                 other => other,
             })?;
         }
+        let mut floor = None;
+        for (i, c) in self.colliders.iter().enumerate() {
+            if let Collider::Floor { .. } = c {
+                if let Some(first) = floor {
+                    return Err(Error::param(
+                        format!("collider[{i}]"),
+                        format!(
+                            "a second floor (collider[{first}] is one): a scene has at most one"
+                        ),
+                    ));
+                }
+                floor = Some(i);
+            }
+            c.engine(&format!("collider[{i}]"), None)?;
+        }
         Ok(())
+    }
+
+    /// The engine's colliders, in scene order, the floor left out (it is
+    /// [`SimParams::floor`]): each `mesh` surface read and sampled. Errors name the
+    /// collider's key in the scene (`collider[2].path`).
+    pub fn colliders(&self) -> Result<Vec<EngineCollider>> {
+        let mut out = Vec::new();
+        for (i, c) in self.colliders.iter().enumerate() {
+            let key = format!("collider[{i}]");
+            let grid = match c {
+                Collider::Mesh { path, cells, .. } => Some(mesh_grid(&key, path, *cells)?),
+                _ => None,
+            };
+            out.extend(c.engine(&key, grid)?);
+        }
+        Ok(out)
     }
 
     /// Frames to simulate (`solver.frames`, default the `seed` preset's).
@@ -316,13 +712,10 @@ impl Scene {
     /// the `[solver]` table and its material applied.
     pub fn params_for(&self, index: usize) -> SimParams {
         let o = &self.objects[index];
-        let floor = self
-            .colliders
-            .iter()
-            .map(|c| match c {
-                Collider::Floor { friction } => *friction,
-            })
-            .next();
+        let floor = self.colliders.iter().find_map(|c| match c {
+            Collider::Floor { friction } => Some(*friction),
+            _ => None,
+        });
         let mut params = SimParams {
             method: o.method,
             floor: floor.is_some(),
@@ -342,6 +735,23 @@ impl Scene {
             drop_height: o.drop_height,
         }
     }
+}
+
+/// The sampled surface of the `mesh` collider `key` (`collider[2]`): errors name
+/// `collider[2].path` (an unreadable or open surface) or `collider[2].cells`.
+fn mesh_grid(key: &str, path: &Path, cells: u32) -> Result<DistanceGrid> {
+    let surface = tetrasim::mesh::io::read_surface(path)
+        .map_err(|e| Error::param(format!("{key}.path"), Error::from(e).to_string()))?;
+    DistanceGrid::from_surface(&surface.vertices, &surface.triangles, cells).map_err(|e| match e {
+        Error::Param { key: k, message } => Error::param(
+            format!("{key}.{k}"),
+            match k.as_str() {
+                "path" => format!("{message} ({})", path.display()),
+                _ => message,
+            },
+        ),
+        other => other,
+    })
 }
 
 /// Where a [`SimParams`] key lives in a scene file.
@@ -488,3 +898,6 @@ mod tests {
         assert!(err.contains("solver.iterations"), "{err}");
     }
 }
+
+#[cfg(test)]
+mod collider_tests;

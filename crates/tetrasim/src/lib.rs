@@ -113,6 +113,7 @@ pub use glam;
 
 pub mod backend;
 pub mod collider;
+pub mod contact;
 pub mod error;
 #[doc(hidden)]
 pub mod gpu;

@@ -10,6 +10,7 @@
 use std::ops::Deref;
 use std::sync::Arc;
 
+use crate::contact::BodyContact;
 use crate::error::{Error, Result};
 use crate::model::{ElementMaterial, GlobalVolume, Model, Sweep};
 use crate::params::{SimParams, Solver};
@@ -33,6 +34,8 @@ pub struct Prepared {
     pub material: ElementMaterial,
     /// The global volume constraints, when the parameters solve them.
     pub global: Option<GlobalVolume>,
+    /// Contact between objects and of an object with itself, when two surfaces can meet.
+    pub bodies: Option<BodyContact>,
     /// Divergence speed limit [m/s] ([`crate::stability::speed_limit`]).
     pub speed_limit: f64,
     /// The likely cause a divergence report names ([`crate::stability::likely_cause`]).
@@ -66,6 +69,7 @@ impl Problem {
             sweeps,
             material,
             global,
+            bodies: BodyContact::new(model),
         })))
     }
 

@@ -213,3 +213,69 @@ fn chebyshev_is_refused_with_colliders() {
         .to_string();
     assert!(err.contains("solver") && err.contains("collider"), "{err}");
 }
+
+#[test]
+fn a_clamp_follows_its_keyframes_exactly_and_drags_the_body() {
+    let mesh = bundled("meshes/box").expect("the bundled box");
+    let lift = Motion::Keyframes(vec![
+        Keyframe {
+            t: 0.0,
+            position: DVec3::ZERO,
+            rotation: DQuat::IDENTITY,
+        },
+        Keyframe {
+            t: 0.2,
+            position: DVec3::new(0.0, 0.3, 0.0),
+            rotation: DQuat::from_rotation_y(0.5),
+        },
+    ]);
+    let placement = Placement {
+        fit_size: Some(0.5),
+        drop_height: Some(0.0),
+    };
+    let free = ModelBuilder::new(&mesh)
+        .placement(placement)
+        .build()
+        .expect("a model");
+    let top = free.positions.iter().map(|p| p.y).fold(f64::MIN, f64::max);
+    let model = ModelBuilder::new(&mesh)
+        .placement(placement)
+        // The top layer of nodes.
+        .pinned_in_box(
+            DVec3::new(-1.0, top - 1e-6, -1.0),
+            DVec3::new(1.0, 1.0, 1.0),
+        )
+        .pin_motion(lift.clone())
+        .build()
+        .expect("a model");
+    let clamp = model
+        .clamps
+        .first()
+        .expect("the pins became a clamp")
+        .clone();
+    assert!(!clamp.nodes.is_empty());
+    let problem = Problem::new(&model, &params(true)).expect("a problem");
+    for mut backend in backends(&problem) {
+        let start = centre(&model.positions);
+        for frame in 1..=60u32 {
+            backend.step_frame().expect("a frame");
+            let x = backend.state().expect("state").positions;
+            let t = f64::from(frame * SUBSTEPS) * 1e-3;
+            let off = (clamp.nodes.iter())
+                .map(|&i| x[i as usize].distance(clamp.target(model.positions[i as usize], t)))
+                .fold(0.0, f64::max);
+            // cpu rounds to f32: 1e-6 of a 0.5 m body.
+            assert!(
+                off < 1e-6,
+                "{} frame {frame}: a clamped node is {off:e} m off",
+                backend.name()
+            );
+        }
+        let lifted = centre(&backend.state().expect("state").positions).y - start.y;
+        assert!(
+            lifted > 0.15,
+            "{}: the body rose only {lifted} m with its clamp",
+            backend.name()
+        );
+    }
+}

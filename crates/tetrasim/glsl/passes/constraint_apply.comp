@@ -42,7 +42,7 @@ layout(std430, set = 0, binding = B_NODE_SLOT_ITEMS) readonly restrict buffer No
 layout(std430, set = 0, binding = B_CONSTRAINT_SUM) restrict buffer Sum { vec4 sums[]; };
 #endif
 #ifdef COLLIDERS_ON
-layout(std430, set = 0, binding = B_CONTACTS) restrict buffer Contacts { vec4 contacts[]; };
+layout(std430, set = 0, binding = B_COLLIDER_CONTACTS) restrict buffer ColliderContacts { vec4 contacts[]; };
 #endif
 #ifdef CHEBYSHEV
 layout(std430, set = 0, binding = B_CHEBYSHEV_BEFORE) restrict buffer ChebyshevBefore { vec4 before[]; };

@@ -29,7 +29,7 @@ layout(std430, set = 0, binding = B_SURFACE_NODES) readonly restrict buffer Surf
 layout(std430, set = 0, binding = B_SURFACE_GRADIENTS) readonly restrict buffer SurfaceGradients { vec4 surface_gradients[]; };
 layout(std430, set = 0, binding = B_GLOBAL_STATE) readonly restrict buffer GlobalState { vec4 global_state[]; };
 #ifdef COLLIDERS_ON
-layout(std430, set = 0, binding = B_CONTACTS) restrict buffer Contacts { vec4 contacts[]; };
+layout(std430, set = 0, binding = B_COLLIDER_CONTACTS) restrict buffer ColliderContacts { vec4 contacts[]; };
 #endif
 
 void main() {

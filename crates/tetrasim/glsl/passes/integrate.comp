@@ -25,7 +25,7 @@ layout(std430, set = 0, binding = B_POSITIONS) restrict buffer Positions { vec4 
 layout(std430, set = 0, binding = B_VELOCITIES) restrict buffer Velocities { vec4 velocities[]; };
 layout(std430, set = 0, binding = B_FORCES) restrict buffer Forces { vec4 forces[]; };
 #ifdef COLLIDERS_ON
-layout(std430, set = 0, binding = B_CONTACTS) restrict buffer Contacts { vec4 contacts[]; };
+layout(std430, set = 0, binding = B_COLLIDER_CONTACTS) restrict buffer ColliderContacts { vec4 contacts[]; };
 #endif
 
 void main() {

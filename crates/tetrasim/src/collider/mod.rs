@@ -7,16 +7,20 @@
 //! The floor of `SimParams::floor` stays its own, cheaper path (the plane `y = 0`); a
 //! [`Shape::Plane`] is any other half-space.
 
+mod clamp;
 mod grid;
 mod motion;
+mod surface;
 
 use std::sync::Arc;
 
 use glam::{DQuat, DVec3};
 
+pub use clamp::{drive, Clamp};
 pub use grid::DistanceGrid;
 use motion::{finite_vector, param, unit_quaternion};
 pub use motion::{Keyframe, Motion, Pose};
+pub use surface::{MAX_CELLS, MIN_CELLS, PAD_CELLS};
 
 use crate::error::Result;
 use crate::physics::{contact_push, end_position, surface_friction};

@@ -427,6 +427,7 @@ mod tests {
             ("SpringMultipliers", binding::SPRING_MULTIPLIERS),
             ("VolumeMultipliers", binding::VOLUME_MULTIPLIERS),
             ("Contacts", binding::CONTACTS),
+            ("ColliderContacts", binding::COLLIDER_CONTACTS),
             ("Colliders", binding::COLLIDERS),
             ("ColliderGrids", binding::COLLIDER_GRIDS),
             ("ColliderPoses", binding::COLLIDER_POSES),

@@ -93,6 +93,12 @@ pub struct Model {
     /// The kinematic colliders every object meets (besides the floor of
     /// [`SimParams::floor`]); none unless a scene or [`Model::with_colliders`] adds them.
     pub colliders: Vec<crate::collider::Collider>,
+    /// Pinned nodes that move (each set follows its motion from its initial positions);
+    /// none unless [`ModelBuilder::pin_motion`] gives the pins a motion.
+    pub clamps: Vec<crate::collider::Clamp>,
+    /// Per object, whether its surface collides with itself ([`ModelBuilder::self_contact`];
+    /// different objects always collide, [`crate::contact`]).
+    pub self_contact: Vec<bool>,
 }
 
 /// A uniform scale followed by a translation: `p -> scale * p + offset`.
@@ -263,6 +269,8 @@ pub struct ModelBuilder<'a> {
     mass: MassMode,
     pinned: Vec<u32>,
     pin_boxes: Vec<(DVec3, DVec3)>,
+    pin_motion: crate::collider::Motion,
+    self_contact: bool,
     velocity: DVec3,
     offset: DVec3,
     material: Option<SimParams>,
@@ -277,6 +285,8 @@ impl<'a> ModelBuilder<'a> {
             mass: MassMode::PerNode { mass: 1.0 },
             pinned: Vec::new(),
             pin_boxes: Vec::new(),
+            pin_motion: crate::collider::Motion::Fixed,
+            self_contact: false,
             velocity: DVec3::ZERO,
             offset: DVec3::ZERO,
             material: None,
@@ -321,6 +331,20 @@ impl<'a> ModelBuilder<'a> {
     /// Also pins every node inside the axis-aligned box `[lo, hi]` (placed coordinates, m).
     pub fn pinned_in_box(mut self, lo: DVec3, hi: DVec3) -> Self {
         self.pin_boxes.push((lo, hi));
+        self
+    }
+
+    /// Moves every node pinned by [`Self::pinned`] and [`Self::pinned_in_box`] rigidly with
+    /// `motion` about their centroid (a clamp; [`crate::collider::Clamp`]). The motion is
+    /// checked by [`Self::build`] (named `pin.motion`).
+    pub fn pin_motion(mut self, motion: crate::collider::Motion) -> Self {
+        self.pin_motion = motion;
+        self
+    }
+
+    /// Whether the object's surface collides with itself (off by default).
+    pub fn self_contact(mut self, on: bool) -> Self {
+        self.self_contact = on;
         self
     }
 
@@ -431,6 +455,26 @@ impl<'a> ModelBuilder<'a> {
             .iter()
             .map(|&w| if w > 0.0 { self.velocity } else { DVec3::ZERO })
             .collect();
+        self.pin_motion.validate("pin.motion")?;
+        let held: Vec<u32> = (0..n as u32)
+            .filter(|&i| inv_mass[i as usize] == 0.0 && mass[i as usize] > 0.0)
+            .collect();
+        let clamps = match (self.pin_motion.is_moving(), held.is_empty()) {
+            (true, false) => vec![crate::collider::Clamp {
+                centre: held.iter().map(|&i| positions[i as usize]).sum::<DVec3>()
+                    / held.len() as f64,
+                nodes: held,
+                motion: self.pin_motion.clone(),
+            }],
+            (true, true) => {
+                return Err(Error::param(
+                    "pin.motion",
+                    "moves no node: the pin holds none (give `nodes` or a `box` that \
+                     contains nodes)",
+                ))
+            }
+            (false, _) => Vec::new(),
+        };
 
         let node_springs = adjacency(n, springs.iter().map(|s| s.as_slice()));
         let mut tet_degree = vec![0u32; n];
@@ -461,6 +505,8 @@ impl<'a> ModelBuilder<'a> {
             placements: vec![placement],
             material: None,
             colliders: Vec::new(),
+            clamps,
+            self_contact: vec![self.self_contact],
         };
         model.material = self
             .material
@@ -553,6 +599,12 @@ impl Model {
                 .extend(m.objects.iter().skip(1).map(|o| o + nodes));
             out.placements.extend_from_slice(&m.placements);
             out.colliders.extend_from_slice(&m.colliders);
+            out.self_contact.extend_from_slice(&m.self_contact);
+            out.clamps
+                .extend(m.clamps.iter().map(|c| crate::collider::Clamp {
+                    nodes: c.nodes.iter().map(|i| i + nodes).collect(),
+                    ..c.clone()
+                }));
             out.material = match (&out.material, &m.material) {
                 (None, None) => None,
                 (Some(a), Some(b)) => Some(ElementMaterial::concat(a, b)),

@@ -65,8 +65,10 @@ pub enum BufferId {
     GlobalState,
     /// vec4 per node (Chebyshev).
     ChebyshevBefore,
-    /// vec4 per node: the colliders' contact force so far in the step (colliders).
+    /// Per surface node, its contact of the step and multiplier (body contact).
     Contacts,
+    /// vec4 per node: the colliders' contact force so far in the step (colliders).
+    ColliderContacts,
     /// 64 bytes per collider: shape and material (colliders).
     Colliders,
     /// f32 per distance-grid sample of every mesh collider (colliders).
@@ -108,7 +110,8 @@ impl BufferId {
             BufferId::SurfaceGradients => "surface gradients",
             BufferId::GlobalState => "global state",
             BufferId::ChebyshevBefore => "chebyshev before",
-            BufferId::Contacts => "contacts",
+            BufferId::Contacts => "body contacts",
+            BufferId::ColliderContacts => "collider contacts",
             BufferId::Colliders => "colliders",
             BufferId::ColliderGrids => "collider grids",
             BufferId::ColliderPoses => "collider poses",
@@ -147,6 +150,7 @@ impl BufferId {
             BufferId::GlobalState => binding::GLOBAL_STATE,
             BufferId::ChebyshevBefore => binding::CHEBYSHEV_BEFORE,
             BufferId::Contacts => binding::CONTACTS,
+            BufferId::ColliderContacts => binding::COLLIDER_CONTACTS,
             BufferId::Colliders => binding::COLLIDERS,
             BufferId::ColliderGrids => binding::COLLIDER_GRIDS,
             BufferId::ColliderPoses => binding::COLLIDER_POSES,

@@ -163,7 +163,58 @@ impl Schedule {
     pub fn of(problem: &Problem, metrics: bool) -> Self {
         let sweeps = problem.sweeps.iter().map(SweepPlan::of).collect();
         Schedule::new(&problem.params, sweeps, problem.global.is_some(), metrics)
+            .with_body_contact(problem.bodies.is_some())
             .with_colliders(problem.model.colliders.len() as u32)
+    }
+
+    /// The same schedule with the body contact stages when `on` ([`crate::contact`]):
+    /// `contact_find` once per step before the iterations, `contact_solve` after each
+    /// iteration's other constraints (once per step for springs-only methods).
+    pub fn with_body_contact(mut self, on: bool) -> Self {
+        if !on {
+            return self;
+        }
+        use Access::{Read, ReadWrite, Write};
+        use BufferId::*;
+        let before = |stages: &[Stage], kind: PassKind| {
+            stages
+                .iter()
+                .position(|s| s.kind > kind)
+                .unwrap_or(stages.len())
+        };
+        let find = Stage {
+            kind: PassKind::ContactFind,
+            repeat: Repeat::Substep,
+            domain: Domain::Surface,
+            sweep: None,
+            bindings: vec![
+                (Positions, Read),
+                (Velocities, Read),
+                (SurfaceNodes, Read),
+                (SurfaceFaces, Read),
+                (Contacts, Write),
+            ],
+        };
+        let at = before(&self.stages, PassKind::ContactFind);
+        self.stages.insert(at, find);
+        let solve = Stage {
+            kind: PassKind::ContactSolve,
+            repeat: match self.sweeps.is_empty() {
+                true => Repeat::Substep,
+                false => Repeat::IterationEnd,
+            },
+            domain: Domain::Surface,
+            sweep: None,
+            bindings: vec![
+                (Positions, Read),
+                (Velocities, Read),
+                (Contacts, ReadWrite),
+                (Forces, ReadWrite),
+            ],
+        };
+        let at = before(&self.stages, PassKind::ContactSolve);
+        self.stages.insert(at, solve);
+        self
     }
 
     /// Whether `kind` runs in the frame.

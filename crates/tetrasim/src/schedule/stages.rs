@@ -21,6 +21,9 @@ pub enum PassKind {
     SpringWarmStart,
     /// Global volume constraint: `C`, `A` and the surface gradients, once per step.
     GlobalVolumePrepare,
+    /// Contact between bodies: each surface node's nearest triangle of another body (or a
+    /// non-adjacent one of its own, with self-contact) within the margin, once per step.
+    ContactFind,
     /// Implicit (compliant) spring constraints of a group (`springs = implicit`; before the
     /// method's constraints in each iteration).
     SpringConstraint,
@@ -36,6 +39,9 @@ pub enum PassKind {
     /// The global volume constraint's multiplier from the chunks' sums, applied to the
     /// surface nodes, after [`PassKind::GlobalVolumeSum`].
     GlobalVolume,
+    /// The step's body contacts solved (Jacobi, one-sided) and applied, then the floor and
+    /// the colliders, after each iteration's other constraints.
+    ContactSolve,
     /// Velocities and positions, the floor.
     Integrate,
     /// Divergence flags and the first bad node.
@@ -46,17 +52,19 @@ pub enum PassKind {
 
 impl PassKind {
     /// Every pass, in execution order.
-    pub const ALL: [PassKind; 13] = [
+    pub const ALL: [PassKind; 15] = [
         PassKind::SpringScatter,
         PassKind::SpringGather,
         PassKind::SpringWarmStart,
         PassKind::GlobalVolumePrepare,
+        PassKind::ContactFind,
         PassKind::SpringConstraint,
         PassKind::Distance,
         PassKind::Volume,
         PassKind::ConstraintApply,
         PassKind::GlobalVolumeSum,
         PassKind::GlobalVolume,
+        PassKind::ContactSolve,
         PassKind::Integrate,
         PassKind::Check,
         PassKind::VolumeSum,
@@ -69,12 +77,14 @@ impl PassKind {
             PassKind::SpringGather => "spring_gather",
             PassKind::SpringWarmStart => "spring_warm_start",
             PassKind::GlobalVolumePrepare => "global_volume_prepare",
+            PassKind::ContactFind => "contact_find",
             PassKind::SpringConstraint => "spring_constraint",
             PassKind::Distance => "distance",
             PassKind::Volume => "volume",
             PassKind::ConstraintApply => "constraint_apply",
             PassKind::GlobalVolumeSum => "global_volume_sum",
             PassKind::GlobalVolume => "global_volume",
+            PassKind::ContactSolve => "contact_solve",
             PassKind::Integrate => "integrate",
             PassKind::Check => "check",
             PassKind::VolumeSum => "volume_sum",
@@ -88,12 +98,14 @@ impl PassKind {
             PassKind::SpringGather => file::PASSES_SPRING_GATHER_COMP,
             PassKind::SpringWarmStart => file::PASSES_SPRING_WARM_START_COMP,
             PassKind::GlobalVolumePrepare => file::PASSES_GLOBAL_VOLUME_PREPARE_COMP,
+            PassKind::ContactFind => file::PASSES_CONTACT_FIND_COMP,
             PassKind::SpringConstraint => file::PASSES_SPRING_CONSTRAINT_COMP,
             PassKind::Distance => file::PASSES_DISTANCE_COMP,
             PassKind::Volume => file::PASSES_VOLUME_COMP,
             PassKind::ConstraintApply => file::PASSES_CONSTRAINT_APPLY_COMP,
             PassKind::GlobalVolumeSum => file::PASSES_GLOBAL_VOLUME_SUM_COMP,
             PassKind::GlobalVolume => file::PASSES_GLOBAL_VOLUME_COMP,
+            PassKind::ContactSolve => file::PASSES_CONTACT_SOLVE_COMP,
             PassKind::Integrate => file::PASSES_INTEGRATE_COMP,
             PassKind::Check => file::PASSES_CHECK_COMP,
             PassKind::VolumeSum => file::PASSES_VOLUME_SUM_COMP,
@@ -316,7 +328,7 @@ impl Schedule {
 
     /// The same schedule with `colliders` kinematic colliders: every stage that solves the
     /// floor ([`PassKind::has_floor_constant`]) solves their contacts too, reading their
-    /// data and poses and keeping their force in [`BufferId::Contacts`].
+    /// data and poses and keeping their force in [`BufferId::ColliderContacts`].
     pub fn with_colliders(mut self, colliders: u32) -> Self {
         use Access::{Read, ReadWrite};
         use BufferId::*;
@@ -324,7 +336,7 @@ impl Schedule {
         if colliders > 0 {
             for stage in (self.stages.iter_mut()).filter(|s| s.kind.has_floor_constant()) {
                 stage.bindings.extend([
-                    (Contacts, ReadWrite),
+                    (ColliderContacts, ReadWrite),
                     (Colliders, Read),
                     (ColliderGrids, Read),
                     (ColliderPoses, Read),

@@ -6,6 +6,7 @@ use glam::DVec3;
 use super::{check_state, diverged, Bad};
 use crate::backend::{Backend, State, VolumeSample};
 use crate::collider::{self, NodeContact};
+use crate::contact::Contact;
 use crate::error::Result;
 use crate::model::{GlobalObject, GlobalVolume, Model};
 use crate::params::SimParams;
@@ -101,6 +102,8 @@ struct StepForces {
     sum: Vec<DVec3>,
     /// Per global volume object: `C_g`, the surface gradients and the multiplier.
     global: Vec<(f64, Vec<DVec3>, f64)>,
+    /// The step's body contacts with their multipliers so far (`<= 0`: they push).
+    bodies: Vec<(Contact, f64)>,
 }
 
 impl StepForces {
@@ -121,6 +124,7 @@ impl StepForces {
             before_floor: Vec::new(),
             sum: Vec::new(),
             global: Vec::new(),
+            bodies: Vec::new(),
             gravity,
         };
         step.set_springs(vec![DVec3::ZERO; n]);
@@ -239,6 +243,14 @@ impl ReferenceBackend {
             (PassKind::SpringGather, _) => step.set_springs(self.spring_forces_gather()),
             (PassKind::SpringWarmStart, _) => step.set_springs(self.warm_start_forces()),
             (PassKind::GlobalVolumePrepare, _) => step.global = self.global_prepare(),
+            (PassKind::ContactFind, _) => {
+                if let Some(bodies) = &self.problem.bodies {
+                    let (model, dt) = (&self.problem.model, self.problem.params.dt);
+                    let found = bodies.find(model, &self.x, &self.v, dt);
+                    step.bodies = found.into_iter().map(|c| (c, 0.0)).collect();
+                }
+            }
+            (PassKind::ContactSolve, _) => self.contact_iteration(step),
             (PassKind::SpringConstraint | PassKind::Distance | PassKind::Volume, Some(at)) => {
                 step.sum = self.solve_group(at, step)
             }
@@ -379,6 +391,29 @@ impl ReferenceBackend {
             }
             *lambda = implicit_multiplier(*c, a, b, p.dt, p.constraint_epsilon).unwrap_or(0.0);
         }
+    }
+
+    /// One Jacobi sweep of the step's body contacts against the forces so far
+    /// ([`crate::contact::BodyContact::sweep`]), its forces added, then the floor and the
+    /// colliders again.
+    fn contact_iteration(&self, step: &mut StepForces) {
+        let Some(bodies) = &self.problem.bodies else {
+            return;
+        };
+        let (model, params) = (&self.problem.model, &self.problem.params);
+        let total = &step.total;
+        let forces = bodies.sweep(
+            &mut step.bodies,
+            model,
+            params,
+            |i| self.x[i],
+            |i| self.v[i],
+            |i| total[i],
+        );
+        for (i, force) in forces {
+            step.total[i] += force;
+        }
+        self.contact_solve(step);
     }
 
     /// Solves every node's contacts against the step's total force (which includes the
@@ -522,6 +557,16 @@ impl ReferenceBackend {
     /// faster than the speed limit, if any.
     fn step(&mut self) -> Option<(usize, Bad)> {
         let limit = self.problem.speed_limit;
+        let (model, dt) = (&self.problem.model, self.problem.params.dt);
+        let (x, v) = (&self.x, &mut self.v);
+        collider::drive(
+            &model.clamps,
+            &model.positions,
+            self.steps,
+            dt,
+            |i| x[i],
+            |i, u| v[i] = u,
+        );
         let mut forces = self.forces();
         let f = forces.total();
         if self.problem.params.warm_start {

@@ -312,7 +312,7 @@ fn global_buffers(optional: &mut Optional<'_>, global: &GlobalVolume) -> Result<
 /// every frame slot writes before its submit ([`super::colliders::poses`]).
 fn collider_buffers(optional: &mut Optional<'_>, model: &Model) -> Result<()> {
     let (data, values) = super::colliders::static_data(&model.colliders);
-    optional.zeroed(BufferId::Contacts, (16 * model.node_count()) as u64)?;
+    optional.zeroed(BufferId::ColliderContacts, (16 * model.node_count()) as u64)?;
     optional.data(BufferId::Colliders, bytes(&data))?;
     match values.is_empty() {
         true => optional.zeroed(BufferId::ColliderGrids, 4)?,
@@ -360,7 +360,7 @@ impl Optional<'_> {
 }
 
 /// Every buffer kind.
-const ALL_BUFFERS: [BufferId; 32] = [
+const ALL_BUFFERS: [BufferId; 33] = [
     BufferId::Positions,
     BufferId::Velocities,
     BufferId::Forces,
@@ -390,6 +390,7 @@ const ALL_BUFFERS: [BufferId; 32] = [
     BufferId::GlobalState,
     BufferId::ChebyshevBefore,
     BufferId::Contacts,
+    BufferId::ColliderContacts,
     BufferId::Colliders,
     BufferId::ColliderGrids,
     BufferId::ColliderPoses,

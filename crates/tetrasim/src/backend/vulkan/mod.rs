@@ -184,6 +184,20 @@ impl VulkanBackend {
                 format!("must be 1 to {MAX_FRAMES_IN_FLIGHT}, not {depth}"),
             ));
         }
+        if problem.bodies.is_some() {
+            return Err(Error::param(
+                "contact",
+                "contact between bodies and self-contact run on the cpu-ref and cpu backends; \
+                 the vulkan backend does not solve them yet",
+            ));
+        }
+        if !model.clamps.is_empty() {
+            return Err(Error::param(
+                "pin.motion",
+                "moving pins run on the cpu-ref and cpu backends; the vulkan backend does not \
+                 drive them yet",
+            ));
+        }
         let info = ctx.info();
         let atomics = info.atomics_path(options.atomics)?;
         let plan = Self::plan_for(info, problem, options)?;

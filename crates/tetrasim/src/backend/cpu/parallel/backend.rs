@@ -7,7 +7,9 @@ use super::iterations::{self, Inputs, Outputs};
 use super::shared::SharedSlice;
 use super::team::Team;
 use super::*;
-use crate::collider::Collider;
+use crate::collider::{Clamp, Collider};
+use crate::contact::Contact;
+use glam::DVec3;
 use std::sync::Arc;
 
 /// The fast CPU solver (`cpu`).
@@ -41,6 +43,12 @@ pub struct ParallelBackend {
     team: Team,
     /// The floor's normal force on each node in the current step [N] (`>= 0`).
     floor_force: Vec<f32>,
+    /// Body contact with its problem (for the model and parameters its sweep reads), when
+    /// two surfaces can meet, and the step's contacts with their multipliers.
+    bodies: Option<Problem>,
+    body_contacts: Vec<(Contact, f64)>,
+    /// The moving pins and the initial positions they move from (none without them).
+    clamps: Option<(Vec<Clamp>, Vec<DVec3>)>,
     /// The kinematic colliders (shared with the problem).
     colliders: Arc<[Collider]>,
     /// The colliders' force on each node in the current step [N] (zeros without them).
@@ -141,6 +149,10 @@ impl ParallelBackend {
             }),
             team: Team::for_work(n, mean_group_size(&sweeps)),
             floor_force: vec![0.0; n],
+            bodies: problem.bodies.is_some().then(|| problem.clone()),
+            body_contacts: Vec::new(),
+            clamps: (!model.clamps.is_empty())
+                .then(|| (model.clamps.clone(), model.positions.clone())),
             colliders: model.colliders.clone().into(),
             contact: vec![Vec3A::ZERO; n],
             steps: 0,
@@ -326,6 +338,17 @@ impl ParallelBackend {
     fn step(&mut self, team: &Team) -> Option<(usize, Bad)> {
         let colliders = Arc::clone(&self.colliders);
         let at = collider::at_step(&colliders, self.steps, self.dt);
+        if let Some((clamps, rest)) = &self.clamps {
+            let (x, v) = (&self.x, &mut self.v);
+            collider::drive(
+                clamps,
+                rest,
+                self.steps,
+                self.dt,
+                |i| x[i].to_dvec3(),
+                |i, u| v[i] = Vec3A::from_dvec3(u),
+            );
+        }
         self.steps += 1;
         let mut k = 0;
         while k < self.dispatches.len() {
@@ -341,6 +364,15 @@ impl ParallelBackend {
             match self.stages[dispatch.stage] {
                 PassKind::SpringScatter | PassKind::SpringGather | PassKind::SpringWarmStart => {
                     self.spring_pass()
+                }
+                PassKind::ContactFind => {
+                    if let Some(problem) = &self.bodies {
+                        let bodies = problem.bodies.as_ref().expect("body contact");
+                        let x: Vec<DVec3> = self.x.iter().map(|p| p.to_dvec3()).collect();
+                        let v: Vec<DVec3> = self.v.iter().map(|p| p.to_dvec3()).collect();
+                        let found = bodies.find(&problem.model, &x, &v, self.dt);
+                        self.body_contacts = found.into_iter().map(|c| (c, 0.0)).collect();
+                    }
                 }
                 PassKind::GlobalVolumePrepare => {
                     if let Some(global) = &mut self.global {
@@ -463,6 +495,8 @@ impl ParallelBackend {
             f,
             floor_force,
             contact,
+            bodies,
+            body_contacts,
             pair_out,
             tet_out,
             ..
@@ -491,6 +525,9 @@ impl ParallelBackend {
                 w: inv_mass,
                 dt: k.dt,
             }),
+            bodies: bodies
+                .as_ref()
+                .and_then(|p| p.bodies.as_ref().map(|b| (b, p))),
             springs,
             tets,
             sweeps,
@@ -503,6 +540,7 @@ impl ParallelBackend {
             f: SharedSlice::new(f),
             floor_force: SharedSlice::new(floor_force),
             contact: SharedSlice::new(contact),
+            body_contacts: SharedSlice::new(body_contacts),
             multipliers: multipliers
                 .iter_mut()
                 .map(|m| SharedSlice::new(m))

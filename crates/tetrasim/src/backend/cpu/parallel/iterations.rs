@@ -8,6 +8,7 @@
 use super::shared::SharedSlice;
 use super::team::Member;
 use super::*;
+use crate::contact::{BodyContact, Contact};
 
 /// What the constraints of a step read and never write.
 #[derive(Clone, Copy)]
@@ -19,6 +20,8 @@ pub(super) struct Inputs<'a> {
     pub floor: bool,
     /// The colliders of the step, when there are any.
     pub colliders: Option<Colliders<'a>>,
+    /// Body contact and the problem it belongs to, when two surfaces can meet.
+    pub bodies: Option<(&'a BodyContact, &'a Problem)>,
     pub springs: &'a [[u32; 2]],
     pub tets: &'a [[u32; 4]],
     /// The sweeps of an iteration, in order.
@@ -41,6 +44,8 @@ pub(super) struct Outputs<'a> {
     pub floor_force: SharedSlice<'a, f32>,
     /// Collider force per node (empty without colliders).
     pub contact: SharedSlice<'a, Vec3A>,
+    /// The step's body contacts and their multipliers.
+    pub body_contacts: SharedSlice<'a, (Contact, f64)>,
     /// Per sweep, per constraint in group order: the compliant multiplier so far.
     pub multipliers: Vec<SharedSlice<'a, f32>>,
     /// Per spring or distance constraint, in group order: force on end 0.
@@ -94,6 +99,17 @@ pub(super) fn run(member: Member<'_>, inputs: &Inputs<'_>, outputs: &Outputs<'_>
                     // SAFETY: partial-sum phase: nobody writes `f`; the members write
                     // disjoint chunks of `partial`.
                     unsafe { global_sums(member, inputs, outputs, global) };
+                }
+            }
+            (PassKind::ContactSolve, _) => {
+                if let Some(bodies) = inputs.bodies {
+                    if member.leads() {
+                        // SAFETY: serial phase: the other members wait at the barrier.
+                        unsafe { contact_sweep(inputs, outputs, bodies) };
+                    }
+                    member.wait();
+                    // SAFETY: apply phase: each member writes only its own block of nodes.
+                    unsafe { resolve_contacts(inputs, outputs, &nodes, reach.as_deref()) };
                 }
             }
             (PassKind::GlobalVolume, _) => {
@@ -165,6 +181,73 @@ unsafe fn solve(
             // SAFETY: as above.
             let out = unsafe { outputs.tet_out.part(block) };
             solve_block(out, so_far, members, inputs.tets, on, family);
+        }
+    }
+}
+
+/// One Jacobi sweep of the step's body contacts ([`BodyContact::sweep`] in double
+/// precision), its forces added to the nodes they touch.
+///
+/// # Safety
+/// No other thread may touch the forces or the body contacts during the call.
+unsafe fn contact_sweep(
+    inputs: &Inputs<'_>,
+    outputs: &Outputs<'_>,
+    (bodies, problem): (&BodyContact, &Problem),
+) {
+    let (x, v) = (inputs.x, inputs.v);
+    // SAFETY: the caller's promise.
+    let (contacts, f) = unsafe {
+        (
+            outputs.body_contacts.part(0..outputs.body_contacts.len()),
+            outputs.f.part(0..x.len()),
+        )
+    };
+    let forces = {
+        let f = &*f;
+        bodies.sweep(
+            contacts,
+            &problem.model,
+            &problem.params,
+            |i| x[i].to_dvec3(),
+            |i| v[i].to_dvec3(),
+            |i| f[i].to_dvec3(),
+        )
+    };
+    for (i, force) in forces {
+        f[i] += Vec3A::from_dvec3(force);
+    }
+}
+
+/// The floor's and the colliders' solve of the nodes `nodes` (`reach`: their
+/// [`floor_reach`], when there is a floor), after the body contacts moved their forces.
+///
+/// # Safety
+/// No other thread may touch `nodes` of the forces, floor forces and collider forces.
+unsafe fn resolve_contacts(
+    inputs: &Inputs<'_>,
+    outputs: &Outputs<'_>,
+    nodes: &std::ops::Range<usize>,
+    reach: Option<&[f32]>,
+) {
+    // SAFETY: the caller's promise.
+    let (f, floor_force) = unsafe {
+        (
+            outputs.f.part(nodes.clone()),
+            outputs.floor_force.part(nodes.clone()),
+        )
+    };
+    let contact = match inputs.colliders {
+        // SAFETY: as above.
+        Some(_) => unsafe { outputs.contact.part(nodes.clone()) },
+        None => &mut [][..],
+    };
+    for (k, (f, n)) in f.iter_mut().zip(floor_force.iter_mut()).enumerate() {
+        if let Some(reach) = reach {
+            (*f, *n) = floor_solve_reach(*f, *n, reach[k]);
+        }
+        if let Some(colliders) = &inputs.colliders {
+            colliders.solve(nodes.start + k, f, &mut contact[k]);
         }
     }
 }

@@ -46,6 +46,11 @@ impl<'a, T> SharedSlice<'a, T> {
         unsafe { std::slice::from_raw_parts_mut(self.ptr.add(range.start), range.len()) }
     }
 
+    /// Its length.
+    pub(super) fn len(&self) -> usize {
+        self.len
+    }
+
     /// The whole slice, to read.
     ///
     /// # Safety

@@ -125,6 +125,11 @@ impl Member<'_> {
         len * self.index / self.size..len * (self.index + 1) / self.size
     }
 
+    /// Whether this is the team's first member (the one that runs serial work).
+    pub(super) fn leads(&self) -> bool {
+        self.index == 0
+    }
+
     /// Waits until every member has reached the same point: what any member wrote before
     /// is visible to all after.
     pub(super) fn wait(&self) {

@@ -238,7 +238,7 @@ fn buffers(
         let (c, values) = (u64::from(counts.colliders), u64::from(counts.grid_values));
         let poses = POSE_BYTES * c * u64::from(schedule.substeps);
         for (id, bytes, upload_bytes) in [
-            (Contacts, 16 * n, 0),
+            (ColliderContacts, 16 * n, 0),
             (Colliders, 64 * c, 0),
             (ColliderGrids, 4 * values, 0),
             (ColliderPoses, poses * u64::from(POSE_SLOTS), poses),

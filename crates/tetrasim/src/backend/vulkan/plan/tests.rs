@@ -168,7 +168,7 @@ fn colliders_add_their_buffers_variants_and_count_only_when_there_are_some() {
         largest: 12,
     };
     let collider_buffers = [
-        BufferId::Contacts,
+        BufferId::ColliderContacts,
         BufferId::Colliders,
         BufferId::ColliderGrids,
         BufferId::ColliderPoses,
@@ -181,7 +181,7 @@ fn colliders_add_their_buffers_variants_and_count_only_when_there_are_some() {
     assert_eq!(without.upload_bytes(), 0);
     for pass in &without.passes {
         assert!(
-            !pass.stage.touches(BufferId::Contacts) && !pass.label().contains("collider"),
+            !pass.stage.touches(BufferId::ColliderContacts) && !pass.label().contains("collider"),
             "{}",
             pass.label()
         );
@@ -202,7 +202,7 @@ fn colliders_add_their_buffers_variants_and_count_only_when_there_are_some() {
     let with = EnginePlan::new(counts, &params, 64, false, &sweeps, Some(global));
     let pose_row = 64 * 3 * 4;
     for (id, bytes, upload) in [
-        (BufferId::Contacts, 16 * 10, 0),
+        (BufferId::ColliderContacts, 16 * 10, 0),
         (BufferId::Colliders, 64 * 3, 0),
         (BufferId::ColliderGrids, 4 * 100, 0),
         (
@@ -240,7 +240,11 @@ fn colliders_add_their_buffers_variants_and_count_only_when_there_are_some() {
                 assert!(pass.stage.touches(id), "{} binds {id:?}", pass.label());
             }
         } else {
-            assert!(!pass.stage.touches(BufferId::Contacts), "{}", pass.label());
+            assert!(
+                !pass.stage.touches(BufferId::ColliderContacts),
+                "{}",
+                pass.label()
+            );
         }
     }
     // A dispatch reads its substep's poses only; the frame writes them once.

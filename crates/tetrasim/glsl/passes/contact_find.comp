@@ -1,0 +1,5 @@
+#version 460
+// Pass `contact_find`: not yet on the GPU (the vulkan backend refuses body contact).
+#include "common/version.glsl"
+#include "common/bindings.glsl"
+void main() {}
