@@ -11,7 +11,7 @@
 // kept per node. Then the node's floor
 // contact is solved again against the new F (the floor is a one-sided constraint solved in
 // the same iterations; its force is kept in F.w), then, in the `_colliders` variants, the
-// kinematic colliders' contacts (physics/contact.glsl; their force kept in Contacts).
+// kinematic colliders' contacts (physics/contact.glsl; their force kept in ColliderContacts).
 // @variant sums: SUMS
 // @variant gather: GATHER
 // @variant chebyshev: SUMS CHEBYSHEV
