@@ -110,7 +110,8 @@ fn main() {
 type Defines = Vec<(String, Option<String>)>;
 
 /// The variants a shader declares with `// @variant NAME: DEFINE[=VALUE] ...` lines, as
-/// `(key, defines)`; a shader without any is compiled once under its own path.
+/// `(key, defines)`; a shader without any is compiled once under its own path, and so is a
+/// variant named `plain`.
 fn variants(rel: &str, source: &str) -> Vec<(String, Defines)> {
     let mut out = Vec::new();
     for line in source.lines() {
@@ -127,7 +128,12 @@ fn variants(rel: &str, source: &str) -> Vec<(String, Defines)> {
                 None => (d.to_string(), None),
             })
             .collect();
-        out.push((format!("{rel}#{}", name.trim()), defines));
+        // The variant `plain` keeps the shader's own key (its default, e.g. without colliders).
+        let key = match name.trim() {
+            "plain" => rel.to_string(),
+            name => format!("{rel}#{name}"),
+        };
+        out.push((key, defines));
     }
     if out.is_empty() {
         out.push((rel.to_string(), Vec::new()));

@@ -68,6 +68,7 @@ layout(push_constant, std430) uniform PushConstants {
     uint iteration;   // the constraint iteration within the step (0: multipliers start at 0)
     uint warm_start;  // 1: implicit springs' multipliers start at the stored (last step's)
                       // values, applied as forces by spring_warm_start
+    uint collider_first; // the substep's first entry in ColliderPoses (colliders)
 } pc;
 
 // Index of node i's per-group data (degrees, slot rows) in the current group.

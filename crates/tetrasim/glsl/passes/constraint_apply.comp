@@ -10,11 +10,14 @@
 // w = pc.chebyshev_weight and F_before, the force two iterations back (floor force in w),
 // kept per node. Then the node's floor
 // contact is solved again against the new F (the floor is a one-sided constraint solved in
-// the same iterations; its force is kept in F.w).
+// the same iterations; its force is kept in F.w), then, in the `_colliders` variants, the
+// kinematic colliders' contacts (physics/contact.glsl; their force kept in ColliderContacts).
 // @variant sums: SUMS
 // @variant gather: GATHER
 // @variant chebyshev: SUMS CHEBYSHEV
 // @variant gather_chebyshev: GATHER CHEBYSHEV
+// @variant sums_colliders: SUMS COLLIDERS_ON
+// @variant gather_colliders: GATHER COLLIDERS_ON
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/implicit.glsl"
@@ -23,6 +26,9 @@
 // 1 when the scene has a floor; 0 compiles the contact solve away (specialisation constant 1,
 // set by the engine plan).
 layout(constant_id = 1) const uint FLOOR = 1u;
+// The kinematic colliders (specialisation constant 2, set by the engine plan).
+layout(constant_id = 2) const uint COLLIDERS = 0u;
+#include "physics/contact.glsl"
 
 layout(std430, set = 0, binding = B_POSITIONS) readonly restrict buffer Positions { vec4 positions[]; };
 layout(std430, set = 0, binding = B_VELOCITIES) readonly restrict buffer Velocities { vec4 velocities[]; };
@@ -34,6 +40,9 @@ layout(std430, set = 0, binding = B_NODE_SLOT_OFFSETS) readonly restrict buffer 
 layout(std430, set = 0, binding = B_NODE_SLOT_ITEMS) readonly restrict buffer NodeSlotItems { uint node_slot_items[]; };
 #else
 layout(std430, set = 0, binding = B_CONSTRAINT_SUM) restrict buffer Sum { vec4 sums[]; };
+#endif
+#ifdef COLLIDERS_ON
+layout(std430, set = 0, binding = B_COLLIDER_CONTACTS) restrict buffer ColliderContacts { vec4 contacts[]; };
 #endif
 #ifdef CHEBYSHEV
 layout(std430, set = 0, binding = B_CHEBYSHEV_BEFORE) restrict buffer ChebyshevBefore { vec4 before[]; };
@@ -72,5 +81,15 @@ void main() {
         vec4 p = positions[i];
         f = floor_solve(f, p.y, velocities[i].y, p.w, pc.dt);
     }
+#ifdef COLLIDERS_ON
+    if (COLLIDERS != 0u) {
+        vec4 p = positions[i];
+        vec3 contact = contacts[i].xyz;
+        int touching;
+        vec3 normal;
+        f.xyz = colliders_solve(f.xyz, contact, p.xyz, velocities[i].xyz, p.w, pc.dt, touching, normal);
+        contacts[i] = vec4(contact, 0.0);
+    }
+#endif
     forces[i] = f;
 }

@@ -4,7 +4,10 @@
 // adds its object's chunk partials (common/global_chunk.glsl: C_g + V0, A and B) in the
 // same fixed order (strided per invocation, then a shared-memory tree), so all of them compute the same multiplier (bit-identical reruns),
 // then each surface node of its chunk gets F -= lambda grad_k and its floor contact is
-// solved again. Mirrors global_pass in src/backend/cpu/parallel/mod.rs.
+// solved again, then (variant `colliders`) its kinematic colliders' contacts. Mirrors
+// global_pass in src/backend/cpu/parallel/mod.rs.
+// @variant plain:
+// @variant colliders: COLLIDERS_ON
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "common/global_chunk.glsl"
@@ -14,6 +17,9 @@
 
 // 1 when the scene has a floor (specialisation constant 1, as in constraint_apply).
 layout(constant_id = 1) const uint FLOOR = 1u;
+// The kinematic colliders (specialisation constant 3; 2 is CHUNKS).
+layout(constant_id = 3) const uint COLLIDERS = 0u;
+#include "physics/contact.glsl"
 
 layout(std430, set = 0, binding = B_POSITIONS) readonly restrict buffer Positions { vec4 positions[]; };
 layout(std430, set = 0, binding = B_VELOCITIES) readonly restrict buffer Velocities { vec4 velocities[]; };
@@ -22,6 +28,9 @@ layout(std430, set = 0, binding = B_GLOBAL_OBJECTS) readonly restrict buffer Glo
 layout(std430, set = 0, binding = B_SURFACE_NODES) readonly restrict buffer SurfaceNodes { uint surface_nodes[]; };
 layout(std430, set = 0, binding = B_SURFACE_GRADIENTS) readonly restrict buffer SurfaceGradients { vec4 surface_gradients[]; };
 layout(std430, set = 0, binding = B_GLOBAL_STATE) readonly restrict buffer GlobalState { vec4 global_state[]; };
+#ifdef COLLIDERS_ON
+layout(std430, set = 0, binding = B_COLLIDER_CONTACTS) restrict buffer ColliderContacts { vec4 contacts[]; };
+#endif
 
 void main() {
     uint index = global_object_index();
@@ -46,5 +55,15 @@ void main() {
         vec4 p = positions[node];
         f = floor_solve(f, p.y, velocities[node].y, p.w, pc.dt);
     }
+#ifdef COLLIDERS_ON
+    if (COLLIDERS != 0u) {
+        vec4 p = positions[node];
+        vec3 contact = contacts[node].xyz;
+        int touching;
+        vec3 normal;
+        f.xyz = colliders_solve(f.xyz, contact, p.xyz, velocities[node].xyz, p.w, pc.dt, touching, normal);
+        contacts[node] = vec4(contact, 0.0);
+    }
+#endif
     forces[node] = f;
 }

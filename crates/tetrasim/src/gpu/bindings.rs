@@ -83,4 +83,18 @@ bindings! {
     /// Per surface node, its body contact of the step: the triangle, barycentric weights,
     /// normal and accumulated multiplier (contact_find.comp, contact_solve.comp).
     CONTACTS = 28,
+    /// vec4 per node: the kinematic colliders' contact force so far in the step [N] (w
+    /// unused), re-solved with the floor's and reset to 0 by `integrate`
+    /// (glsl/physics/contact.glsl; only with colliders).
+    COLLIDER_CONTACTS = 29,
+    /// [`super::GpuCollider`] per collider: shape code, friction, thickness, sizes and
+    /// its distance grid's placement (only with colliders).
+    COLLIDERS = 30,
+    /// float per sample of every mesh collider's distance grid, one grid after another
+    /// (X fastest; only with colliders, 4 bytes without a mesh collider).
+    COLLIDER_GRIDS = 31,
+    /// [`super::GpuColliderPose`] per frame slot, substep and collider (host-visible,
+    /// written before each frame's submit; `pc.collider_first` selects the substep's row;
+    /// only with colliders).
+    COLLIDER_POSES = 32,
 }

@@ -128,15 +128,20 @@ impl Buffer {
 
     /// Writes `data` at the start of a host-visible buffer.
     pub fn write(&mut self, data: &[u8]) -> Result<()> {
+        self.write_at(0, data)
+    }
+
+    /// Writes `data` at byte `offset` of a host-visible buffer.
+    pub fn write_at(&mut self, offset: usize, data: &[u8]) -> Result<()> {
         let name = &self.name;
         let slice = self
             .allocation
             .as_mut()
             .and_then(|a| a.mapped_slice_mut())
             .ok_or_else(|| Error::Gpu(format!("buffer `{name}` is not host-visible")))?;
-        let target = slice.get_mut(..data.len()).ok_or_else(|| {
+        let target = slice.get_mut(offset..offset + data.len()).ok_or_else(|| {
             Error::Gpu(format!(
-                "writing {} bytes into buffer `{name}` of {} bytes",
+                "writing {} bytes at {offset} into buffer `{name}` of {} bytes",
                 data.len(),
                 self.size
             ))

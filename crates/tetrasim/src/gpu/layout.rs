@@ -21,7 +21,7 @@ pub mod binding {
     include!("bindings.rs");
 }
 
-/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 72 bytes used,
+/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 76 bytes used,
 /// padded to 80.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
@@ -69,8 +69,11 @@ pub struct PushConstants {
     /// multiplier so far is its stored value, the last step's, which `spring_warm_start`
     /// applied as a force at the start of the step.
     pub warm_start: u32,
+    /// The current substep's first entry in the collider poses
+    /// ([`binding::COLLIDER_POSES`]): `(frame slot * substeps + substep) * colliders`.
+    pub collider_first: u32,
     /// Padding to a multiple of 16 bytes (not in the shader's block).
-    pub pad: [u32; 2],
+    pub pad: u32,
 }
 
 /// Values of [`PushConstants::combine`] (the `COMBINE_*` macros in bindings.glsl).
@@ -109,7 +112,8 @@ impl PushConstants {
             chebyshev_weight: 1.0,
             iteration: 0,
             warm_start: u32::from(params.springs == SpringKind::Implicit && params.warm_start),
-            pad: [0; 2],
+            collider_first: 0,
+            pad: 0,
         }
     }
 }
@@ -147,6 +151,44 @@ pub struct GpuGlobalObject {
     pub rest_volume: f32,
     /// Padding to 32 bytes.
     pub pad: [u32; 3],
+}
+
+/// One kinematic collider's static data (`Collider` in glsl/physics/contact.glsl), 64 bytes.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuCollider {
+    /// [`crate::collider::Shape::code`].
+    pub shape: u32,
+    /// No point within the contact thickness is farther from its centre [m]
+    /// ([`crate::collider::Shape::bound`] + thickness; infinite for a plane).
+    pub reach: f32,
+    /// Fraction of the tangential velocity relative to its surface removed per step.
+    pub friction: f32,
+    /// Contact thickness [m].
+    pub thickness: f32,
+    /// Sizes [m]: sphere `(radius)`, box `(half extents)`, capsule `(half length,
+    /// radius)`; 0 elsewhere.
+    pub size: [f32; 4],
+    /// Mesh collider: its grid's origin (local frame) [m] and cell [m].
+    pub grid_origin: [f32; 4],
+    /// Mesh collider: samples along X, Y, Z and its first sample in the grids buffer.
+    pub grid_dims: [u32; 4],
+}
+
+/// One collider's placement over one step (`ColliderPose` in glsl/physics/contact.glsl),
+/// 64 bytes, computed on the host in f64: the end pose, and the start pose relative to it
+/// (so the shader's surface velocity has no cancellation between two nearly equal poses).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuColliderPose {
+    /// The end pose's position [m] (w 0).
+    pub end_position: [f32; 4],
+    /// The end pose's rotation (x, y, z, w).
+    pub end_rotation: [f32; 4],
+    /// End position minus start position [m] (w 0).
+    pub moved: [f32; 4],
+    /// `start.rotation * end.rotation^-1` (x, y, z, w).
+    pub turned: [f32; 4],
 }
 
 /// One volume_sum workgroup's result (`VolumePartial` in bindings.glsl).
@@ -191,6 +233,8 @@ mod tests {
         assert_eq!(size_of::<GpuSpring>(), 16);
         assert_eq!(size_of::<VolumePartial>(), 16);
         assert_eq!(size_of::<GpuGlobalObject>(), 32);
+        assert_eq!(size_of::<GpuCollider>(), 64);
+        assert_eq!(size_of::<GpuColliderPose>(), 64);
     }
 
     #[test]
@@ -217,12 +261,14 @@ mod tests {
             ),
             ("iteration", offset_of!(PushConstants, iteration)),
             ("warm_start", offset_of!(PushConstants, warm_start)),
+            ("collider_first", offset_of!(PushConstants, collider_first)),
         ];
         // integrate uses floor_on/friction/gravity, volume_sum the tet count: together they
         // name most members; every member the shader keeps must sit where Rust puts it.
         let checked = assert_struct_offsets(
             &[
                 "passes/integrate.comp",
+                "passes/integrate.comp#colliders",
                 "passes/volume.comp#ext",
                 "passes/spring_scatter.comp#cas",
                 "passes/volume.comp#gather",
@@ -232,7 +278,7 @@ mod tests {
             "PushConstants",
             &rust,
         );
-        assert!(checked >= 18);
+        assert!(checked >= 19);
     }
 
     #[test]
@@ -303,6 +349,40 @@ mod tests {
     }
 
     #[test]
+    fn collider_offsets_match_the_shader() {
+        let m = module("passes/integrate.comp#colliders");
+        let colliders: HashMap<_, _> = m.struct_offsets("Collider").into_iter().collect();
+        for (name, offset) in [
+            ("shape", offset_of!(GpuCollider, shape)),
+            ("reach", offset_of!(GpuCollider, reach)),
+            ("friction", offset_of!(GpuCollider, friction)),
+            ("thickness", offset_of!(GpuCollider, thickness)),
+            ("size", offset_of!(GpuCollider, size)),
+            ("grid_origin", offset_of!(GpuCollider, grid_origin)),
+            ("grid_dims", offset_of!(GpuCollider, grid_dims)),
+        ] {
+            assert_eq!(colliders.get(name), Some(&(offset as u32)), "{name}");
+        }
+        let poses: HashMap<_, _> = m.struct_offsets("ColliderPose").into_iter().collect();
+        for (name, offset) in [
+            ("end_position", offset_of!(GpuColliderPose, end_position)),
+            ("end_rotation", offset_of!(GpuColliderPose, end_rotation)),
+            ("moved", offset_of!(GpuColliderPose, moved)),
+            ("turned", offset_of!(GpuColliderPose, turned)),
+        ] {
+            assert_eq!(poses.get(name), Some(&(offset as u32)), "{name}");
+        }
+        assert_eq!(
+            m.array_stride("Colliders"),
+            Some(size_of::<GpuCollider>() as u32)
+        );
+        assert_eq!(
+            m.array_stride("ColliderPoses"),
+            Some(size_of::<GpuColliderPose>() as u32)
+        );
+    }
+
+    #[test]
     fn the_binding_list_numbers_every_buffer_once() {
         let mut numbers: Vec<u32> = binding::ALL.iter().map(|&(_, n)| n).collect();
         numbers.sort_unstable();
@@ -346,6 +426,11 @@ mod tests {
             ("VolumeCompliance", binding::VOLUME_COMPLIANCE),
             ("SpringMultipliers", binding::SPRING_MULTIPLIERS),
             ("VolumeMultipliers", binding::VOLUME_MULTIPLIERS),
+            ("Contacts", binding::CONTACTS),
+            ("ColliderContacts", binding::COLLIDER_CONTACTS),
+            ("Colliders", binding::COLLIDERS),
+            ("ColliderGrids", binding::COLLIDER_GRIDS),
+            ("ColliderPoses", binding::COLLIDER_POSES),
         ]
         .into_iter()
         .collect();

@@ -209,8 +209,9 @@ mod tests {
         }
         // spring_scatter, spring_constraint, distance, volume: ext + cas each;
         // spring_constraint, distance, volume: gather; constraint_apply: sums, gather,
-        // chebyshev, gather_chebyshev.
-        assert_eq!(variants, 15);
+        // chebyshev, gather_chebyshev, sums_colliders, gather_colliders; global_volume and
+        // integrate: colliders (their `plain` variants keep the shader's own key).
+        assert_eq!(variants, 19);
     }
 
     #[test]

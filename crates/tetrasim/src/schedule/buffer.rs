@@ -67,6 +67,15 @@ pub enum BufferId {
     ChebyshevBefore,
     /// Per surface node, its contact of the step and multiplier (body contact).
     Contacts,
+    /// vec4 per node: the colliders' contact force so far in the step (colliders).
+    ColliderContacts,
+    /// 64 bytes per collider: shape and material (colliders).
+    Colliders,
+    /// f32 per distance-grid sample of every mesh collider (colliders).
+    ColliderGrids,
+    /// 64 bytes per frame slot, substep and collider: the step's poses (colliders;
+    /// host-visible).
+    ColliderPoses,
 }
 
 impl BufferId {
@@ -102,6 +111,10 @@ impl BufferId {
             BufferId::GlobalState => "global state",
             BufferId::ChebyshevBefore => "chebyshev before",
             BufferId::Contacts => "body contacts",
+            BufferId::ColliderContacts => "collider contacts",
+            BufferId::Colliders => "colliders",
+            BufferId::ColliderGrids => "collider grids",
+            BufferId::ColliderPoses => "collider poses",
         }
     }
 
@@ -137,6 +150,10 @@ impl BufferId {
             BufferId::GlobalState => binding::GLOBAL_STATE,
             BufferId::ChebyshevBefore => binding::CHEBYSHEV_BEFORE,
             BufferId::Contacts => binding::CONTACTS,
+            BufferId::ColliderContacts => binding::COLLIDER_CONTACTS,
+            BufferId::Colliders => binding::COLLIDERS,
+            BufferId::ColliderGrids => binding::COLLIDER_GRIDS,
+            BufferId::ColliderPoses => binding::COLLIDER_POSES,
         }
     }
 }

@@ -154,6 +154,8 @@ pub struct Schedule {
     pub chebyshev: Vec<f64>,
     /// Whether the step has a floor.
     pub floor: bool,
+    /// Kinematic colliders, solved with the floor (0: none).
+    pub colliders: u32,
 }
 
 impl Schedule {
@@ -162,6 +164,7 @@ impl Schedule {
         let sweeps = problem.sweeps.iter().map(SweepPlan::of).collect();
         Schedule::new(&problem.params, sweeps, problem.global.is_some(), metrics)
             .with_body_contact(problem.bodies.is_some())
+            .with_colliders(problem.model.colliders.len() as u32)
     }
 
     /// The same schedule with the body contact stages when `on` ([`crate::contact`]):

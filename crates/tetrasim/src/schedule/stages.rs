@@ -322,7 +322,28 @@ impl Schedule {
             warm_start,
             chebyshev,
             floor: params.floor,
+            colliders: 0,
         }
+    }
+
+    /// The same schedule with `colliders` kinematic colliders: every stage that solves the
+    /// floor ([`PassKind::has_floor_constant`]) solves their contacts too, reading their
+    /// data and poses and keeping their force in [`BufferId::ColliderContacts`].
+    pub fn with_colliders(mut self, colliders: u32) -> Self {
+        use Access::{Read, ReadWrite};
+        use BufferId::*;
+        self.colliders = colliders;
+        if colliders > 0 {
+            for stage in (self.stages.iter_mut()).filter(|s| s.kind.has_floor_constant()) {
+                stage.bindings.extend([
+                    (ColliderContacts, ReadWrite),
+                    (Colliders, Read),
+                    (ColliderGrids, Read),
+                    (ColliderPoses, Read),
+                ]);
+            }
+        }
+        self
     }
 }
 

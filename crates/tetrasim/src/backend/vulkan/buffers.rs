@@ -35,7 +35,7 @@ pub(crate) struct SimBuffers {
     pub rest_volumes: Buffer,
     /// Every other buffer the plan builds, by its id: what only some scenes need
     /// (compliances, multipliers, degrees, the gather path's, Chebyshev's, the global volume
-    /// constraints', the node-spring adjacency).
+    /// constraints', the node-spring adjacency, the colliders').
     pub optional: BTreeMap<BufferId, Buffer>,
     /// One [`crate::gpu::layout::VolumePartial`] per volume_sum workgroup (their host-visible
     /// copies belong to the frames that write them: `super::FrameSlot`).
@@ -183,6 +183,9 @@ impl SimBuffers {
         if let Some(g) = global.filter(|_| plan.global.is_some()) {
             global_buffers(&mut optional, g)?;
         }
+        if plan.has(BufferId::Colliders) {
+            collider_buffers(&mut optional, model)?;
+        }
         let Optional { up, built, .. } = optional;
         let partials_size = plan.buffer(BufferId::Partials).map_or(0, |b| b.bytes);
         let buffers = SimBuffers {
@@ -304,6 +307,30 @@ fn global_buffers(optional: &mut Optional<'_>, global: &GlobalVolume) -> Result<
     optional.zeroed(BufferId::GlobalState, partials)
 }
 
+/// The kinematic colliders' buffers: zeroed contact forces, each collider's data, the mesh
+/// colliders' grid samples (4 zero bytes without one), and the host-visible poses, which
+/// every frame slot writes before its submit ([`super::colliders::poses`]).
+fn collider_buffers(optional: &mut Optional<'_>, model: &Model) -> Result<()> {
+    let (data, values) = super::colliders::static_data(&model.colliders);
+    optional.zeroed(BufferId::ColliderContacts, (16 * model.node_count()) as u64)?;
+    optional.data(BufferId::Colliders, bytes(&data))?;
+    match values.is_empty() {
+        true => optional.zeroed(BufferId::ColliderGrids, 4)?,
+        false => optional.data(BufferId::ColliderGrids, bytes(&values))?,
+    }
+    if let Some(poses) = optional.plan.buffer(BufferId::ColliderPoses) {
+        let buffer = Buffer::new(
+            optional.ctx,
+            BufferId::ColliderPoses.name(),
+            poses.bytes,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        optional.built.insert(BufferId::ColliderPoses, buffer);
+    }
+    Ok(())
+}
+
 /// The optional buffers while they are uploaded: each is built when the plan has it.
 struct Optional<'a> {
     ctx: &'a Arc<Context>,
@@ -333,7 +360,7 @@ impl Optional<'_> {
 }
 
 /// Every buffer kind.
-const ALL_BUFFERS: [BufferId; 28] = [
+const ALL_BUFFERS: [BufferId; 33] = [
     BufferId::Positions,
     BufferId::Velocities,
     BufferId::Forces,
@@ -362,4 +389,9 @@ const ALL_BUFFERS: [BufferId; 28] = [
     BufferId::SurfaceGradients,
     BufferId::GlobalState,
     BufferId::ChebyshevBefore,
+    BufferId::Contacts,
+    BufferId::ColliderContacts,
+    BufferId::Colliders,
+    BufferId::ColliderGrids,
+    BufferId::ColliderPoses,
 ];

@@ -38,7 +38,9 @@ impl Backend for VulkanBackend {
             )));
         }
         let k = self.next_slot;
+        self.write_poses(k)?;
         self.slots[k].frame.submit()?;
+        self.submitted += 1;
         self.queued.push_back(k);
         self.max_queued = self.max_queued.max(self.queued.len());
         self.next_slot = (k + 1) % self.slots.len();

@@ -12,6 +12,7 @@
 //! reads back every node.
 
 mod buffers;
+mod colliders;
 mod frames;
 mod options;
 mod passes;
@@ -95,6 +96,13 @@ pub struct VulkanBackend {
     /// Whether `measure_readback` holds the volume of the current positions.
     measure_fresh: bool,
     frames: u32,
+    /// Frames submitted so far: the next frame's first step is `submitted * substeps`
+    /// (counted from the backend's creation; [`Backend::set_state`] does not reset it).
+    submitted: u64,
+    /// The model's kinematic colliders, whose poses each frame slot gets before its submit.
+    colliders: Vec<crate::collider::Collider>,
+    /// Time step [s] (f64: the colliders' poses are computed on the host in f64).
+    dt: f64,
     /// The model's inverse masses and masses, the `w` of the uploaded positions and
     /// velocities ([`Backend::set_state`]).
     inv_mass: Vec<f64>,
@@ -233,6 +241,7 @@ impl VulkanBackend {
                 }
                 .record_frame(
                     &plan,
+                    k,
                     &passes,
                     &buffers,
                     &status_readback,
@@ -277,6 +286,9 @@ impl VulkanBackend {
             counts,
             measure_fresh: false,
             frames: 0,
+            submitted: 0,
+            colliders: model.colliders.clone(),
+            dt: params.dt,
             inv_mass: model.inv_mass.clone(),
             mass: model.mass.clone(),
             ctx,
@@ -356,6 +368,28 @@ impl VulkanBackend {
     /// The context (shared with other backends or tests).
     pub fn context(&self) -> &Arc<Context> {
         &self.ctx
+    }
+
+    /// Writes the colliders' poses over the next frame's steps into frame slot `k`'s rows
+    /// of the host-visible poses buffer (slot `k` is not in flight: its last frame was
+    /// collected before it is reused). Nothing without colliders.
+    fn write_poses(&mut self, k: usize) -> Result<()> {
+        let Some(buffer) = self
+            .buffers
+            .optional
+            .get_mut(&plan::BufferId::ColliderPoses)
+        else {
+            return Ok(());
+        };
+        let substeps = self.plan.schedule.substeps;
+        let rows = colliders::poses(
+            &self.colliders,
+            self.submitted * u64::from(substeps),
+            substeps,
+            self.dt,
+        );
+        let bytes: &[u8] = bytemuck::cast_slice(&rows);
+        buffer.write_at(k * bytes.len(), bytes)
     }
 
     /// Waits for the oldest frame in flight and collects its timestamps; returns its slot

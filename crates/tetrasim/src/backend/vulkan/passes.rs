@@ -17,6 +17,10 @@
 //!     (global_volume)                       per iteration, after the groups (one
 //!                                           workgroup per object)
 //!     integrate                             v, x, floor (specialised away without one); F = m g
+//!                                           (with colliders: their solve after the floor's,
+//!                                           in constraint_apply and global_volume too,
+//!                                           reading the substep's row of the poses the
+//!                                           host wrote before the submit)
 //! check                                     divergence flags + first bad node -> status
 //! volume_sum (with per-frame metrics)       the frame's volume metric
 //! copy status (+ partials) to the host      into the frame slot's own host-visible
@@ -171,12 +175,19 @@ impl Recorder<'_> {
     /// order. A dispatch of a constraint group carries the group's index (over all sweeps),
     /// its range within the sweep, the sweep's offsets and the iteration's Chebyshev weight
     /// in the push constants; a per-group pass dispatches only the group's constraints.
-    fn record_step(&mut self, plan: &EnginePlan, p: &Passes, b: &SimBuffers) -> Result<()> {
+    /// `step_push` is the step's block (its row of the collider poses).
+    fn record_step(
+        &mut self,
+        plan: &EnginePlan,
+        p: &Passes,
+        b: &SimBuffers,
+        step_push: &PushConstants,
+    ) -> Result<()> {
         let schedule = &plan.schedule;
         for dispatch in schedule.step() {
             let pass = &p.frame[dispatch.stage];
             let Some(at) = dispatch.group else {
-                self.pass(pass, b)?;
+                self.dispatch(pass, b, step_push, pass.plan.elements)?;
                 continue;
             };
             let iteration = dispatch.iteration.unwrap_or(0);
@@ -189,7 +200,7 @@ impl Recorder<'_> {
                 slot_first: offsets.slot,
                 chebyshev_weight: schedule.chebyshev_weight(iteration) as f32,
                 iteration,
-                ..*self.push
+                ..*step_push
             };
             let elements = match pass.plan.per_group() {
                 true => at.count,
@@ -237,7 +248,8 @@ impl Recorder<'_> {
         Ok(())
     }
 
-    /// A whole frame: `substeps` steps, the frame's passes, the host copies of the
+    /// A whole frame in frame slot `slot`: `substeps` steps (each reading its row of the
+    /// slot's collider poses), the frame's passes, the host copies of the
     /// divergence status into `status_readback` and, with per-frame metrics, of the volume
     /// partials into `partials_readback`. It starts with an execution barrier after every
     /// earlier copy, so a frame submitted right behind another (frames in flight) rewrites
@@ -245,6 +257,7 @@ impl Recorder<'_> {
     pub fn record_frame(
         &mut self,
         plan: &EnginePlan,
+        slot: u32,
         p: &Passes,
         b: &SimBuffers,
         status_readback: &Buffer,
@@ -254,8 +267,13 @@ impl Recorder<'_> {
         if let Some(timer) = self.timer.as_deref_mut() {
             timer.record_start(self.cmd);
         }
-        for _ in 0..plan.schedule.substeps {
-            self.record_step(plan, p, b)?;
+        let substeps = plan.schedule.substeps;
+        for substep in 0..substeps {
+            let push = PushConstants {
+                collider_first: (slot * substeps + substep) * plan.counts.colliders,
+                ..*self.push
+            };
+            self.record_step(plan, p, b, &push)?;
         }
         for stage in plan.schedule.frame_end() {
             self.pass(&p.frame[stage], b)?;

@@ -11,4 +11,7 @@ pub struct BufferPlan {
     pub bytes: u64,
     /// Size of its host-visible copy written every frame [bytes], 0 when there is none.
     pub readback_bytes: u64,
+    /// Bytes the host writes into it before every frame's submit (the collider poses, a
+    /// host-visible buffer), 0 for the others.
+    pub upload_bytes: u64,
 }

@@ -10,6 +10,10 @@ pub struct PlanCounts {
     pub springs: u32,
     /// Tetrahedra.
     pub tets: u32,
+    /// Kinematic colliders ([`crate::model::Model::colliders`]).
+    pub colliders: u32,
+    /// Distance-grid samples of all mesh colliders.
+    pub grid_values: u32,
 }
 
 impl PlanCounts {
@@ -24,6 +28,16 @@ impl PlanCounts {
             nodes: count("nodes", model.node_count())?,
             springs: count("springs", model.springs.len())?,
             tets: count("tets", model.tets.len())?,
+            colliders: count("colliders", model.colliders.len())?,
+            grid_values: count(
+                "collider grid samples",
+                (model.colliders.iter())
+                    .map(|c| match &c.shape {
+                        crate::collider::Shape::Grid(g) => g.values.len(),
+                        _ => 0,
+                    })
+                    .sum(),
+            )?,
         })
     }
 }

@@ -12,7 +12,9 @@
 //! pass when they are warm-started), no node-spring adjacency without `mss-node`, the
 //! gather path of explicit springs or warm-started implicit springs, no volume compliances
 //! without `volume`, no floor test in `integrate` without a floor
-//! (specialisation constant 1), and no `volume_sum` pass or partials copy in the frame
+//! (specialisation constant 1), no collider buffers (contacts, collider data, grids, poses)
+//! nor collider solve (the `colliders` variants, their count a specialisation constant)
+//! without kinematic colliders, and no `volume_sum` pass or partials copy in the frame
 //! without per-frame metrics. The `check` pass (divergence) and its 16-byte status copy are
 //! always there, and so are the rest volumes (the local volume error needs them).
 
@@ -109,7 +111,8 @@ impl EnginePlan {
         global: Option<GlobalCounts>,
     ) -> Self {
         let global = global.filter(|_| params.solves_global_volume());
-        let schedule = Schedule::new(params, sweeps.to_vec(), global.is_some(), metrics);
+        let schedule = Schedule::new(params, sweeps.to_vec(), global.is_some(), metrics)
+            .with_colliders(counts.colliders);
         let buffers = buffers(counts, params, &schedule, global, workgroup_size, metrics);
         let passes = (schedule.stages.iter())
             .map(|stage| PassPlan::of(stage, &schedule, counts, global, workgroup_size, params))
@@ -222,15 +225,41 @@ fn buffers(
         if metrics { alloc(partial_bytes) } else { 0 },
     ));
     buffers.push((Status, 16, 16));
-    buffers
+    let mut buffers: Vec<BufferPlan> = buffers
         .into_iter()
         .map(|(id, bytes, readback_bytes)| BufferPlan {
             id,
             bytes: alloc(bytes),
             readback_bytes,
+            upload_bytes: 0,
         })
-        .collect()
+        .collect();
+    if counts.colliders > 0 {
+        let (c, values) = (u64::from(counts.colliders), u64::from(counts.grid_values));
+        let poses = POSE_BYTES * c * u64::from(schedule.substeps);
+        for (id, bytes, upload_bytes) in [
+            (ColliderContacts, 16 * n, 0),
+            (Colliders, 64 * c, 0),
+            (ColliderGrids, 4 * values, 0),
+            (ColliderPoses, poses * u64::from(POSE_SLOTS), poses),
+        ] {
+            buffers.push(BufferPlan {
+                id,
+                bytes: alloc(bytes),
+                readback_bytes: 0,
+                upload_bytes,
+            });
+        }
+    }
+    buffers
 }
+
+/// Bytes of one collider's pose over one step ([`crate::gpu::layout::GpuColliderPose`]).
+pub const POSE_BYTES: u64 = 64;
+
+/// Frame slots the collider poses buffer has rows for (host-visible, each slot's written
+/// before its submit): as many as frames may be in flight.
+pub const POSE_SLOTS: u32 = super::MAX_FRAMES_IN_FLIGHT;
 
 impl PassPlan {
     /// The pass that runs `stage` of `schedule` for a model of `counts`: the shader variant
@@ -246,7 +275,19 @@ impl PassPlan {
     ) -> Self {
         let floor = u32::from(params.floor);
         let chebyshev = !schedule.chebyshev.is_empty();
+        // Kinematic colliders (refused with Chebyshev by `Problem::new`).
+        let colliders = match chebyshev {
+            true => 0,
+            false => schedule.colliders,
+        };
         let variant = match (stage.kind, schedule.gather) {
+            (PassKind::ConstraintApply, true) if colliders > 0 => {
+                Variant::Named("gather_colliders")
+            }
+            (PassKind::ConstraintApply, false) if colliders > 0 => Variant::Named("sums_colliders"),
+            (PassKind::Integrate | PassKind::GlobalVolume, _) if colliders > 0 => {
+                Variant::Named("colliders")
+            }
             (PassKind::SpringScatter, _) => Variant::Atomics,
             (PassKind::SpringConstraint | PassKind::Distance | PassKind::Volume, true) => {
                 Variant::Named("gather")
@@ -263,13 +304,17 @@ impl PassPlan {
         // The global passes reduce in shared memory per chunk of an object's surface: one
         // workgroup per chunk of every object, its chunk count and the floor as constants.
         let global_workgroup = workgroup_size.min(GLOBAL_WORKGROUP);
-        let (workgroup_size, constants) = match (stage.domain, global) {
+        let (workgroup_size, mut constants) = match (stage.domain, global) {
             (Domain::Surface, Some(g)) => {
                 (global_workgroup, vec![floor, g.chunks(global_workgroup)])
             }
             _ if stage.kind.has_floor_constant() => (workgroup_size, vec![floor]),
             _ => (workgroup_size, Vec::new()),
         };
+        // The collider count follows the floor's constants (id 2, or 3 after the chunks).
+        if colliders > 0 && stage.kind.has_floor_constant() {
+            constants.push(colliders);
+        }
         let constraints = |sweep: Option<usize>| match sweep.map(|s| schedule.sweeps[s].kind) {
             Some(ConstraintKind::Volume) => counts.tets,
             _ => counts.springs,

@@ -91,6 +91,11 @@ impl EnginePlan {
         self.buffers.iter().map(|b| b.readback_bytes).sum()
     }
 
+    /// Bytes the host writes before every frame's submit (the collider poses).
+    pub fn upload_bytes(&self) -> u64 {
+        self.buffers.iter().map(|b| b.upload_bytes).sum()
+    }
+
     /// Bytes `pass` moves per run, estimated as every bound buffer streamed once per read
     /// and once per write (gathers through indices make the real traffic larger). A pass run
     /// once per constraint group streams only its group's share of its sweep's element
@@ -123,6 +128,10 @@ impl EnginePlan {
                         | BufferId::NodeSlotOffsets
                         | BufferId::NodeSlotItems,
                     ) => size / all_groups,
+                    // A dispatch reads its own substep's poses only.
+                    (_, BufferId::ColliderPoses) => {
+                        size / u64::from(POSE_SLOTS * self.schedule.substeps.max(1))
+                    }
                     _ => size,
                 };
                 match access {
@@ -133,13 +142,13 @@ impl EnginePlan {
             .sum()
     }
 
-    /// Estimated bytes moved per frame: every pass run plus the host copies.
+    /// Estimated bytes moved per frame: every pass run plus the host copies and writes.
     pub fn bytes_per_frame(&self) -> u64 {
         let passes: u64 = self
             .passes
             .iter()
             .map(|p| u64::from(self.runs_per_frame(p)) * self.pass_bytes(p))
             .sum();
-        passes + 2 * self.readback_bytes()
+        passes + 2 * self.readback_bytes() + self.upload_bytes()
     }
 }

@@ -48,6 +48,16 @@ impl EnginePlan {
             frame.join(" -> "),
             self.readback_bytes()
         );
+        if self.upload_bytes() > 0 {
+            let _ = writeln!(
+                out,
+                "per frame, before its submit: write {} B of collider poses ({} colliders x {} \
+                 substeps)",
+                self.upload_bytes(),
+                self.counts.colliders,
+                self.schedule.substeps
+            );
+        }
         let _ = writeln!(
             out,
             "{:<22} {:>14} {:>10}",

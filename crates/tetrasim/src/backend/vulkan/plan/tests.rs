@@ -7,6 +7,8 @@ const COUNTS: PlanCounts = PlanCounts {
     nodes: 10,
     springs: 30,
     tets: 12,
+    colliders: 0,
+    grid_values: 0,
 };
 
 fn plan(params: &SimParams, sweeps: &[SweepPlan]) -> EnginePlan {
@@ -146,4 +148,121 @@ fn warm_started_implicit_springs_gather_their_stored_forces_before_the_iteration
         &[],
     );
     assert!(!explicit.schedule.warm_start && !explicit.runs(PassKind::SpringWarmStart));
+}
+
+#[test]
+fn colliders_add_their_buffers_variants_and_count_only_when_there_are_some() {
+    let params = SimParams {
+        solver: Solver::GaussSeidel,
+        substeps: 4,
+        ..SimParams::default()
+    };
+    let sweeps = [SweepPlan {
+        kind: ConstraintKind::Volume,
+        groups: vec![7, 5],
+    }];
+    let global = GlobalCounts {
+        objects: 1,
+        nodes: 8,
+        faces: 12,
+        largest: 12,
+    };
+    let collider_buffers = [
+        BufferId::ColliderContacts,
+        BufferId::Colliders,
+        BufferId::ColliderGrids,
+        BufferId::ColliderPoses,
+    ];
+    let without = EnginePlan::new(COUNTS, &params, 64, false, &sweeps, Some(global));
+    for id in collider_buffers {
+        assert!(!without.has(id), "{id:?} without colliders");
+    }
+    assert_eq!(without.schedule.colliders, 0);
+    assert_eq!(without.upload_bytes(), 0);
+    for pass in &without.passes {
+        assert!(
+            !pass.stage.touches(BufferId::ColliderContacts) && !pass.label().contains("collider"),
+            "{}",
+            pass.label()
+        );
+        let floor_constants = match (pass.stage.domain, pass.stage.kind) {
+            (Domain::Surface, _) => 2,
+            (_, kind) if kind.has_floor_constant() => 1,
+            _ => 0,
+        };
+        assert_eq!(pass.constants.len(), floor_constants, "{}", pass.label());
+    }
+    assert!(!without.render().contains("collider poses"));
+
+    let counts = PlanCounts {
+        colliders: 3,
+        grid_values: 100,
+        ..COUNTS
+    };
+    let with = EnginePlan::new(counts, &params, 64, false, &sweeps, Some(global));
+    let pose_row = 64 * 3 * 4;
+    for (id, bytes, upload) in [
+        (BufferId::ColliderContacts, 16 * 10, 0),
+        (BufferId::Colliders, 64 * 3, 0),
+        (BufferId::ColliderGrids, 4 * 100, 0),
+        (
+            BufferId::ColliderPoses,
+            pose_row * u64::from(POSE_SLOTS),
+            pose_row,
+        ),
+    ] {
+        let b = with
+            .buffer(id)
+            .unwrap_or_else(|| panic!("{id:?} with colliders"));
+        assert_eq!((b.bytes, b.upload_bytes), (bytes, upload), "{id:?}");
+    }
+    assert_eq!(with.upload_bytes(), pose_row);
+    assert_eq!(
+        with.device_bytes() - without.device_bytes(),
+        16 * 10 + 64 * 3 + 4 * 100 + pose_row * u64::from(POSE_SLOTS)
+    );
+    assert_eq!(
+        with.pass_list(),
+        [
+            "spring_gather",
+            "global_volume_prepare",
+            "10 x (2 groups x (volume#gather, constraint_apply#gather_colliders[floor]), \
+             global_volume_sum, global_volume#colliders[floor])",
+            "integrate#colliders[floor]",
+            "check",
+        ]
+    );
+    for pass in &with.passes {
+        if pass.stage.kind.has_floor_constant() {
+            // The count follows the floor (and the global passes' chunks).
+            assert_eq!(pass.constants.last(), Some(&3), "{}", pass.label());
+            for id in collider_buffers {
+                assert!(pass.stage.touches(id), "{} binds {id:?}", pass.label());
+            }
+        } else {
+            assert!(
+                !pass.stage.touches(BufferId::ColliderContacts),
+                "{}",
+                pass.label()
+            );
+        }
+    }
+    // A dispatch reads its substep's poses only; the frame writes them once.
+    assert!(with.bytes_per_frame() > without.bytes_per_frame() + pose_row);
+    assert!(with.render().contains("write 768 B of collider poses"));
+    let jacobi = EnginePlan::new(
+        counts,
+        &SimParams {
+            solver: Solver::Jacobi,
+            ..params
+        },
+        64,
+        false,
+        &sweeps,
+        None,
+    );
+    assert!(jacobi
+        .pass_list()
+        .iter()
+        .any(|p| p.contains("constraint_apply#sums_colliders[floor]")));
 }
