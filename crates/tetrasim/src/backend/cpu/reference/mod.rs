@@ -6,17 +6,21 @@ use glam::DVec3;
 use super::{check_state, diverged, Bad};
 use crate::backend::{Backend, State, VolumeSample};
 use crate::collider::{self, NodeContact};
-use crate::contact::Contact;
 use crate::error::Result;
-use crate::model::{GlobalObject, GlobalVolume, Model};
+use crate::model::Model;
 use crate::params::SimParams;
 use crate::physics::{
-    compliant_multiplier, face_volume, floor_solve, implicit_accumulate, implicit_multiplier,
-    integrate_node, spring_constraint, spring_force, tet_volume,
+    compliant_multiplier, implicit_accumulate, integrate_node, spring_constraint, spring_force,
+    tet_volume,
 };
 use crate::problem::Problem;
 use crate::schedule::family::{ConstraintFamily, Family};
 use crate::schedule::{Dispatch, GroupAt, PassKind, Schedule};
+
+mod step_forces;
+mod surfaces;
+
+use step_forces::StepForces;
 
 /// The forces of steps 1 and 2 of one time step, per node [N]; their sum is the `F` that is
 /// integrated.
@@ -78,75 +82,6 @@ pub struct ReferenceBackend {
     dispatches: Vec<Dispatch>,
     /// Per sweep, its constraint family's data.
     families: Vec<Family<f64>>,
-}
-
-/// The forces of a time step while its dispatches run.
-struct StepForces {
-    gravity: Vec<DVec3>,
-    /// Explicit spring forces, or the warm start's (zeros without a spring force stage).
-    springs: Vec<DVec3>,
-    /// The total force so far.
-    total: Vec<DVec3>,
-    /// The floor's normal force so far.
-    floor: Vec<f64>,
-    /// The colliders' force and contact so far.
-    contacts: Vec<NodeContact>,
-    /// Each node's [`collider::clearance`] in this step (empty until the first solve).
-    clearance: Vec<f64>,
-    /// Each node's attachment to a grab in this step.
-    attached: Vec<Option<collider::Attachment>>,
-    /// The compliant constraints' multipliers found so far in this step (the warm start's
-    /// for the springs).
-    spring_lambda: Vec<f64>,
-    volume_lambda: Vec<f64>,
-    /// Chebyshev: the total and floor forces two iterations back.
-    before_total: Vec<DVec3>,
-    before_floor: Vec<f64>,
-    /// The current group's per-node constraint sums.
-    sum: Vec<DVec3>,
-    /// Per global volume object: `C_g`, the surface gradients and the multiplier.
-    global: Vec<(f64, Vec<DVec3>, f64)>,
-    /// The step's body contacts with their multipliers so far (`<= 0`: they push).
-    bodies: Vec<(Contact, f64)>,
-}
-
-impl StepForces {
-    /// Gravity alone, at the start of a step of `backend`.
-    fn new(backend: &ReferenceBackend) -> Self {
-        let problem = &backend.problem;
-        let n = problem.model.node_count();
-        let down = DVec3::new(0.0, -problem.params.gravity, 0.0);
-        let gravity: Vec<DVec3> = problem.model.mass.iter().map(|&m| down * m).collect();
-        let mut step = StepForces {
-            springs: vec![DVec3::ZERO; n],
-            total: Vec::new(),
-            floor: vec![0.0; n],
-            contacts: vec![NO_CONTACT; n],
-            clearance: Vec::new(),
-            attached: Vec::new(),
-            spring_lambda: backend.spring_warm.clone(),
-            volume_lambda: vec![0.0; problem.model.tets.len()],
-            before_total: Vec::new(),
-            before_floor: Vec::new(),
-            sum: Vec::new(),
-            global: Vec::new(),
-            bodies: Vec::new(),
-            gravity,
-        };
-        step.set_springs(vec![DVec3::ZERO; n]);
-        step
-    }
-
-    /// The spring forces: the total becomes gravity plus them (and so do the Chebyshev
-    /// forces before the first iteration).
-    fn set_springs(&mut self, springs: Vec<DVec3>) {
-        self.total = (self.gravity.iter().zip(&springs))
-            .map(|(g, s)| *g + *s)
-            .collect();
-        self.springs = springs;
-        self.before_total.clone_from(&self.total);
-        self.before_floor.clone_from(&self.floor);
-    }
 }
 
 impl ReferenceBackend {
@@ -339,120 +274,6 @@ impl ReferenceBackend {
             }
         }
         f
-    }
-
-    /// Per object of the global volume constraints: `C_g` and the gradient on each of its
-    /// surface nodes (in [`GlobalVolume::nodes`] order from the object's first) at the
-    /// step's positions, the multiplier still 0. The reference point of the face volumes is
-    /// the object's first surface node.
-    fn global_prepare(&self) -> Vec<(f64, Vec<DVec3>, f64)> {
-        let Some(global) = &self.problem.global else {
-            return Vec::new();
-        };
-        (global.objects.iter())
-            .map(|object| {
-                let (c, grad) = self.global_gradients(global, object);
-                (c, grad, 0.0)
-            })
-            .collect()
-    }
-
-    /// `C_g` of `object` and its gradient on each of its surface nodes.
-    fn global_gradients(&self, global: &GlobalVolume, object: &GlobalObject) -> (f64, Vec<DVec3>) {
-        let nodes = &global.nodes[object.node_first as usize..][..object.node_count as usize];
-        let faces = &global.faces[object.face_first as usize..][..object.face_count as usize];
-        let o = self.x[nodes[0] as usize];
-        let mut c = -object.rest_volume;
-        let mut face_grad = Vec::with_capacity(faces.len());
-        for face in faces {
-            let (v, g) = face_volume(face.map(|i| self.x[i as usize]), o);
-            c += v;
-            face_grad.push(g);
-        }
-        let first_face = 3 * object.face_first as usize;
-        let grad = (0..nodes.len())
-            .map(|k| {
-                let row = global.node_faces.row(object.node_first as usize + k);
-                row.iter()
-                    .map(|&e| face_grad[(e as usize - first_face) / 3][e as usize % 3])
-                    .sum()
-            })
-            .collect();
-        (c, grad)
-    }
-
-    /// Every object's global volume multiplier against the step's forces so far.
-    fn global_multipliers(&self, step: &mut StepForces) {
-        let Some(global) = &self.problem.global else {
-            return;
-        };
-        let p = &self.problem.params;
-        for (object, (c, grad, lambda)) in global.objects.iter().zip(&mut step.global) {
-            let nodes = &global.nodes[object.node_first as usize..][..object.node_count as usize];
-            let (mut a, mut b) = (0.0, 0.0);
-            for (&i, &g) in nodes.iter().zip(grad.iter()) {
-                let i = i as usize;
-                let w = self.problem.model.inv_mass[i];
-                implicit_accumulate(&mut a, &mut b, g, w, 1.0, self.v[i], step.total[i], p.dt);
-            }
-            *lambda = implicit_multiplier(*c, a, b, p.dt, p.constraint_epsilon).unwrap_or(0.0);
-        }
-    }
-
-    /// One Jacobi sweep of the step's body contacts against the forces so far
-    /// ([`crate::contact::BodyContact::sweep`]), its forces added, then the floor and the
-    /// colliders again.
-    fn contact_iteration(&self, step: &mut StepForces) {
-        let Some(bodies) = &self.problem.bodies else {
-            return;
-        };
-        let (model, params) = (&self.problem.model, &self.problem.params);
-        let total = &step.total;
-        let forces = bodies.sweep(
-            &mut step.bodies,
-            model,
-            params,
-            |i| self.x[i],
-            |i| self.v[i],
-            |i| total[i],
-        );
-        for (i, force) in forces {
-            step.total[i] += force;
-        }
-        self.contact_solve(step);
-    }
-
-    /// Solves every node's contacts against the step's total force (which includes the
-    /// contact forces found so far) and updates both: the floor's, then the colliders' in
-    /// their order ([`collider::solve_node`]).
-    fn contact_solve(&self, step: &mut StepForces) {
-        let (model, dt) = (&self.problem.model, self.problem.params.dt);
-        if self.problem.params.floor {
-            for (i, (f, n)) in step.total.iter_mut().zip(step.floor.iter_mut()).enumerate() {
-                (*f, *n) = floor_solve(*f, *n, self.x[i].y, self.v[i].y, model.inv_mass[i], dt);
-            }
-        }
-        if model.colliders.is_empty() && model.grabs.is_empty() {
-            return;
-        }
-        let at = collider::at_step(&model.colliders, self.steps, dt);
-        if step.clearance.is_empty() {
-            step.clearance = self
-                .x
-                .iter()
-                .map(|&x| collider::clearance(&at, x))
-                .collect();
-            let t = self.steps as f64 * dt;
-            step.attached = collider::attachments(&model.grabs, &model.positions, t, dt);
-        }
-        let nodes = step.total.iter_mut().zip(step.contacts.iter_mut());
-        for (i, (f, c)) in nodes.enumerate() {
-            let (x, v, w, clear) = (self.x[i], self.v[i], model.inv_mass[i], step.clearance[i]);
-            (*f, *c) = match step.attached[i] {
-                Some(a) => collider::solve_node_attached(&at, Some(a), *f, c.force, x, v, w, dt),
-                None => collider::solve_node_clear(&at, clear, *f, c.force, x, v, w, dt),
-            };
-        }
     }
 
     /// Spring forces, one spring at a time, added to both ends.

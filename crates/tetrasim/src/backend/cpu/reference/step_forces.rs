@@ -1,0 +1,76 @@
+//! The forces of one time step of `cpu-ref` while its dispatches run.
+
+use glam::DVec3;
+
+use super::{ReferenceBackend, NO_CONTACT};
+use crate::collider::{self, NodeContact};
+use crate::contact::Contact;
+
+/// The forces of a time step while its dispatches run.
+pub(super) struct StepForces {
+    pub(super) gravity: Vec<DVec3>,
+    /// Explicit spring forces, or the warm start's (zeros without a spring force stage).
+    pub(super) springs: Vec<DVec3>,
+    /// The total force so far.
+    pub(super) total: Vec<DVec3>,
+    /// The floor's normal force so far.
+    pub(super) floor: Vec<f64>,
+    /// The colliders' force and contact so far.
+    pub(super) contacts: Vec<NodeContact>,
+    /// Each node's [`collider::clearance`] in this step (empty until the first solve).
+    pub(super) clearance: Vec<f64>,
+    /// Each node's attachment to a grab in this step.
+    pub(super) attached: Vec<Option<collider::Attachment>>,
+    /// The compliant constraints' multipliers found so far in this step (the warm start's
+    /// for the springs).
+    pub(super) spring_lambda: Vec<f64>,
+    pub(super) volume_lambda: Vec<f64>,
+    /// Chebyshev: the total and floor forces two iterations back.
+    pub(super) before_total: Vec<DVec3>,
+    pub(super) before_floor: Vec<f64>,
+    /// The current group's per-node constraint sums.
+    pub(super) sum: Vec<DVec3>,
+    /// Per global volume object: `C_g`, the surface gradients and the multiplier.
+    pub(super) global: Vec<(f64, Vec<DVec3>, f64)>,
+    /// The step's body contacts with their multipliers so far (`<= 0`: they push).
+    pub(super) bodies: Vec<(Contact, f64)>,
+}
+
+impl StepForces {
+    /// Gravity alone, at the start of a step of `backend`.
+    pub(super) fn new(backend: &ReferenceBackend) -> Self {
+        let problem = &backend.problem;
+        let n = problem.model.node_count();
+        let down = DVec3::new(0.0, -problem.params.gravity, 0.0);
+        let gravity: Vec<DVec3> = problem.model.mass.iter().map(|&m| down * m).collect();
+        let mut step = StepForces {
+            springs: vec![DVec3::ZERO; n],
+            total: Vec::new(),
+            floor: vec![0.0; n],
+            contacts: vec![NO_CONTACT; n],
+            clearance: Vec::new(),
+            attached: Vec::new(),
+            spring_lambda: backend.spring_warm.clone(),
+            volume_lambda: vec![0.0; problem.model.tets.len()],
+            before_total: Vec::new(),
+            before_floor: Vec::new(),
+            sum: Vec::new(),
+            global: Vec::new(),
+            bodies: Vec::new(),
+            gravity,
+        };
+        step.set_springs(vec![DVec3::ZERO; n]);
+        step
+    }
+
+    /// The spring forces: the total becomes gravity plus them (and so do the Chebyshev
+    /// forces before the first iteration).
+    pub(super) fn set_springs(&mut self, springs: Vec<DVec3>) {
+        self.total = (self.gravity.iter().zip(&springs))
+            .map(|(g, s)| *g + *s)
+            .collect();
+        self.springs = springs;
+        self.before_total.clone_from(&self.total);
+        self.before_floor.clone_from(&self.floor);
+    }
+}
