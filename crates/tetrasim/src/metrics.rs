@@ -112,6 +112,18 @@ pub struct RunRecord {
     /// sum_t V0_t`; empty in records older than the field).
     #[serde(default)]
     pub local_error_pct: Vec<f64>,
+    /// Per completed frame, the nodes a kinematic collider pushed in its last step (runs
+    /// with colliders, grabs or body contact on `cpu-ref` and `cpu`; empty otherwise).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub collider_nodes: Vec<u32>,
+    /// Per completed frame, the contacts between bodies pushing in its last step (as
+    /// `collider_nodes`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub body_contacts: Vec<u32>,
+    /// Per completed frame, the deepest any node is inside a collider or behind its body
+    /// contact's triangle [m] (as `collider_nodes`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub deepest_m: Vec<f64>,
     /// Minimum of `volume_pct` (0 when no frame completed).
     pub min_volume_pct: f64,
     /// Average of `volume_pct` (0 when no frame completed).
@@ -168,6 +180,9 @@ impl RunRecord {
             volume_pct: Vec::with_capacity(frames as usize),
             inverted_tets: Vec::with_capacity(frames as usize),
             local_error_pct: Vec::with_capacity(frames as usize),
+            collider_nodes: Vec::new(),
+            body_contacts: Vec::new(),
+            deepest_m: Vec::new(),
             min_volume_pct: 0.0,
             avg_volume_pct: 0.0,
             max_inverted_tets: 0,

@@ -73,6 +73,12 @@ impl Problem {
         })))
     }
 
+    /// Whether runs of it measure contact ([`crate::backend::ContactSample`]): it has
+    /// kinematic colliders, grabs or body contact.
+    pub fn measures_contact(&self) -> bool {
+        !self.model.colliders.is_empty() || !self.model.grabs.is_empty() || self.bodies.is_some()
+    }
+
     /// Constraint groups of the largest sweep (1 without constraints, and for Jacobi and
     /// Chebyshev).
     pub fn groups(&self) -> u32 {

@@ -366,3 +366,48 @@ fn a_grab_pulls_a_clamped_block_up_and_lets_go() {
         "{none}"
     );
 }
+
+#[test]
+fn records_carry_contact_counts_and_the_deepest_penetration() {
+    let ball = Collider::sphere(DVec3::new(0.0, -0.4, 0.0), 0.5);
+    let model = sphere(0.02, DVec3::ZERO, vec![ball]);
+    let params = params(false);
+    let problem = Problem::new(&model, &params).expect("a problem");
+    for mut backend in backends(&problem) {
+        let mut run = tetrasim::sim::Simulation::new(&model, &params);
+        for _ in 0..30 {
+            run.advance(backend.as_mut(), true).expect("a frame");
+        }
+        let mut record = tetrasim::metrics::RunRecord::new(&problem, "sphere", 30, backend.name());
+        run.fill_record(&mut record);
+        let name = backend.name();
+        assert_eq!(
+            record.collider_nodes.len(),
+            30,
+            "{name}: one count per frame"
+        );
+        assert_eq!(
+            record.collider_nodes[0], 0,
+            "{name}: 2 cm above the ball at first"
+        );
+        assert!(
+            record.collider_nodes[29] > 0,
+            "{name}: resting on the ball at the end"
+        );
+        assert!(
+            record.body_contacts.iter().all(|&c| c == 0),
+            "{name}: one body"
+        );
+        let deepest = record.deepest_m.iter().copied().fold(0.0, f64::max);
+        assert!(deepest < 1e-3, "{name}: {deepest} m deep");
+    }
+    // Without colliders the series stay empty (and out of the JSON).
+    let plain = sphere(0.02, DVec3::ZERO, vec![]);
+    let problem = Problem::new(&plain, &params).expect("a problem");
+    let mut backend = tetrasim::backend::cpu::ReferenceBackend::from_problem(&problem);
+    let mut run = tetrasim::sim::Simulation::new(&plain, &params);
+    run.advance(&mut backend, true).expect("a frame");
+    let mut record = tetrasim::metrics::RunRecord::new(&problem, "sphere", 1, "cpu-ref");
+    run.fill_record(&mut record);
+    assert!(record.collider_nodes.is_empty() && record.deepest_m.is_empty());
+}

@@ -24,6 +24,22 @@ pub struct VolumeSample {
     pub inverted: u32,
     /// Sum over tets of `|V_t - V0_t|` [m^3] (physics.md, "Local volume error").
     pub local_error: f64,
+    /// Contact measures, for a model with kinematic colliders, grabs or body contact, from
+    /// the backends that take them (`cpu-ref`, `cpu`); `None` otherwise.
+    pub contact: Option<ContactSample>,
+}
+
+/// Contact measures of one frame (issue 24: "run records carry contact counts and the
+/// deepest penetration per frame").
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ContactSample {
+    /// Nodes a kinematic collider pushed in the frame's last step.
+    pub collider_nodes: u32,
+    /// Contacts between bodies (or of a body with itself) pushing in that step.
+    pub body_contacts: u32,
+    /// The deepest any node is inside a collider's shape or behind the triangle of its
+    /// body contact, at the frame's end [m] (0: none).
+    pub deepest_m: f64,
 }
 
 /// Where and why a run diverged (defined with the error that carries it).

@@ -334,6 +334,11 @@ impl<'a> ColliderAt<'a> {
         }
     }
 
+    /// [`Self::may_touch`] against the pose at the step's start.
+    pub fn may_touch_at_start(&self, x: DVec3) -> bool {
+        x.distance_squared(self.start.position) <= self.reach * self.reach
+    }
+
     /// Whether the world point `x` may be within the contact thickness (a cheap test that
     /// never says no to a point that is).
     pub fn may_touch(&self, x: DVec3) -> bool {

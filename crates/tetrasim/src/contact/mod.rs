@@ -118,6 +118,32 @@ impl BodyContact {
     }
 }
 
+/// The deepest any node is inside a collider of `colliders` at time step `step`'s start
+/// (their poses then) or behind the triangle of one of `contacts` that pushes, at the
+/// positions `x` [m] (0 when none is).
+pub fn deepest(
+    colliders: &[crate::collider::Collider],
+    step: u64,
+    dt: f64,
+    contacts: &[(Contact, f64)],
+    x: impl Fn(usize) -> DVec3,
+    nodes: usize,
+) -> f64 {
+    let at = crate::collider::at_step(colliders, step, dt);
+    let mut deepest: f64 = 0.0;
+    for i in 0..nodes {
+        let p = x(i);
+        for c in at.iter().filter(|c| c.may_touch_at_start(p)) {
+            deepest = deepest.max(-c.collider.shape.distance(c.start.invert(p)).0);
+        }
+    }
+    for (c, _) in contacts.iter().filter(|(_, lambda)| *lambda < 0.0) {
+        let positions = c.nodes().map(|i| x(i as usize));
+        deepest = deepest.max(-c.value(positions, 0.0));
+    }
+    deepest
+}
+
 impl BodyContact {
     /// One Jacobi sweep of the step's `contacts` (each with its multiplier so far, `<= 0`)
     /// against the nodes' start positions `x`, velocities `v` and current forces `f`

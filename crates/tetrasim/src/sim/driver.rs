@@ -13,7 +13,7 @@
 use std::collections::VecDeque;
 use std::time::Instant;
 
-use crate::backend::{Backend, Divergence, VolumeSample};
+use crate::backend::{Backend, ContactSample, Divergence, VolumeSample};
 use crate::error::{Error, Result};
 use crate::metrics::{local_error_pct, volume_pct, RunRecord};
 use crate::model::Model;
@@ -30,6 +30,8 @@ pub struct Series {
     pub inverted: Vec<u32>,
     /// Local volume error [%] (`100 sum_t |V_t - V0_t| / sum_t V0_t`).
     pub local_error_pct: Vec<f64>,
+    /// Contact measures, when the backend takes them ([`crate::backend::ContactSample`]).
+    pub contact: Vec<ContactSample>,
 }
 
 /// A run in progress: how far it got, what it measured, and why it stopped, if it did.
@@ -93,6 +95,9 @@ impl Simulation {
         record.volume_pct = series.volume_pct;
         record.inverted_tets = series.inverted;
         record.local_error_pct = series.local_error_pct;
+        record.collider_nodes = series.contact.iter().map(|c| c.collider_nodes).collect();
+        record.body_contacts = series.contact.iter().map(|c| c.body_contacts).collect();
+        record.deepest_m = series.contact.iter().map(|c| c.deepest_m).collect();
         record.diverged = self.divergence.is_some();
         record.divergence = self.divergence.clone();
         record.summarise();
@@ -221,6 +226,7 @@ impl Simulation {
         series
             .local_error_pct
             .push(local_error_pct(measured, self.rest_volume));
+        series.contact.extend(measured.contact);
         true
     }
 }

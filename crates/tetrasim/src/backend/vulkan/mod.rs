@@ -432,6 +432,7 @@ impl VulkanBackend {
             volume: partials.iter().map(|p| f64::from(p.volume)).sum(),
             inverted: partials.iter().map(|p| p.inverted).sum(),
             local_error: partials.iter().map(|p| f64::from(p.local_error)).sum(),
+            contact: None,
         })
     }
 

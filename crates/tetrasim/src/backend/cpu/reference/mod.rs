@@ -4,8 +4,9 @@
 use glam::DVec3;
 
 use super::{check_state, diverged, Bad};
-use crate::backend::{Backend, State, VolumeSample};
+use crate::backend::{Backend, ContactSample, State, VolumeSample};
 use crate::collider::{self, NodeContact};
+use crate::contact::{deepest, Contact};
 use crate::error::Result;
 use crate::model::Model;
 use crate::params::SimParams;
@@ -37,6 +38,8 @@ pub struct Forces {
     /// The kinematic colliders' force and contact ([`collider::solve_node`]; none without
     /// colliders).
     pub contacts: Vec<NodeContact>,
+    /// The step's contacts between bodies with their multipliers.
+    pub bodies: Vec<(Contact, f64)>,
     /// Per spring, the multiplier of its implicit spring after the step's iterations (the
     /// force is `-lambda grad C`); zeros with explicit springs.
     pub spring_multipliers: Vec<f64>,
@@ -70,6 +73,8 @@ pub struct ReferenceBackend {
     frame: u32,
     /// Time steps taken since creation (the colliders' clock; [`Self::set_state`] keeps it).
     steps: u64,
+    /// The last step's nodes pushed by a collider and its body contacts.
+    last_contacts: (u32, Vec<(Contact, f64)>),
     /// Per sweep and group, each node's `(a_scale, apply_weight)` from its degree within the
     /// group.
     group_factors: Vec<Vec<Vec<(f64, f64)>>>,
@@ -118,6 +123,7 @@ impl ReferenceBackend {
             v: model.velocities.clone(),
             frame: 0,
             steps: 0,
+            last_contacts: (0, Vec::new()),
             group_factors,
             spring_warm: vec![0.0; model.springs.len()],
             schedule,
@@ -170,6 +176,7 @@ impl ReferenceBackend {
             constraints,
             floor: step.floor,
             contacts: step.contacts,
+            bodies: step.bodies,
             spring_multipliers: step.spring_lambda,
             volume_multipliers: step.volume_lambda,
         }
@@ -403,6 +410,12 @@ impl ReferenceBackend {
             |i, u| v[i] = u,
         );
         let mut forces = self.forces();
+        let pushed = forces
+            .contacts
+            .iter()
+            .filter(|c| c.touching.is_some())
+            .count();
+        self.last_contacts = (pushed as u32, std::mem::take(&mut forces.bodies));
         let f = forces.total();
         if self.problem.params.warm_start {
             std::mem::swap(&mut self.spring_warm, &mut forces.spring_multipliers);
@@ -481,10 +494,22 @@ impl Backend for ReferenceBackend {
             inverted += u32::from(v <= 0.0);
             local_error += (v - rest).abs();
         }
+        let problem = &self.problem;
+        let contact = problem.measures_contact().then(|| {
+            let (pushed, bodies) = &self.last_contacts;
+            let (model, x) = (&problem.model, &self.x);
+            let dt = problem.params.dt;
+            ContactSample {
+                collider_nodes: *pushed,
+                body_contacts: bodies.iter().filter(|(_, l)| *l < 0.0).count() as u32,
+                deepest_m: deepest(&model.colliders, self.steps, dt, bodies, |i| x[i], x.len()),
+            }
+        });
         Ok(VolumeSample {
             volume,
             inverted,
             local_error,
+            contact,
         })
     }
 

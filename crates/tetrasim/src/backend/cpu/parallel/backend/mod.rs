@@ -9,8 +9,9 @@ mod iterate;
 use super::shared::SharedSlice;
 use super::team::Team;
 use super::*;
+use crate::backend::ContactSample;
 use crate::collider::{Clamp, Collider, Grab};
-use crate::contact::Contact;
+use crate::contact::{deepest, Contact};
 use glam::DVec3;
 use std::sync::Arc;
 
@@ -45,6 +46,10 @@ pub struct ParallelBackend {
     team: Team,
     /// The floor's normal force on each node in the current step [N] (`>= 0`).
     floor_force: Vec<f32>,
+    /// The problem, when runs of it measure contact ([`Problem::measures_contact`]), and the
+    /// nodes a collider pushed in the last step.
+    measured: Option<Problem>,
+    pushed: u32,
     /// Body contact with its problem (for the model and parameters its sweep reads), when
     /// two surfaces can meet, and the step's contacts with their multipliers.
     bodies: Option<Problem>,
@@ -159,6 +164,8 @@ impl ParallelBackend {
             team: Team::for_work(n, mean_group_size(&sweeps)),
             floor_force: vec![0.0; n],
             bodies: problem.bodies.is_some().then(|| problem.clone()),
+            measured: problem.measures_contact().then(|| problem.clone()),
+            pushed: 0,
             body_contacts: Vec::new(),
             clamps: (!model.clamps.is_empty())
                 .then(|| (model.clamps.clone(), model.positions.clone())),
@@ -305,7 +312,9 @@ impl ParallelBackend {
         let limit2 = self.speed_limit * self.speed_limit;
         let (on, dt) = (self.floor, self.k.dt);
         let (clearance, attached) = (&self.clearance, &self.attached);
-        self.x
+        let pushed = std::sync::atomic::AtomicU32::new(0);
+        let bad = self
+            .x
             .par_iter_mut()
             .zip(self.v.par_iter_mut())
             .zip(self.f.par_iter_mut().zip(self.floor_force.par_iter_mut()))
@@ -322,6 +331,9 @@ impl ParallelBackend {
                         let held = attached.get(i).copied().flatten();
                         let touch = collide(at, clearance[i], held, f, c, *x, *v, w[i], dt);
                         *c = Vec3A::ZERO;
+                        if touch.touching.is_some() {
+                            pushed.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        }
                         touch.touching.is_some().then_some(touch)
                     }
                 };
@@ -348,7 +360,9 @@ impl ParallelBackend {
                     None
                 }
             })
-            .min_by_key(|(i, _)| *i)
+            .min_by_key(|(i, _)| *i);
+        self.pushed = pushed.into_inner();
+        bad
     }
 
     /// One time step (physics.md steps 1-3): the schedule's dispatches in order, those of
@@ -457,7 +471,28 @@ impl ParallelBackend {
             volume,
             inverted,
             local_error,
+            contact: self.contact_sample(),
         }
+    }
+
+    /// The frame's contact measures, when the problem takes them.
+    fn contact_sample(&self) -> Option<ContactSample> {
+        let problem = self.measured.as_ref()?;
+        let x = &self.x;
+        let bodies = &self.body_contacts;
+        let colliders = &problem.model.colliders;
+        Some(ContactSample {
+            collider_nodes: self.pushed,
+            body_contacts: bodies.iter().filter(|(_, l)| *l < 0.0).count() as u32,
+            deepest_m: deepest(
+                colliders,
+                self.steps,
+                self.dt,
+                bodies,
+                |i| x[i].to_dvec3(),
+                x.len(),
+            ),
+        })
     }
 }
 
