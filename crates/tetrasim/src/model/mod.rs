@@ -340,8 +340,9 @@ impl Model {
     }
 
     /// Several models as one: nodes, springs and tets of `models[k]` follow those of
-    /// `models[..k]`, indices shifted accordingly. Objects do not interact (no
-    /// object-object collisions); they only share the solver and the floor.
+    /// `models[..k]`, indices shifted accordingly; colliders, clamps, grabs and self-contact
+    /// flags are kept. The objects collide with each other ([`crate::contact`]) and share
+    /// the solver, the floor and the colliders.
     pub fn concat(models: &[Model]) -> Result<Model> {
         let mut iter = models.iter();
         let mut out = iter
