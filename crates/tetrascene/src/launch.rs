@@ -106,19 +106,21 @@ pub fn stage(scene: &Scene) -> Result<Staged> {
 /// clamps are made here; errors name the pin (`object[0].pin[1].motion`): a moving pin that
 /// holds no node, or one that shares a node with another pin.
 fn clamps(pins: &Pins, object: usize, model: &Model) -> Result<Vec<Clamp>> {
+    if pins.pins.iter().all(|p| p.motion.is_none()) {
+        return Ok(Vec::new());
+    }
     let held: Vec<Vec<u32>> = pins
         .pins
         .iter()
         .map(|pin| {
-            let mut nodes: Vec<u32> = (0..model.node_count() as u32)
+            let by_index: std::collections::HashSet<u32> = pin.nodes.iter().copied().collect();
+            (0..model.node_count() as u32)
                 .filter(|&n| {
                     let p = model.positions[n as usize];
-                    pin.nodes.contains(&n) || pin.region.is_some_and(|b| b.contains(p))
+                    by_index.contains(&n) || pin.region.is_some_and(|b| b.contains(p))
                 })
                 .filter(|&n| model.mass[n as usize] > 0.0)
-                .collect();
-            nodes.dedup();
-            nodes
+                .collect()
         })
         .collect();
     let mut out = Vec::new();
