@@ -1,5 +1,5 @@
 //! Colliders in scene files from the command line: every example scene parses and stages
-//! with its colliders, and a bad `[[collider]]` makes `tetrasim run --scene` exit with 2,
+//! with its colliders, clamps and self-contact, and a bad `[[collider]]` makes `tetrasim run --scene` exit with 2,
 //! naming the key's path, before it writes anything.
 
 use std::path::Path;
@@ -33,12 +33,34 @@ fn every_example_scene_parses_and_stages() {
             "{}: every collider but the floor is on the model",
             path.display()
         );
+        let moving = scene
+            .objects
+            .iter()
+            .flat_map(|o| &o.pin.pins)
+            .filter(|p| p.motion.is_some())
+            .count();
+        assert_eq!(
+            staged.model.clamps.len(),
+            moving,
+            "{}: a clamp per moving pin",
+            path.display()
+        );
+        let self_contact: Vec<bool> = scene.objects.iter().map(|o| o.self_contact).collect();
+        assert_eq!(
+            staged.model.self_contact,
+            self_contact,
+            "{}",
+            path.display()
+        );
         seen.push(path.file_name().unwrap().to_string_lossy().into_owned());
     }
     for name in [
         "capsule_press.toml",
         "tilted_plane.toml",
         "torus_on_rotating_box.toml",
+        "clamped_block.toml",
+        "two_bunnies.toml",
+        "folding_bar.toml",
     ] {
         assert!(seen.iter().any(|s| s == name), "{name} missing: {seen:?}");
     }

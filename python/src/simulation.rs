@@ -105,12 +105,13 @@ fn backend_of(slot: &mut Mutex<Box<dyn Backend>>) -> PyResult<&mut Box<dyn Backe
 impl Simulation {
     /// Places `mesh` (`fit_size` [m] across, lowest node `drop_height` [m] above the floor;
     /// `None` keeps the mesh's own size or position; then moved by `offset` [m]), pins the nodes `pins` and those inside
-    /// the boxes `pin_boxes` (`((x0, y0, z0), (x1, y1, z1))` [m], after placement), prepares
-    /// the problem under `params_json` and creates `backend`.
+    /// the boxes `pin_boxes` (`((x0, y0, z0), (x1, y1, z1))` [m], after placement), turns on
+    /// its contact with itself if `self_contact`, prepares the problem under `params_json`
+    /// and creates `backend`.
     #[new]
     // The Python keyword signature: one argument per keyword.
     #[allow(clippy::too_many_arguments)]
-    #[pyo3(signature = (mesh, params_json, backend = "cpu", fit_size = Some(1.0), drop_height = Some(0.1), pins = Vec::new(), pin_boxes = Vec::new(), offset = [0.0; 3]))]
+    #[pyo3(signature = (mesh, params_json, backend = "cpu", fit_size = Some(1.0), drop_height = Some(0.1), pins = Vec::new(), pin_boxes = Vec::new(), offset = [0.0; 3], self_contact = false))]
     fn new(
         py: Python<'_>,
         mesh: &Mesh,
@@ -121,6 +122,7 @@ impl Simulation {
         pins: Vec<u32>,
         pin_boxes: Vec<([f64; 3], [f64; 3])>,
         offset: [f64; 3],
+        self_contact: bool,
     ) -> PyResult<Self> {
         let params = parse_params(params_json)?;
         let n = mesh.inner.nodes.len();
@@ -136,7 +138,8 @@ impl Simulation {
             })
             .offset(offset.into())
             .mass(params.mass)
-            .pinned(pins);
+            .pinned(pins)
+            .self_contact(self_contact);
         for (lo, hi) in pin_boxes {
             builder = builder.pinned_in_box(lo.into(), hi.into());
         }

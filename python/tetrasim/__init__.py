@@ -129,7 +129,8 @@ class Simulation:
     when fitted (``None``: keep its position); ``offset`` [m]: then moved by this (objects
     start apart). ``pins``: node indices that never move (unless
     ``set_state`` moves them); ``pin_boxes``: ``((x0, y0, z0), (x1, y1, z1))`` boxes [m,
-    after placement] whose nodes are pinned. ``params``: any run parameter by its name
+    after placement] whose nodes are pinned. ``self_contact``: the surface collides with
+    itself (``cpu`` and ``cpu-ref`` for now; the scene key ``self_contact``). ``params``: any run parameter by its name
     (``default_params()`` lists them, e.g. ``method="distance"`` (default ``"volume"``),
     ``dt=1e-3``,
     ``iterations=10``, ``solver="gauss-seidel"``, ``youngs_modulus=1e5``,
@@ -149,6 +150,7 @@ class Simulation:
         offset: Sequence[float] = (0.0, 0.0, 0.0),
         pins: Iterable[int] = (),
         pin_boxes: Sequence[Tuple[Sequence[float], Sequence[float]]] = (),
+        self_contact: bool = False,
         **params: Any,
     ) -> None:
         self.mesh = _mesh(mesh)
@@ -162,6 +164,7 @@ class Simulation:
             [int(i) for i in pins],
             boxes,
             tuple(map(float, offset)),
+            bool(self_contact),
         )
 
     #: Frames the scene asks for (``solver.frames``), for a simulation made by ``from_scene``.

@@ -57,6 +57,7 @@ class Simulation:
         offset: Sequence[float] = (0.0, 0.0, 0.0),
         pins: Iterable[int] = (),
         pin_boxes: Sequence[Tuple[Sequence[float], Sequence[float]]] = (),
+        self_contact: bool = False,
         **params: Any,
     ) -> None: ...
     @classmethod

@@ -52,6 +52,7 @@ class _Simulation:
         pins: Sequence[int] = (),
         pin_boxes: Sequence[Tuple[Tuple[float, float, float], Tuple[float, float, float]]] = (),
         offset: Tuple[float, float, float] = (0.0, 0.0, 0.0),
+        self_contact: bool = False,
     ) -> None: ...
     @staticmethod
     def from_scene(path: str, backend: str = "cpu") -> Tuple["_Simulation", int]: ...

@@ -12,7 +12,7 @@ use crate::launch::{stage, Staged};
 use crate::overrides::{MaterialOverrides, SolverOverrides};
 use crate::preset::{Preset, PresetName};
 use crate::runner::{run_methods, OutputFormat, OutputUnits, RunOptions};
-use crate::scene::{Collider, Object, Output, Pin, Scene};
+use crate::scene::{Collider, Object, Output, Pins, Scene};
 use tetrasim::metrics::{pass_table, short_run_warnings, table, write_json};
 use tetrasim::params::{Method, SimParams, Solver as SolverKind};
 use tetrasim::sim::DEFAULT_MESH;
@@ -190,7 +190,8 @@ impl RunArgs {
                 offset: [0.0; 3],
                 velocity: [0.0; 3],
                 material: self.material.clone(),
-                pin: Pin::default(),
+                pin: Pins::default(),
+                self_contact: false,
             }],
             colliders: if params.floor {
                 vec![Collider::Floor {

@@ -5,7 +5,8 @@
 
 use glam::DVec3;
 
-use crate::scene::Scene;
+use crate::scene::{Pins, Scene};
+use tetrasim::collider::Clamp;
 use tetrasim::error::{Error, Result};
 use tetrasim::model::{Model, ModelBuilder};
 use tetrasim::params::SimParams;
@@ -70,16 +71,20 @@ pub fn stage(scene: &Scene) -> Result<Staged> {
             .placement(scene.placement_for(i))
             .material(&scene.params_for(i))
             .offset(DVec3::from(object.offset))
-            .pinned(object.pin.nodes.iter().copied())
-            .velocity(DVec3::from(object.velocity));
-        if let Some(b) = object.pin.region {
-            builder = builder.pinned_in_box(DVec3::from(b.min), DVec3::from(b.max));
+            .velocity(DVec3::from(object.velocity))
+            .self_contact(object.self_contact);
+        for pin in &object.pin.pins {
+            builder = builder.pinned(pin.nodes.iter().copied());
+            if let Some(b) = pin.region {
+                builder = builder.pinned_in_box(DVec3::from(b.min), DVec3::from(b.max));
+            }
         }
-        let model = builder.build().map_err(|e| match e {
+        let mut model = builder.build().map_err(|e| match e {
             Error::Mesh(m) => Error::Mesh(format!("object[{i}] ({}): {m}", loaded.label)),
             Error::Param { key, message } => Error::param(format!("object[{i}].{key}"), message),
             other => other,
         })?;
+        model.clamps = clamps(&object.pin, i, &model)?;
         models.push(model);
         labels.push(loaded.label);
         notes.extend(loaded.note);
@@ -92,4 +97,73 @@ pub fn stage(scene: &Scene) -> Result<Staged> {
         label: labels.join("+"),
         notes,
     })
+}
+
+/// The clamps of object `object`'s pins on its built `model`: each moving pin holds its
+/// `nodes` and the nodes in its `box` (those with mass, as [`ModelBuilder::pin_motion`]
+/// holds them) and moves them rigidly about their centroid. A scene may give an object
+/// several pins, each with its own motion, which one `pin_motion` cannot express, so the
+/// clamps are made here; errors name the pin (`object[0].pin[1].motion`): a moving pin that
+/// holds no node, or one that shares a node with another pin.
+fn clamps(pins: &Pins, object: usize, model: &Model) -> Result<Vec<Clamp>> {
+    if pins.pins.iter().all(|p| p.motion.is_none()) {
+        return Ok(Vec::new());
+    }
+    let held: Vec<Vec<u32>> = pins
+        .pins
+        .iter()
+        .map(|pin| {
+            let by_index: std::collections::HashSet<u32> = pin.nodes.iter().copied().collect();
+            (0..model.node_count() as u32)
+                .filter(|&n| {
+                    let p = model.positions[n as usize];
+                    by_index.contains(&n) || pin.region.is_some_and(|b| b.contains(p))
+                })
+                .filter(|&n| model.mass[n as usize] > 0.0)
+                .collect()
+        })
+        .collect();
+    let mut out = Vec::new();
+    for (j, pin) in pins.pins.iter().enumerate() {
+        let key = format!("{}.motion", pins.key(object, j));
+        let motion = match &pin.motion {
+            Some(spec) => spec.motion(&key)?,
+            None => continue,
+        };
+        if !motion.is_moving() {
+            continue;
+        }
+        let nodes = &held[j];
+        if nodes.is_empty() {
+            return Err(Error::param(
+                key,
+                "moves no node: the pin holds none (give `nodes` or a `box` that contains \
+                 nodes)",
+            ));
+        }
+        if let Some((k, n)) = held
+            .iter()
+            .enumerate()
+            .filter(|&(k, _)| k != j)
+            .find_map(|(k, other)| nodes.iter().find(|n| other.contains(n)).map(|&n| (k, n)))
+        {
+            return Err(Error::param(
+                key,
+                format!(
+                    "moves node {n}, which {} holds too: a node follows one pin",
+                    pins.key(object, k)
+                ),
+            ));
+        }
+        out.push(Clamp {
+            centre: nodes
+                .iter()
+                .map(|&n| model.positions[n as usize])
+                .sum::<DVec3>()
+                / nodes.len() as f64,
+            nodes: nodes.clone(),
+            motion,
+        });
+    }
+    Ok(out)
 }

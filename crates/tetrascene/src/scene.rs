@@ -1,8 +1,9 @@
 //! Scene files (TOML): objects, colliders, solver settings and outputs in one place.
 //! `tetrasim run --scene FILE` reads one; the command-line flags are shorthand for a
 //! one-object scene. Unknown keys and out-of-range values are errors naming the key's path
-//! (e.g. `object[0].material.ks`, `collider[2].motion.keyframes[1].t`; colliders are
-//! numbered in file order, the floor included).
+//! (e.g. `object[0].material.ks`, `object[0].pin[1].motion`,
+//! `collider[2].motion.keyframes[1].t`; colliders are numbered in file order, the floor
+//! included).
 //!
 //! ```toml
 //! [solver]
@@ -36,6 +37,13 @@
 //! # or a material in physical units, instead of ks and kd:
 //! # material = { youngs_modulus = 1e5, poisson_ratio = 0.45, density = 1000.0, damping = 0.003 }
 //! pin = { nodes = [0, 1], box = { min = [-1, 0, -1], max = [1, 0.12, 1] } }
+//! # A pin may move: its nodes follow a motion (as a collider's, below) rigidly about their
+//! # centroid, e.g. pin = { box = { .. }, motion = { keyframes = [{ t = 0.0 },
+//! #   { t = 0.5, position = [0.3, 0, 0] }] } }  (a motion that holds no node is an error).
+//! # Several pins, each fixed or with its own motion (keys object[0].pin[1].motion...):
+//! #   pin = [{ box = { .. } }, { box = { .. }, motion = { .. } }]   or [[object.pin]] tables
+//! self_contact = false       # whether its surface collides with itself (different objects
+//!                            # always collide with each other)
 //!
 //! [[collider]]
 //! type = "floor"             # the plane y = 0 (the fast path; at most one)
@@ -150,17 +158,22 @@ pub struct Object {
     /// `material`: spring constants and mass.
     #[serde(default)]
     pub material: MaterialOverrides,
-    /// Pinned nodes.
+    /// Pinned nodes: one `pin` table or a list of them, each fixed or moving.
     #[serde(default)]
-    pub pin: Pin,
+    pub pin: Pins,
+    /// Whether the object's surface collides with itself (default off; different objects
+    /// always collide with each other).
+    #[serde(default)]
+    pub self_contact: bool,
 }
 
 fn default_method() -> Method {
     Method::Volume
 }
 
-/// `pin`: nodes that never move, by index and/or inside an axis-aligned box (in placed
-/// coordinates, metres).
+/// `pin`: nodes held by index and/or inside an axis-aligned box (in placed coordinates,
+/// metres), fixed, or moving rigidly with a `motion` about their centroid (a clamp,
+/// [`tetrasim::collider::Clamp`]).
 #[derive(Debug, Clone, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Pin {
@@ -170,6 +183,75 @@ pub struct Pin {
     /// Box whose nodes are pinned.
     #[serde(default, rename = "box")]
     pub region: Option<Aabb>,
+    /// How the pinned nodes move (absent: they stay put).
+    #[serde(default)]
+    pub motion: Option<MotionSpec>,
+}
+
+impl Pin {
+    /// Whether it holds no node by index and has no box.
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty() && self.region.is_none()
+    }
+}
+
+/// An object's pins: `pin = { .. }` (one, keys `object[k].pin...`) or
+/// `pin = [{ .. }, { .. }]` / `[[object.pin]]` (several, keys `object[k].pin[j]...`), each
+/// with its own motion, e.g. a block clamped at both ends with one end pulled.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Pins {
+    /// The pins in file order.
+    pub pins: Vec<Pin>,
+    /// Whether the file gave a list (how errors name a pin).
+    pub list: bool,
+}
+
+impl Pins {
+    /// One pin, written as a table.
+    pub fn one(pin: Pin) -> Pins {
+        Pins {
+            pins: vec![pin],
+            list: false,
+        }
+    }
+
+    /// The scene key of pin `j` of object `object`: `object[0].pin` or `object[0].pin[1]`.
+    pub fn key(&self, object: usize, j: usize) -> String {
+        match self.list {
+            true => format!("object[{object}].pin[{j}]"),
+            false => format!("object[{object}].pin"),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Pins {
+    fn deserialize<D: serde::Deserializer<'de>>(
+        deserializer: D,
+    ) -> std::result::Result<Pins, D::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = Pins;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a pin table { nodes, box, motion } or a list of them")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> std::result::Result<Pins, A::Error> {
+                Pin::deserialize(serde::de::value::MapAccessDeserializer::new(map)).map(Pins::one)
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                seq: A,
+            ) -> std::result::Result<Pins, A::Error> {
+                Ok(Pins {
+                    pins: Vec::deserialize(serde::de::value::SeqAccessDeserializer::new(seq))?,
+                    list: true,
+                })
+            }
+        }
+        deserializer.deserialize_any(Visitor)
+    }
 }
 
 /// An axis-aligned box [m].
@@ -656,12 +738,25 @@ impl Scene {
                     format!("give {a} or {b}, not both"),
                 ));
             }
-            if let Some(b) = o.pin.region {
-                if (0..3).any(|a| b.min[a] > b.max[a] || b.min[a].is_nan() || b.max[a].is_nan()) {
-                    return Err(Error::param(
-                        key("pin.box"),
-                        "min must not exceed max on any axis",
-                    ));
+            for (j, pin) in o.pin.pins.iter().enumerate() {
+                let at = o.pin.key(i, j);
+                if let Some(b) = pin.region {
+                    if (0..3).any(|a| b.min[a] > b.max[a] || b.min[a].is_nan() || b.max[a].is_nan())
+                    {
+                        return Err(Error::param(
+                            format!("{at}.box"),
+                            "min must not exceed max on any axis",
+                        ));
+                    }
+                }
+                if let Some(motion) = &pin.motion {
+                    motion.motion(&format!("{at}.motion"))?;
+                    if pin.is_empty() {
+                        return Err(Error::param(
+                            format!("{at}.motion"),
+                            "moves no node: the pin holds none (give `nodes` or a `box`)",
+                        ));
+                    }
                 }
             }
             self.params_for(i).validate().map_err(|e| match e {
@@ -824,8 +919,7 @@ mod tests {
         assert_eq!(p.mass, MassMode::Density { density: 1000.0 });
         assert!(p.floor);
         assert_eq!(p.friction, 0.5);
-        assert!(scene.objects[0]
-            .pin
+        assert!(scene.objects[0].pin.pins[0]
             .region
             .unwrap()
             .contains(DVec3::splat(0.5)));
@@ -901,3 +995,6 @@ mod tests {
 
 #[cfg(test)]
 mod collider_tests;
+
+#[cfg(test)]
+mod pin_tests;
