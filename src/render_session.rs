@@ -167,7 +167,7 @@ impl Shots {
         let slot = &mut self.images[usize::from(legend)];
         if slot.is_none() {
             let t0 = Instant::now();
-            *slot = Some(renderer.render(run.backend.draw_buffers(), legend)?);
+            *slot = Some(renderer.render(run.backend.draw_buffers(), legend, run.sim.time())?);
             *render_s += t0.elapsed().as_secs_f64();
             *count += 1;
         }
