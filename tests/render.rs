@@ -394,6 +394,7 @@ fn render_methods_writes_frames_gif_and_sheet() {
             workgroup_size: Some(64),
             ..EngineOptions::default()
         },
+        physics: None,
         progress: false,
     };
     let params = SimParams {
@@ -444,6 +445,76 @@ fn render_methods_writes_frames_gif_and_sheet() {
     // (with and without legend) per method.
     assert!(report.images <= 2 * 2 * 5, "{} images", report.images);
     assert!(report.render_s > 0.0 && report.step_s > 0.0);
+    assert_no_messages(&ctx);
+}
+
+/// A PNG written by the renderer, back as an [`Image`].
+fn read_png(path: &std::path::Path) -> Image {
+    let mut decoder =
+        png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::ALPHA);
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!(info.color_type, png::ColorType::Rgba);
+    buf.truncate(info.buffer_size());
+    Image {
+        width: info.width,
+        height: info.height,
+        rgba: buf,
+    }
+}
+
+#[test]
+fn render_methods_steps_on_the_cpu_and_draws_its_state() {
+    if !gpu_support::vulkan_available() {
+        return;
+    }
+    let ctx = context();
+    let model = gpu_support::box_model([4, 3, 2], 0.1);
+    let params = SimParams {
+        method: Method::Volume,
+        iterations: 2,
+        floor: false,
+        ..SimParams::default()
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let frames = 240;
+    let job = RenderJob {
+        frames,
+        methods: vec![Method::Volume],
+        render: options(ColourMode::Flat),
+        outputs: Outputs {
+            frames_dir: Some(dir.path().to_path_buf()),
+            every: frames,
+            ..Default::default()
+        },
+        engine: EngineOptions::default(),
+        physics: Some("cpu-ref".into()),
+        progress: false,
+    };
+    let report = render_methods(&ctx, &model, &params, &job).unwrap();
+    // The same run on cpu-ref alone: the same volumes (the CPU stepped).
+    let mut cpu = tetrasim::create_backend("cpu-ref", &model, &params).unwrap();
+    let mut sim = tetrasim::sim::Simulation::new(&model, &params);
+    for _ in 0..frames {
+        sim.advance(cpu.as_mut(), true).unwrap();
+    }
+    let m = &report.methods[0];
+    assert_eq!(m.frames_run, frames);
+    assert_eq!(m.final_volume_pct, sim.last_volume_pct().unwrap());
+    // The last picture shows the CPU's state: the box has fallen 0.29 m (in 0.24 s).
+    let row = |frame: u32| {
+        let image = read_png(&dir.path().join(format!("volume_{frame:05}.png")));
+        let object = object_pixels(&image);
+        object.iter().map(|&(_, y)| f64::from(y)).sum::<f64>() / object.len() as f64
+    };
+    assert!(
+        row(frames) > row(0) + 8.0,
+        "rows {} -> {}",
+        row(0),
+        row(frames)
+    );
     assert_no_messages(&ctx);
 }
 
