@@ -35,7 +35,7 @@ pub const SLICES: u32 = 40;
 pub const STACKS: u32 = 20;
 /// Half side of a plane's square as a fraction of the floor's half extent (the part of the
 /// floor that does not fade into the background).
-pub const PLANE_EXTENT: f64 = 0.6;
+pub const PLANE_EXTENT: f64 = 0.35;
 
 /// One vertex of the collider triangles (`ColliderVertex` in glsl/render/collider.vert).
 #[repr(C)]
