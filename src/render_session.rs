@@ -1,7 +1,9 @@
 //! The render loop: every method's `vulkan` backend on one shared context, stepped in lock
 //! step; at the frames an output asks for, each method's state is drawn by one [`Renderer`]
 //! straight from that backend's position buffer, and the pictures go to PNG frames, an
-//! animated GIF (the methods side by side) and a contact sheet.
+//! animated GIF (the methods side by side) and a contact sheet. With
+//! [`RenderJob::physics`] a CPU backend steps instead, and its state is copied into the
+//! `vulkan` backend's buffers at each frame drawn (for what `vulkan` does not solve).
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -11,7 +13,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::runner::FrameOutput;
 use tetrasim::backend::vulkan::{EngineOptions, VulkanBackend};
-use tetrasim::backend::Backend;
+use tetrasim::backend::{Backend, State};
 use tetrasim::error::{Error, Result};
 use tetrasim::gpu::Context;
 use tetrasim::model::Model;
@@ -20,7 +22,7 @@ use tetrasim::render::image::{GifWriter, Image};
 use tetrasim::render::renderer::Renderer;
 use tetrasim::render::sheet;
 use tetrasim::render::RenderOptions;
-use tetrasim::sim::Simulation;
+use tetrasim::sim::{create_backend, Simulation};
 
 /// What to write.
 #[derive(Debug, Clone, Default)]
@@ -87,6 +89,9 @@ pub struct RenderJob {
     /// The simulation's engine options (workgroup size, atomics; the device is the
     /// context's).
     pub engine: EngineOptions,
+    /// The backend that steps (`cpu` or `cpu-ref`), its state copied into the `vulkan`
+    /// backend's buffers at every frame drawn; `None`: `vulkan` steps, drawn in place.
+    pub physics: Option<String>,
     /// Show a progress bar on stderr.
     pub progress: bool,
 }
@@ -127,11 +132,42 @@ pub struct RenderReport {
 
 struct Run {
     method: Method,
+    /// Holds what the renderer draws from (and steps, without `physics`).
     backend: VulkanBackend,
+    /// The backend that steps, when it is not `backend`.
+    physics: Option<Box<dyn Backend>>,
     sim: Simulation,
 }
 
 impl Run {
+    /// Steps one frame.
+    fn advance(&mut self) -> Result<()> {
+        let stepper: &mut dyn Backend = match self.physics.as_mut() {
+            Some(b) => b.as_mut(),
+            None => &mut self.backend,
+        };
+        self.sim.advance(stepper, true)?;
+        Ok(())
+    }
+
+    /// The state of the backend that steps.
+    fn state(&mut self) -> Result<State> {
+        match self.physics.as_mut() {
+            Some(b) => b.state(),
+            None => self.backend.state(),
+        }
+    }
+
+    /// Puts the stepping backend's state into the buffers drawn from (nothing to do when
+    /// `vulkan` steps).
+    fn sync(&mut self) -> Result<()> {
+        if let Some(b) = self.physics.as_mut() {
+            let state = b.state()?;
+            self.backend.set_state(&state)?;
+        }
+        Ok(())
+    }
+
     /// The volume after the last frame run [% of rest] (100 before the first).
     fn volume_pct(&self) -> f64 {
         self.sim.last_volume_pct().unwrap_or(100.0)
@@ -167,7 +203,7 @@ impl Shots {
         let slot = &mut self.images[usize::from(legend)];
         if slot.is_none() {
             let t0 = Instant::now();
-            *slot = Some(renderer.render(run.backend.draw_buffers(), legend)?);
+            *slot = Some(renderer.render(run.backend.draw_buffers(), legend, run.sim.time())?);
             *render_s += t0.elapsed().as_secs_f64();
             *count += 1;
         }
@@ -205,6 +241,11 @@ pub fn render_methods(
                     &p,
                     &job.engine,
                 )?,
+                physics: job
+                    .physics
+                    .as_deref()
+                    .map(|name| create_backend(name, model, &p))
+                    .transpose()?,
                 sim: Simulation::new(model, &p),
             })
         })
@@ -225,7 +266,7 @@ pub fn render_methods(
         if frame > 0 {
             let t0 = Instant::now();
             for run in runs.iter_mut() {
-                run.sim.advance(&mut run.backend, true)?;
+                run.advance()?;
             }
             step_s += t0.elapsed().as_secs_f64();
             bar.inc(1);
@@ -233,7 +274,7 @@ pub fn render_methods(
         if let Some(meshes) = &out.meshes {
             if frame % meshes.every == 0 {
                 for run in runs.iter_mut() {
-                    let state = run.backend.state()?;
+                    let state = run.state()?;
                     meshes.write(model, run.method, frame, params.frame_time(), &state)?;
                 }
             }
@@ -246,6 +287,9 @@ pub fn render_methods(
             .and_then(|_| sheet_frames.iter().position(|&f| f == frame));
         if !(want_file || want_gif || sheet_column.is_some()) {
             continue;
+        }
+        for run in runs.iter_mut() {
+            run.sync()?;
         }
         let time = format!("t = {:.3} s", f64::from(frame) * seconds_per_frame);
         let last = runs.len() - 1;

@@ -1,5 +1,6 @@
-//! `tetrasim render`: `run`'s scene and physics flags, always on the `vulkan` backend, plus
-//! what to draw and where to write it.
+//! `tetrasim render`: `run`'s scene and physics flags, drawn from the `vulkan` backend's
+//! buffers (stepped there, or on `--backend cpu|cpu-ref` and copied there at each frame
+//! drawn), plus what to draw and where to write it.
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -12,8 +13,10 @@ use tetrasim::render::{parse_size, Camera, ColourMode, RenderOptions};
 /// Arguments of `tetrasim render`.
 #[derive(Debug, clap::Args)]
 pub struct RenderArgs {
-    /// The scene and physics, as for `run` (rendering runs the `vulkan` backend: any other
-    /// `--backend` is refused; `--every` is the period of `--frames-dir` and `--out-dir`).
+    /// The scene and physics, as for `run` (`--backend`: `vulkan` by default, which steps
+    /// in the buffers the picture is drawn from; `cpu` or `cpu-ref` step on the CPU and
+    /// their state is uploaded at each frame drawn; `--every` is the period of
+    /// `--frames-dir` and `--out-dir`).
     #[command(flatten)]
     pub run: RunArgs,
     /// Write a PNG of each method every `--every` frames into this folder
@@ -52,15 +55,17 @@ pub struct RenderArgs {
 /// Runs `tetrasim render`.
 pub fn execute(args: RenderArgs) -> anyhow::Result<()> {
     let run = &args.run;
-    if let Some(backend) = run.backend.as_deref().filter(|&b| b != "vulkan") {
-        return Err(tetrasim::Error::param(
-            "backend",
-            format!(
-                "`render` draws from the GPU's buffers, so it runs `vulkan` only, not `{backend}`"
-            ),
-        )
-        .into());
-    }
+    let physics = match run.backend.as_deref() {
+        None | Some("vulkan") => None,
+        Some(b @ ("cpu" | "cpu-ref")) => Some(b.to_string()),
+        Some(other) => {
+            return Err(tetrasim::Error::param(
+                "backend",
+                format!("`{other}`: `render` steps on vulkan (the default), cpu or cpu-ref"),
+            )
+            .into())
+        }
+    };
     if run.json.is_some() {
         anyhow::bail!("--json is not written by `render`; use `tetrasim run --json FILE`");
     }
@@ -134,15 +139,18 @@ pub fn execute(args: RenderArgs) -> anyhow::Result<()> {
             meshes: crate::runner::frame_output(output)?,
         },
         engine,
+        physics: physics.clone(),
         progress: !run.quiet,
     };
     eprintln!(
-        "{}: {} nodes, {} tets, {} surface triangles; {} frames on `{}`, {}x{} pixels",
+        "{}: {} nodes, {} tets, {} surface triangles, {} colliders; {} frames stepped on {}, drawn on `{}`, {}x{} pixels",
         staged.label,
         model.node_count(),
         model.tets.len(),
         model.surface.len(),
+        model.colliders.len(),
         staged.frames,
+        physics.as_deref().unwrap_or("vulkan"),
         ctx.info().name,
         width,
         height

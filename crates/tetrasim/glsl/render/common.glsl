@@ -25,6 +25,11 @@
 #define R_SPRING_OFFSETS 10
 #define R_SPRING_ITEMS 11
 #define R_SPRINGS 12
+// Collider triangles in their local frames, 2 vec4 per vertex: position (w = the collider's
+// index) and unit normal (uploaded once); per collider, its local -> world mat4 at the
+// picture's time (rewritten before each picture).
+#define R_COLLIDER_VERTICES 13
+#define R_COLLIDER_POSES 14
 
 // Colour modes (`ColourMode` in src/render/mod.rs).
 #define MODE_FLAT 0u
@@ -67,6 +72,22 @@ vec3 diverging(float t) {
 vec3 scalar_colour(float s) {
     float neutral = pc.mode == MODE_VOLUME ? 1.0 : 0.0;
     return diverging((s - neutral) / max(pc.range, 1e-6));
+}
+
+// Lit shading of every solid the render draws (the object's surface, the colliders):
+// hemisphere ambient + Lambert + a little Blinn-Phong specular, darkened near the floor (a
+// cheap contact / ambient-occlusion cue). `albedo` is linear RGB; `n` a unit normal facing
+// the viewer.
+vec3 shade(vec3 albedo, vec3 n, vec3 world) {
+    vec3 to_eye = normalize(pc.eye.xyz - world);
+    vec3 l = pc.light.xyz;
+    float diffuse = max(dot(n, l), 0.0);
+    vec3 sky = vec3(0.42, 0.45, 0.52);
+    vec3 ground = vec3(0.18, 0.17, 0.16);
+    vec3 ambient = mix(ground, sky, 0.5 + 0.5 * n.y);
+    float spec = pow(max(dot(n, normalize(l + to_eye)), 0.0), 48.0) * step(0.0, dot(n, l));
+    float contact = mix(0.45, 1.0, smoothstep(0.0, pc.eye.w, world.y));
+    return albedo * (ambient + 0.85 * diffuse) * contact + 0.18 * spec;
 }
 
 #endif

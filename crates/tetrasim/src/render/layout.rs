@@ -33,8 +33,13 @@ pub mod binding {
     /// uvec4 per spring: a, b, rest length [m] as f32 bits, stiffness (the simulation's
     /// [`crate::gpu::layout::GpuSpring`] buffer; the render reads `xyz`).
     pub const SPRINGS: u32 = 12;
+    /// Collider triangles in their local frames: per vertex, vec4 position (w = collider
+    /// index) and vec4 normal ([`crate::render::colliders::ColliderVertex`]).
+    pub const COLLIDER_VERTICES: u32 = 13;
+    /// mat4 per collider: local to world at the picture's time (host-visible).
+    pub const COLLIDER_POSES: u32 = 14;
     /// Number of bindings (0..COUNT).
-    pub const COUNT: u32 = 13;
+    pub const COUNT: u32 = 15;
 }
 
 /// The push-constant block of every render shader (`RenderPush` in common.glsl), 128 bytes.
@@ -130,7 +135,18 @@ mod tests {
                 "attrs.comp: block {name} is not at binding {b}; found {found:?}"
             );
         }
-        assert_eq!(expected.len() as u32, binding::COUNT);
+        let colliders = [
+            ("ColliderVertices", binding::COLLIDER_VERTICES),
+            ("ColliderPoses", binding::COLLIDER_POSES),
+        ];
+        let found = module("render/collider.vert").block_bindings();
+        for (name, b) in colliders {
+            assert!(
+                found.contains(&(name.to_string(), b)),
+                "collider.vert: block {name} is not at binding {b}; found {found:?}"
+            );
+        }
+        assert_eq!((expected.len() + colliders.len()) as u32, binding::COUNT);
         for key in ["render/surface.vert", "render/shadow.vert"] {
             let found = module(key).block_bindings();
             assert!(

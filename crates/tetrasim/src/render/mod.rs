@@ -9,6 +9,7 @@
 //! - [`ColourMode`]: flat, volume ratio V/V0 per node (averaged over its tets), spring strain.
 
 pub mod camera;
+pub mod colliders;
 pub mod geometry;
 pub mod gpu_image;
 pub mod image;

@@ -1,5 +1,5 @@
 //! The render pipelines and their one descriptor set: the `attrs` compute pipeline and the
-//! graphics pipelines `floor`, `shadow`, `surface` and `legend`, all on one pipeline layout
+//! graphics pipelines `floor`, `shadow`, `surface`, `collider` and `legend`, all on one pipeline layout
 //! (set 0 = every render buffer, one [`RenderPush`] block for every stage).
 
 use std::sync::Arc;
@@ -45,6 +45,8 @@ pub struct Pipelines {
     pub surface: vk::Pipeline,
     /// The legend's colour bar.
     pub legend: vk::Pipeline,
+    /// The kinematic colliders.
+    pub collider: vk::Pipeline,
     /// The shared pipeline layout and its one descriptor set (binding 0 is re-pointed at
     /// each render's position buffer). Last, so that it is freed after the pipelines.
     pub binding: BindingLayout,
@@ -74,6 +76,7 @@ impl Pipelines {
             shadow: vk::Pipeline::null(),
             surface: vk::Pipeline::null(),
             legend: vk::Pipeline::null(),
+            collider: vk::Pipeline::null(),
             binding,
         };
         p.attrs = p.compute("render/attrs.comp")?;
@@ -118,12 +121,23 @@ impl Pipelines {
                 shadow: false,
             },
         )?;
+        p.collider = g(
+            &p,
+            Style {
+                vert: "render/collider.vert",
+                frag: "render/collider.frag",
+                depth_test: true,
+                depth_write: true,
+                shadow: false,
+            },
+        )?;
         for (handle, name) in [
             (p.attrs, "attrs"),
             (p.floor, "floor"),
             (p.shadow, "shadow"),
             (p.surface, "surface"),
             (p.legend, "legend"),
+            (p.collider, "collider"),
         ] {
             ctx.set_name(handle, name);
         }
@@ -295,6 +309,7 @@ impl Drop for Pipelines {
                 self.shadow,
                 self.surface,
                 self.legend,
+                self.collider,
             ] {
                 if p != vk::Pipeline::null() {
                     device.destroy_pipeline(p, None);

@@ -10,7 +10,8 @@
 //! barrier   attrs -> vertex reads
 //! render pass (multisampled colour + depth-stencil, resolved):
 //!     floor   grid quad                    shadow   planar projection, stencil once
-//!     surface indexed triangles, lit       legend   colour bar (colour modes only)
+//!     surface indexed triangles, lit       collider the colliders at the picture's time
+//!     legend  colour bar (colour modes only)
 //! copy      resolved image -> host-visible buffer
 //! ```
 
@@ -19,6 +20,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::camera::SceneFrame;
+use super::colliders::{self, ColliderDraw};
 use super::geometry::Geometry;
 use super::image::Image;
 use super::layout::{binding, RenderPush};
@@ -45,6 +47,7 @@ pub struct Renderer {
     pipelines: Pipelines,
     target: Target,
     geometry: Geometry,
+    colliders: ColliderDraw,
     frame: SceneFrame,
     options: RenderOptions,
     legend: LegendLayout,
@@ -56,7 +59,8 @@ pub struct Renderer {
 
 impl Renderer {
     /// A renderer of `model` on `ctx` (the simulation's context), with the camera fitted to
-    /// the model's initial positions unless `options.camera` is given.
+    /// the model's initial positions and its colliders' initial bounds (planes aside) unless
+    /// `options.camera` is given.
     pub fn new(ctx: &Arc<Context>, model: &Model, options: &RenderOptions) -> Result<Self> {
         options.validate()?;
         let info = ctx.info();
@@ -66,18 +70,24 @@ impl Renderer {
                 info.name
             )));
         }
-        let (lo, hi) = bounds_of(&model.positions)
+        let (mut lo, mut hi) = bounds_of(&model.positions)
             .ok_or_else(|| Error::Mesh("the model has no nodes to render".into()))?;
+        if let Some((clo, chi)) = colliders::bounds_at(&model.colliders, 0.0) {
+            (lo, hi) = (lo.min(clo), hi.max(chi));
+        }
         let aspect = options.width as f32 / options.height as f32;
         let frame = SceneFrame::fit(lo, hi, aspect, options.camera);
         let target = Target::new(ctx, options.width, options.height, options.samples)?;
         let pipelines = Pipelines::new(ctx, target.render_pass, target.samples, target.extent)?;
         let geometry = Geometry::new(ctx, model)?;
         geometry.bind(&pipelines);
+        let colliders = ColliderDraw::new(ctx, &model.colliders, &frame)?;
+        colliders.bind(&pipelines);
         Ok(Renderer {
             pipelines,
             target,
             geometry,
+            colliders,
             frame,
             options: options.clone(),
             legend: LegendLayout::for_size(options.width, options.height),
@@ -124,10 +134,11 @@ impl Renderer {
     /// Renders the model at `source.positions` (vec4 per node, xyz in metres), with the
     /// tets, rest volumes and springs of `source` (normally all a simulation's:
     /// [`crate::backend::vulkan::VulkanBackend::draw_buffers`]), and returns the picture. `legend`
-    /// adds the colour bar and its labels (colour modes only). Waits for the GPU; reads back
-    /// only the image. Fails when a buffer is too short for the model the renderer was made
-    /// for.
-    pub fn render(&mut self, source: DrawBuffers<'_>, legend: bool) -> Result<Image> {
+    /// adds the colour bar and its labels (colour modes only). The colliders are drawn where
+    /// they are at `time` [s], the simulated time of the positions. Waits for the GPU; reads
+    /// back only the image. Fails when a buffer is too short for the model the renderer was
+    /// made for.
+    pub fn render(&mut self, source: DrawBuffers<'_>, legend: bool, time: f64) -> Result<Image> {
         let needs = [
             (source.positions, u64::from(self.nodes), 16, "nodes"),
             (source.tets, self.tets, 16, "tets"),
@@ -143,6 +154,7 @@ impl Renderer {
                 )));
             }
         }
+        self.colliders.set_time(time)?;
         let positions = source.positions;
         self.pipelines.bind(binding::POSITIONS, positions);
         self.pipelines.bind(binding::TETS, source.tets);
@@ -154,6 +166,7 @@ impl Renderer {
         let ctx = &self.ctx;
         let p = &self.pipelines;
         let g = &self.geometry;
+        let collider_vertices = self.colliders.vertex_count;
         let device = ctx.device();
         let simulated = Access {
             stage: vk::PipelineStageFlags::COMPUTE_SHADER,
@@ -193,6 +206,10 @@ impl Renderer {
                 device.cmd_draw_indexed(cmd, g.index_count, 1, 0, 0, 0);
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.surface);
                 device.cmd_draw_indexed(cmd, g.index_count, 1, 0, 0, 0);
+                if collider_vertices > 0 {
+                    device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.collider);
+                    device.cmd_draw(cmd, collider_vertices, 1, 0, 0);
+                }
                 if legend {
                     device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.legend);
                     device.cmd_draw(cmd, 6, 1, 0, 0);

@@ -9,6 +9,8 @@ pub const FLOOR_RGB: [u8; 3] = [204, 201, 194];
 pub const GRID_RGB: [u8; 3] = [173, 173, 168];
 /// The object in the flat colour mode, before lighting (`FLAT` in surface.frag).
 pub const FLAT_RGB: [u8; 3] = [219, 158, 107];
+/// The colliders, before lighting (`STEEL` in glsl/render/collider.frag).
+pub const COLLIDER_RGB: [u8; 3] = [120, 133, 148];
 /// Text of labels and legends.
 pub const TEXT_RGB: [u8; 3] = [20, 20, 24];
 
