@@ -81,3 +81,15 @@ fn pull_stretches_the_bar() {
     );
     assert!(out.contains("ok: the bar stretched"), "{out}");
 }
+
+#[test]
+fn grasp_lifts_the_block_and_lets_go() {
+    for backend in ["cpu", "cpu-ref"] {
+        let out = run("grasp", &[backend, "500"]);
+        let peak = number_after(&out, "peak ");
+        let last = number_after(&out, "final ");
+        // The grab lifts its nodes 100 mm and lets go at 0.3 s; the block sinks back.
+        assert!(peak > 99.0 && last < 20.0, "{backend}: peak {peak} mm, final {last} mm:\n{out}");
+        assert!(out.contains("ok: the block was lifted"), "{out}");
+    }
+}
