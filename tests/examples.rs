@@ -89,7 +89,10 @@ fn grasp_lifts_the_block_and_lets_go() {
         let peak = number_after(&out, "peak ");
         let last = number_after(&out, "final ");
         // The grab lifts its nodes 100 mm and lets go at 0.3 s; the block sinks back.
-        assert!(peak > 99.0 && last < 20.0, "{backend}: peak {peak} mm, final {last} mm:\n{out}");
+        assert!(
+            peak > 99.0 && last < 20.0,
+            "{backend}: peak {peak} mm, final {last} mm:\n{out}"
+        );
         assert!(out.contains("ok: the block was lifted"), "{out}");
     }
 }
