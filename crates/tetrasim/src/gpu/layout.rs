@@ -21,8 +21,7 @@ pub mod binding {
     include!("bindings.rs");
 }
 
-/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 76 bytes used,
-/// padded to 80.
+/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 80 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct PushConstants {
@@ -72,8 +71,9 @@ pub struct PushConstants {
     /// The current substep's first entry in the collider poses
     /// ([`binding::COLLIDER_POSES`]): `(frame slot * substeps + substep) * colliders`.
     pub collider_first: u32,
-    /// Padding to a multiple of 16 bytes (not in the shader's block).
-    pub pad: u32,
+    /// The step's row in the host-written per-step arrays (clamp poses):
+    /// `frame slot * substeps + substep`.
+    pub step_row: u32,
 }
 
 /// Values of [`PushConstants::combine`] (the `COMBINE_*` macros in bindings.glsl).
@@ -113,7 +113,7 @@ impl PushConstants {
             iteration: 0,
             warm_start: u32::from(params.springs == SpringKind::Implicit && params.warm_start),
             collider_first: 0,
-            pad: 0,
+            step_row: 0,
         }
     }
 }
@@ -191,6 +191,32 @@ pub struct GpuColliderPose {
     pub turned: [f32; 4],
 }
 
+/// One clamped node (`ClampNode` in glsl/passes/clamp_drive.comp), 32 bytes.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuClampNode {
+    /// The node.
+    pub node: u32,
+    /// Its clamp (index into the model's clamps).
+    pub clamp: u32,
+    /// Padding.
+    pub pad: [u32; 2],
+    /// Its rest position minus the clamp's centre [m] (w 0).
+    pub offset: [f32; 4],
+}
+
+/// One clamp's pose at the end of one step (`ClampPose` in glsl/passes/clamp_drive.comp),
+/// 32 bytes, computed on the host in f64: a clamped node's target is
+/// `position + rotation * offset`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuClampPose {
+    /// The clamp's centre plus its translation [m] (w 0).
+    pub position: [f32; 4],
+    /// Its rotation (x, y, z, w).
+    pub rotation: [f32; 4],
+}
+
 /// One volume_sum workgroup's result (`VolumePartial` in bindings.glsl).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
@@ -262,6 +288,7 @@ mod tests {
             ("iteration", offset_of!(PushConstants, iteration)),
             ("warm_start", offset_of!(PushConstants, warm_start)),
             ("collider_first", offset_of!(PushConstants, collider_first)),
+            ("step_row", offset_of!(PushConstants, step_row)),
         ];
         // integrate uses floor_on/friction/gravity, volume_sum the tet count: together they
         // name most members; every member the shader keeps must sit where Rust puts it.
@@ -431,6 +458,13 @@ mod tests {
             ("Colliders", binding::COLLIDERS),
             ("ColliderGrids", binding::COLLIDER_GRIDS),
             ("ColliderPoses", binding::COLLIDER_POSES),
+            ("BodySurface", binding::BODY_SURFACE),
+            ("ContactHash", binding::CONTACT_HASH),
+            ("ContactSumsF", binding::CONTACT_SUMS),
+            ("ContactSumsU", binding::CONTACT_SUMS),
+            ("ContactSums", binding::CONTACT_SUMS),
+            ("ClampNodes", binding::CLAMP_NODES),
+            ("ClampPoses", binding::CLAMP_POSES),
         ]
         .into_iter()
         .collect();

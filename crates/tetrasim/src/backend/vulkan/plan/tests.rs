@@ -9,6 +9,8 @@ const COUNTS: PlanCounts = PlanCounts {
     tets: 12,
     colliders: 0,
     grid_values: 0,
+    clamps: 0,
+    clamped: 0,
 };
 
 fn plan(params: &SimParams, sweeps: &[SweepPlan]) -> EnginePlan {
