@@ -122,4 +122,12 @@ bindings! {
     /// rotation at the step's end (host-visible, written before each frame's submit;
     /// `pc.step_row` selects the substep's rows; only with clamps).
     CLAMP_POSES = 37,
+    /// u32 per node: its row among the nodes some grab holds (u32::MAX: none; with
+    /// colliders or grabs, 4 bytes without grabs).
+    GRAB_NODES = 38,
+    /// vec4 per frame slot, substep and grabbed node: its attachment at the step's end,
+    /// the target [m] and the stiffness [N/m] in w (infinite: hard, 0: not held this step)
+    /// (host-visible, written before each frame's submit; `pc.grab_first` selects the
+    /// step's rows; with colliders or grabs, 4 bytes without grabs).
+    GRAB_TARGETS = 39,
 }

@@ -21,7 +21,8 @@ pub mod binding {
     include!("bindings.rs");
 }
 
-/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 80 bytes.
+/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 84 bytes used,
+/// padded to 96.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct PushConstants {
@@ -74,6 +75,11 @@ pub struct PushConstants {
     /// The step's row in the host-written per-step arrays (clamp poses):
     /// `frame slot * substeps + substep`.
     pub step_row: u32,
+    /// The step's first row in the grab targets ([`binding::GRAB_TARGETS`]):
+    /// `step_row * grabbed nodes`.
+    pub grab_first: u32,
+    /// Padding to a multiple of 16 bytes (not in the shader's block).
+    pub pad: [u32; 3],
 }
 
 /// Values of [`PushConstants::combine`] (the `COMBINE_*` macros in bindings.glsl).
@@ -114,6 +120,8 @@ impl PushConstants {
             warm_start: u32::from(params.springs == SpringKind::Implicit && params.warm_start),
             collider_first: 0,
             step_row: 0,
+            grab_first: 0,
+            pad: [0; 3],
         }
     }
 }
@@ -255,7 +263,7 @@ mod tests {
 
     #[test]
     fn sizes_are_std430_multiples_of_16() {
-        assert_eq!(size_of::<PushConstants>(), 80);
+        assert_eq!(size_of::<PushConstants>(), 96);
         assert_eq!(size_of::<GpuSpring>(), 16);
         assert_eq!(size_of::<VolumePartial>(), 16);
         assert_eq!(size_of::<GpuGlobalObject>(), 32);
@@ -289,6 +297,7 @@ mod tests {
             ("warm_start", offset_of!(PushConstants, warm_start)),
             ("collider_first", offset_of!(PushConstants, collider_first)),
             ("step_row", offset_of!(PushConstants, step_row)),
+            ("grab_first", offset_of!(PushConstants, grab_first)),
         ];
         // integrate uses floor_on/friction/gravity, volume_sum the tet count: together they
         // name most members; every member the shader keeps must sit where Rust puts it.
@@ -465,6 +474,8 @@ mod tests {
             ("ContactSums", binding::CONTACT_SUMS),
             ("ClampNodes", binding::CLAMP_NODES),
             ("ClampPoses", binding::CLAMP_POSES),
+            ("GrabNodes", binding::GRAB_NODES),
+            ("GrabTargets", binding::GRAB_TARGETS),
         ]
         .into_iter()
         .collect();

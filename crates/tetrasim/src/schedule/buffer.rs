@@ -89,6 +89,11 @@ pub enum BufferId {
     ClampNodes,
     /// 32 bytes per frame slot, substep and clamp: its pose at the step's end (host-visible).
     ClampPoses,
+    /// u32 per node: its row among the grabbed nodes (u32::MAX: none; colliders or grabs).
+    GrabNodes,
+    /// vec4 per frame slot, substep and grabbed node: its attachment's target and stiffness
+    /// (host-visible; colliders or grabs).
+    GrabTargets,
 }
 
 impl BufferId {
@@ -133,6 +138,8 @@ impl BufferId {
             BufferId::ContactSums => "contact sums",
             BufferId::ClampNodes => "clamp nodes",
             BufferId::ClampPoses => "clamp poses",
+            BufferId::GrabNodes => "grab nodes",
+            BufferId::GrabTargets => "grab targets",
         }
     }
 
@@ -177,6 +184,8 @@ impl BufferId {
             BufferId::ContactSums => binding::CONTACT_SUMS,
             BufferId::ClampNodes => binding::CLAMP_NODES,
             BufferId::ClampPoses => binding::CLAMP_POSES,
+            BufferId::GrabNodes => binding::GRAB_NODES,
+            BufferId::GrabTargets => binding::GRAB_TARGETS,
         }
     }
 }

@@ -156,6 +156,8 @@ pub struct Schedule {
     pub floor: bool,
     /// Kinematic colliders, solved with the floor (0: none).
     pub colliders: u32,
+    /// Whether grabs hold nodes (their attachments are solved with the colliders).
+    pub grabs: bool,
 }
 
 /// The position of the first of `stages` that runs after `kind` (declaration order).
@@ -171,7 +173,10 @@ impl Schedule {
         let sweeps = problem.sweeps.iter().map(SweepPlan::of).collect();
         Schedule::new(&problem.params, sweeps, problem.global.is_some(), metrics)
             .with_body_contact(problem.bodies.is_some())
-            .with_colliders(problem.model.colliders.len() as u32)
+            .with_colliders(
+                problem.model.colliders.len() as u32,
+                !problem.model.grabs.is_empty(),
+            )
             .with_clamps(
                 (problem.model.clamps.iter())
                     .map(|c| c.nodes.len() as u32)

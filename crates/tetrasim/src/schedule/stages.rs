@@ -364,6 +364,7 @@ impl Schedule {
             chebyshev,
             floor: params.floor,
             colliders: 0,
+            grabs: false,
         }
     }
 
@@ -390,20 +391,24 @@ impl Schedule {
         self
     }
 
-    /// The same schedule with `colliders` kinematic colliders: every stage that solves the
-    /// floor ([`PassKind::has_floor_constant`]) solves their contacts too, reading their
-    /// data and poses and keeping their force in [`BufferId::ColliderContacts`].
-    pub fn with_colliders(mut self, colliders: u32) -> Self {
+    /// The same schedule with `colliders` kinematic colliders and, when `grabs`, grabs:
+    /// every stage that solves the floor ([`PassKind::has_floor_constant`]) solves their
+    /// contacts (a grabbed node's attachment first) too, reading their data, poses and
+    /// attachments and keeping their force in [`BufferId::ColliderContacts`].
+    pub fn with_colliders(mut self, colliders: u32, grabs: bool) -> Self {
         use Access::{Read, ReadWrite};
         use BufferId::*;
         self.colliders = colliders;
-        if colliders > 0 {
+        self.grabs = grabs;
+        if colliders > 0 || grabs {
             for stage in (self.stages.iter_mut()).filter(|s| s.kind.has_floor_constant()) {
                 stage.bindings.extend([
                     (ColliderContacts, ReadWrite),
                     (Colliders, Read),
                     (ColliderGrids, Read),
                     (ColliderPoses, Read),
+                    (GrabNodes, Read),
+                    (GrabTargets, Read),
                 ]);
             }
         }

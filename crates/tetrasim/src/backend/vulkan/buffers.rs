@@ -320,20 +320,37 @@ fn global_buffers(optional: &mut Optional<'_>, global: &GlobalVolume) -> Result<
 fn collider_buffers(optional: &mut Optional<'_>, model: &Model) -> Result<()> {
     let (data, values) = super::colliders::static_data(&model.colliders);
     optional.zeroed(BufferId::ColliderContacts, (16 * model.node_count()) as u64)?;
-    optional.data(BufferId::Colliders, bytes(&data))?;
+    match data.is_empty() {
+        true => optional.zeroed(BufferId::Colliders, 4)?,
+        false => optional.data(BufferId::Colliders, bytes(&data))?,
+    }
+    // Each node's row among the grabbed nodes (4 zero bytes without grabs: never read).
+    let grabbed = super::plan::grabbed_nodes(&model.grabs);
+    match grabbed.is_empty() {
+        true => optional.zeroed(BufferId::GrabNodes, 4)?,
+        false => {
+            let mut rows = vec![u32::MAX; model.node_count()];
+            for (row, &i) in grabbed.iter().enumerate() {
+                rows[i as usize] = row as u32;
+            }
+            optional.data(BufferId::GrabNodes, bytes(&rows))?
+        }
+    }
     match values.is_empty() {
         true => optional.zeroed(BufferId::ColliderGrids, 4)?,
         false => optional.data(BufferId::ColliderGrids, bytes(&values))?,
     }
-    if let Some(poses) = optional.plan.buffer(BufferId::ColliderPoses) {
-        let buffer = Buffer::new(
-            optional.ctx,
-            BufferId::ColliderPoses.name(),
-            poses.bytes,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            MemoryLocation::CpuToGpu,
-        )?;
-        optional.built.insert(BufferId::ColliderPoses, buffer);
+    for id in [BufferId::ColliderPoses, BufferId::GrabTargets] {
+        if let Some(planned) = optional.plan.buffer(id) {
+            let buffer = Buffer::new(
+                optional.ctx,
+                id.name(),
+                planned.bytes,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                MemoryLocation::CpuToGpu,
+            )?;
+            optional.built.insert(id, buffer);
+        }
     }
     Ok(())
 }
@@ -416,7 +433,7 @@ impl Optional<'_> {
 }
 
 /// Every buffer kind.
-const ALL_BUFFERS: [BufferId; 38] = [
+const ALL_BUFFERS: [BufferId; 40] = [
     BufferId::Positions,
     BufferId::Velocities,
     BufferId::Forces,
@@ -455,4 +472,6 @@ const ALL_BUFFERS: [BufferId; 38] = [
     BufferId::ContactSums,
     BufferId::ClampNodes,
     BufferId::ClampPoses,
+    BufferId::GrabNodes,
+    BufferId::GrabTargets,
 ];

@@ -5,7 +5,7 @@
 
 use glam::{DQuat, DVec3};
 
-use crate::collider::Clamp;
+use crate::collider::{attachments, Clamp, Grab};
 use crate::collider::{Collider, ColliderAt, Shape};
 use crate::gpu::layout::{vec4, GpuClampNode, GpuClampPose, GpuCollider, GpuColliderPose};
 
@@ -111,6 +111,31 @@ pub(crate) fn clamp_poses(
                     rotation: quat(rotation),
                 }
             })
+        })
+        .collect()
+}
+
+/// The grabbed nodes' attachments over each of the `substeps` steps from step `first`
+/// ([`attachments`]: the grabs holding at the step's end, the first one winning), substep
+/// after substep, `grabbed` node after node: the target and the stiffness in w (infinite:
+/// hard; 0: not held in that step). `rest` are the model's initial positions.
+pub(crate) fn grab_targets(
+    grabs: &[Grab],
+    grabbed: &[u32],
+    rest: &[DVec3],
+    first: u64,
+    substeps: u32,
+    dt: f64,
+) -> Vec<[f32; 4]> {
+    (0..u64::from(substeps))
+        .flat_map(|j| {
+            let held = attachments(grabs, rest, (first + j) as f64 * dt, dt);
+            (grabbed.iter())
+                .map(|&i| match held[i as usize] {
+                    Some(a) => vec4(a.target, a.stiffness),
+                    None => [0.0; 4],
+                })
+                .collect::<Vec<_>>()
         })
         .collect()
 }

@@ -103,6 +103,11 @@ pub struct VulkanBackend {
     colliders: Vec<crate::collider::Collider>,
     /// The model's clamps, whose poses each frame slot gets before its submit.
     clamps: Vec<crate::collider::Clamp>,
+    /// The model's grabs, the nodes they hold (the rows of the grab targets) and the
+    /// initial positions they hold from (empty without grabs).
+    grabs: Vec<crate::collider::Grab>,
+    grabbed: Vec<u32>,
+    rest: Vec<DVec3>,
     /// Time step [s] (f64: the colliders' poses are computed on the host in f64).
     dt: f64,
     /// The model's inverse masses and masses, the `w` of the uploaded positions and
@@ -184,13 +189,6 @@ impl VulkanBackend {
             return Err(Error::param(
                 "frames-in-flight",
                 format!("must be 1 to {MAX_FRAMES_IN_FLIGHT}, not {depth}"),
-            ));
-        }
-        if !model.grabs.is_empty() {
-            return Err(Error::param(
-                "grab",
-                "grabs run on the cpu-ref and cpu backends; the vulkan backend does not solve \
-                 them yet",
             ));
         }
         let info = ctx.info();
@@ -280,6 +278,12 @@ impl VulkanBackend {
             submitted: 0,
             colliders: model.colliders.clone(),
             clamps: model.clamps.clone(),
+            grabs: model.grabs.clone(),
+            grabbed: plan::grabbed_nodes(&model.grabs),
+            rest: match model.grabs.is_empty() {
+                true => Vec::new(),
+                false => model.positions.clone(),
+            },
             dt: params.dt,
             inv_mass: model.inv_mass.clone(),
             mass: model.mass.clone(),
@@ -368,6 +372,20 @@ impl VulkanBackend {
     fn write_poses(&mut self, k: usize) -> Result<()> {
         let substeps = self.plan.schedule.substeps;
         let first = self.submitted * u64::from(substeps);
+        if let Some(buffer) = (self.buffers.optional.get_mut(&plan::BufferId::GrabTargets))
+            .filter(|_| !self.grabbed.is_empty())
+        {
+            let rows = colliders::grab_targets(
+                &self.grabs,
+                &self.grabbed,
+                &self.rest,
+                first,
+                substeps,
+                self.dt,
+            );
+            let bytes: &[u8] = bytemuck::cast_slice(&rows);
+            buffer.write_at(k * bytes.len(), bytes)?;
+        }
         if let Some(buffer) = self.buffers.optional.get_mut(&plan::BufferId::ClampPoses) {
             let rows = colliders::clamp_poses(&self.clamps, first, substeps, self.dt);
             let bytes: &[u8] = bytemuck::cast_slice(&rows);

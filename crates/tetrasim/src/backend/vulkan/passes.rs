@@ -272,6 +272,7 @@ impl Recorder<'_> {
             let push = PushConstants {
                 collider_first: (slot * substeps + substep) * plan.counts.colliders,
                 step_row: slot * substeps + substep,
+                grab_first: (slot * substeps + substep) * plan.counts.grabbed,
                 ..*self.push
             };
             self.record_step(plan, p, b, &push)?;

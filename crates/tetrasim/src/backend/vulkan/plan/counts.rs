@@ -18,6 +18,8 @@ pub struct PlanCounts {
     pub clamps: u32,
     /// Nodes held by clamps.
     pub clamped: u32,
+    /// Nodes held by grabs (each once).
+    pub grabbed: u32,
 }
 
 impl PlanCounts {
@@ -34,6 +36,7 @@ impl PlanCounts {
             tets: count("tets", model.tets.len())?,
             colliders: count("colliders", model.colliders.len())?,
             clamps: count("clamps", model.clamps.len())?,
+            grabbed: count("grabbed nodes", grabbed_nodes(&model.grabs).len())?,
             clamped: count(
                 "clamped nodes",
                 model.clamps.iter().map(|c| c.nodes.len()).sum(),
@@ -49,6 +52,14 @@ impl PlanCounts {
             )?,
         })
     }
+}
+
+/// The nodes any of `grabs` holds, ascending, each once: the rows of the grab targets.
+pub fn grabbed_nodes(grabs: &[crate::collider::Grab]) -> Vec<u32> {
+    let mut nodes: Vec<u32> = grabs.iter().flat_map(|g| g.nodes.iter().copied()).collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    nodes
 }
 
 /// Peak memory bandwidth of some GPUs [bytes/s], from the vendors' data sheets, for the

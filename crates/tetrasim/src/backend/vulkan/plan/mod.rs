@@ -30,7 +30,9 @@ mod workgroups;
 
 pub use buffer::BufferPlan;
 pub use cost::{profile as gpu_profile, GpuProfile, GPU_PROFILES};
-pub use counts::{BodyCounts, GlobalCounts, PlanCounts, SweepOffsets, PEAK_BANDWIDTH};
+pub use counts::{
+    grabbed_nodes, BodyCounts, GlobalCounts, PlanCounts, SweepOffsets, PEAK_BANDWIDTH,
+};
 pub use pass::{volume_sum_pass, PassPlan, Variant};
 pub use workgroups::for_elements as workgroup_for_elements;
 
@@ -137,7 +139,7 @@ impl EnginePlan {
         let global = global.filter(|_| params.solves_global_volume());
         let schedule = Schedule::new(params, sweeps.to_vec(), global.is_some(), metrics)
             .with_body_contact(body.is_some())
-            .with_colliders(counts.colliders)
+            .with_colliders(counts.colliders, counts.grabbed > 0)
             .with_clamps(counts.clamped);
         let mut buffers = buffers(counts, params, &schedule, global, workgroup_size, metrics);
         if counts.clamped > 0 {
@@ -312,14 +314,19 @@ fn buffers(
             upload_bytes: 0,
         })
         .collect();
-    if counts.colliders > 0 {
+    if counts.colliders > 0 || counts.grabbed > 0 {
         let (c, values) = (u64::from(counts.colliders), u64::from(counts.grid_values));
         let poses = POSE_BYTES * c * u64::from(schedule.substeps);
+        let grabbed = u64::from(counts.grabbed);
+        let targets = 16 * grabbed * u64::from(schedule.substeps);
+        let grab_nodes = if grabbed > 0 { 4 * n } else { 0 };
         for (id, bytes, upload_bytes) in [
             (ColliderContacts, 16 * n, 0),
             (Colliders, 64 * c, 0),
             (ColliderGrids, 4 * values, 0),
             (ColliderPoses, poses * u64::from(POSE_SLOTS), poses),
+            (GrabNodes, grab_nodes, 0),
+            (GrabTargets, targets * u64::from(POSE_SLOTS), targets),
         ] {
             buffers.push(BufferPlan {
                 id,
@@ -356,17 +363,17 @@ impl PassPlan {
     ) -> Self {
         let floor = u32::from(params.floor);
         let chebyshev = !schedule.chebyshev.is_empty();
-        // Kinematic colliders (refused with Chebyshev by `Problem::new`).
+        // Kinematic colliders and grabs (colliders are refused with Chebyshev by
+        // `Problem::new`): whether the floor's stages solve them.
         let colliders = match chebyshev {
             true => 0,
             false => schedule.colliders,
         };
+        let solve = !chebyshev && (colliders > 0 || schedule.grabs);
         let variant = match (stage.kind, schedule.gather) {
-            (PassKind::ConstraintApply, true) if colliders > 0 => {
-                Variant::Named("gather_colliders")
-            }
-            (PassKind::ConstraintApply, false) if colliders > 0 => Variant::Named("sums_colliders"),
-            (PassKind::Integrate | PassKind::GlobalVolume, _) if colliders > 0 => {
+            (PassKind::ConstraintApply, true) if solve => Variant::Named("gather_colliders"),
+            (PassKind::ConstraintApply, false) if solve => Variant::Named("sums_colliders"),
+            (PassKind::Integrate | PassKind::GlobalVolume, _) if solve => {
                 Variant::Named("colliders")
             }
             (PassKind::SpringScatter, _) => Variant::Atomics,
@@ -396,8 +403,9 @@ impl PassPlan {
             constants = vec![counts.clamped, counts.clamps];
         }
         // The collider count follows the floor's constants (id 2, or 3 after the chunks).
-        if colliders > 0 && stage.kind.has_floor_constant() {
-            constants.push(colliders);
+        // Then the grabbed nodes' count (the rows of one step's grab targets).
+        if solve && stage.kind.has_floor_constant() {
+            constants.extend([colliders, counts.grabbed]);
         }
         let constraints = |sweep: Option<usize>| match sweep.map(|s| schedule.sweeps[s].kind) {
             Some(ConstraintKind::Volume) => counts.tets,
