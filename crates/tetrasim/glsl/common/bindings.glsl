@@ -69,6 +69,8 @@ layout(push_constant, std430) uniform PushConstants {
     uint warm_start;  // 1: implicit springs' multipliers start at the stored (last step's)
                       // values, applied as forces by spring_warm_start
     uint collider_first; // the substep's first entry in ColliderPoses (colliders)
+    uint step_row;    // frame slot * substeps + substep: the step's row of ClampPoses
+    uint grab_first;  // step_row * grabbed nodes: the step's first entry in GrabTargets
 } pc;
 
 // Index of node i's per-group data (degrees, slot rows) in the current group.

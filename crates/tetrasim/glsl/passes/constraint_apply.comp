@@ -28,6 +28,8 @@
 layout(constant_id = 1) const uint FLOOR = 1u;
 // The kinematic colliders (specialisation constant 2, set by the engine plan).
 layout(constant_id = 2) const uint COLLIDERS = 0u;
+// The nodes grabs hold (specialisation constant 3): the rows of one step's GrabTargets.
+layout(constant_id = 3) const uint GRABBED = 0u;
 #include "physics/contact.glsl"
 
 layout(std430, set = 0, binding = B_POSITIONS) readonly restrict buffer Positions { vec4 positions[]; };
@@ -82,12 +84,12 @@ void main() {
         f = floor_solve(f, p.y, velocities[i].y, p.w, pc.dt);
     }
 #ifdef COLLIDERS_ON
-    if (COLLIDERS != 0u) {
+    {
         vec4 p = positions[i];
         vec3 contact = contacts[i].xyz;
         int touching;
         vec3 normal;
-        f.xyz = colliders_solve(f.xyz, contact, p.xyz, velocities[i].xyz, p.w, pc.dt, touching, normal);
+        f.xyz = colliders_solve(i, f.xyz, contact, p.xyz, velocities[i].xyz, p.w, pc.dt, touching, normal);
         contacts[i] = vec4(contact, 0.0);
     }
 #endif

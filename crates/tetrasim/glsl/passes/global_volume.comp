@@ -19,6 +19,8 @@
 layout(constant_id = 1) const uint FLOOR = 1u;
 // The kinematic colliders (specialisation constant 3; 2 is CHUNKS).
 layout(constant_id = 3) const uint COLLIDERS = 0u;
+// The nodes grabs hold (specialisation constant 4): the rows of one step's GrabTargets.
+layout(constant_id = 4) const uint GRABBED = 0u;
 #include "physics/contact.glsl"
 
 layout(std430, set = 0, binding = B_POSITIONS) readonly restrict buffer Positions { vec4 positions[]; };
@@ -56,12 +58,12 @@ void main() {
         f = floor_solve(f, p.y, velocities[node].y, p.w, pc.dt);
     }
 #ifdef COLLIDERS_ON
-    if (COLLIDERS != 0u) {
+    {
         vec4 p = positions[node];
         vec3 contact = contacts[node].xyz;
         int touching;
         vec3 normal;
-        f.xyz = colliders_solve(f.xyz, contact, p.xyz, velocities[node].xyz, p.w, pc.dt, touching, normal);
+        f.xyz = colliders_solve(node, f.xyz, contact, p.xyz, velocities[node].xyz, p.w, pc.dt, touching, normal);
         contacts[node] = vec4(contact, 0.0);
     }
 #endif

@@ -19,6 +19,8 @@
 layout(constant_id = 1) const uint FLOOR = 1u;
 // The kinematic colliders (specialisation constant 2, set by the engine plan).
 layout(constant_id = 2) const uint COLLIDERS = 0u;
+// The nodes grabs hold (specialisation constant 3): the rows of one step's GrabTargets.
+layout(constant_id = 3) const uint GRABBED = 0u;
 #include "physics/contact.glsl"
 
 layout(std430, set = 0, binding = B_POSITIONS) restrict buffer Positions { vec4 positions[]; };
@@ -46,9 +48,9 @@ void main() {
 #ifdef COLLIDERS_ON
     int touching = -1;
     vec3 normal = vec3(0.0);
-    if (COLLIDERS != 0u) {
+    {
         vec3 c = contacts[i].xyz;
-        f.xyz = colliders_solve(f.xyz, c, xn, v.xyz, w, pc.dt, touching, normal);
+        f.xyz = colliders_solve(i, f.xyz, c, xn, v.xyz, w, pc.dt, touching, normal);
         contacts[i] = vec4(0.0);
     }
     // integrate_node with the collider's friction before the position update.

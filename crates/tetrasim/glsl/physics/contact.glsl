@@ -5,8 +5,10 @@
 // each collider at the step's end pose, solved like the floor's in the same iterations.
 //
 // The pure functions are always there; the collider data (Colliders, ColliderGrids,
-// ColliderPoses) and what reads it only with COLLIDERS_ON, in a pass that declares the
-// specialisation constant COLLIDERS (the collider count) before including this file.
+// ColliderPoses), the grabs' attachments (GrabNodes, GrabTargets; collider/grab.rs) and what
+// reads them only with COLLIDERS_ON, in a pass that declares the specialisation constants
+// COLLIDERS (the collider count) and GRABBED (the grabbed nodes' count) before including
+// this file.
 #ifndef PHYSICS_CONTACT_GLSL
 #define PHYSICS_CONTACT_GLSL
 
@@ -113,6 +115,31 @@ struct ColliderPose {
 layout(std430, set = 0, binding = B_COLLIDERS) readonly restrict buffer Colliders { Collider colliders[]; };
 layout(std430, set = 0, binding = B_COLLIDER_GRIDS) readonly restrict buffer ColliderGrids { float grid_values[]; };
 layout(std430, set = 0, binding = B_COLLIDER_POSES) readonly restrict buffer ColliderPoses { ColliderPose poses[]; };
+layout(std430, set = 0, binding = B_GRAB_NODES) readonly restrict buffer GrabNodes { uint grab_nodes[]; };
+layout(std430, set = 0, binding = B_GRAB_TARGETS) readonly restrict buffer GrabTargets { vec4 grab_targets[]; };
+
+// Attachment::force of node i's grab, if one holds it this step (collider/grab.rs): the
+// force that ends the step on its target (hard: stiffness infinite), or the implicit
+// zero-length spring's k (target - x_e) / (1 + k dt^2 w), x_e where the node ends under
+// its other forces `other`.
+vec3 grab_force(uint i, vec3 x, vec3 v, vec3 other, float w, float dt) {
+    if (GRABBED == 0u) {
+        return vec3(0.0);
+    }
+    uint row = grab_nodes[i];
+    if (row == 0xFFFFFFFFu) {
+        return vec3(0.0);
+    }
+    vec4 a = grab_targets[pc.grab_first + row];
+    if (!(a.w > 0.0)) {
+        return vec3(0.0);
+    }
+    vec3 gap = a.xyz - end_position(x, v, other, w, dt);
+    if (isinf(a.w)) {
+        return gap / (dt * dt * w);
+    }
+    return gap * (a.w / (1.0 + a.w * dt * dt * w));
+}
 
 // A mesh collider's grid sample (i, j, k).
 float grid_at(Collider c, uint i, uint j, uint k) {
@@ -189,12 +216,13 @@ vec3 surface_velocity(uint k, vec3 x, float dt) {
     return (pose.moved.xyz - rotation_change(pose.turned, x - pose.end_position.xyz)) / dt;
 }
 
-// solve_node: re-solves a node's collider contacts against its total force f, which holds
-// the colliders' force found so far, `contact`; each collider in order pushes the node's
-// end position out to its thickness along its normal. Returns the new total force;
+// solve_node_attached: re-solves node i's collider contacts against its total force f,
+// which holds the colliders' force found so far, `contact`; first its grab's attachment
+// (grab_force), then each collider in order pushes the node's end position out to its
+// thickness along its normal. Returns the new total force;
 // `contact` becomes the colliders' new force, `touching` the last collider that pushed
 // (-1: none) and `normal` its normal. A pinned node (w = 0) gets none.
-vec3 colliders_solve(vec3 f, inout vec3 contact, vec3 x, vec3 v, float w, float dt,
+vec3 colliders_solve(uint i, vec3 f, inout vec3 contact, vec3 x, vec3 v, float w, float dt,
                      out int touching, out vec3 normal) {
     vec3 other = f - contact;
     contact = vec3(0.0);
@@ -203,6 +231,7 @@ vec3 colliders_solve(vec3 f, inout vec3 contact, vec3 x, vec3 v, float w, float 
     if (!(w > 0.0)) {
         return other;
     }
+    contact = grab_force(i, x, v, other, w, dt);
     for (uint k = 0u; k < COLLIDERS; ++k) {
         vec3 end = end_position(x, v, other + contact, w, dt);
         // ColliderAt::may_touch: out of reach of the end pose's centre, no contact.

@@ -80,8 +80,10 @@ bindings! {
     /// float per tet: a compliant volume constraint's multiplier so far in the step (method
     /// `volume`; hard tets leave theirs unused; like [`SPRING_MULTIPLIERS`]).
     VOLUME_MULTIPLIERS = 27,
-    /// Per surface node, its body contact of the step: the triangle, barycentric weights,
-    /// normal and accumulated multiplier (contact_find.comp, contact_solve.comp).
+    /// Per surface node, its body contact of the step (48 bytes, glsl/physics/bodies.glsl
+    /// `BodyContactRecord`): the node and the triangle's nodes (node u32::MAX: none), the
+    /// barycentric weights and the accumulated multiplier, the normal (contact_find.comp
+    /// writes it, contact_solve.comp updates the multiplier).
     CONTACTS = 28,
     /// vec4 per node: the kinematic colliders' contact force so far in the step [N] (w
     /// unused), re-solved with the floor's and reset to 0 by `integrate`
@@ -97,4 +99,35 @@ bindings! {
     /// written before each frame's submit; `pc.collider_first` selects the substep's row;
     /// only with colliders).
     COLLIDER_POSES = 32,
+    /// Body contact's surface (lavapipe allows 32 storage buffers per stage, so the static
+    /// arrays share one buffer): a uvec4 per surface node ([`crate::contact::BodyContact::nodes`]:
+    /// its node index, its object with bit 31 set when the object collides with itself, 0,
+    /// 0), then a uvec4 per surface triangle (its three nodes, its object likewise).
+    BODY_SURFACE = 33,
+    /// Body contact's spatial hash, one u32 array: per bucket its count of the step
+    /// (contact_count adds, contact_fill takes them back out, so 0 between steps), then per
+    /// bucket + 1 the offsets of the buckets' ranges (contact_scan), then the items, triangle
+    /// indices bucket after bucket (contact_fill; sized from the rest mesh with headroom, an
+    /// overflow sets status flag 4).
+    CONTACT_HASH = 34,
+    /// vec4 per node: the body contacts' forces of the current iteration [N] (xyz, summed
+    /// with float atomics by contact_solve, applied and cleared by contact_apply) and, in w
+    /// (u32 bits), the node's number of body contacts this step as the node or a triangle's
+    /// corner (contact_find counts with integer atomics, contact_scan clears).
+    CONTACT_SUMS = 35,
+    /// [`super::GpuClampNode`] per clamped node: its node, its clamp, its rest position
+    /// relative to the clamp's centre (only with clamps).
+    CLAMP_NODES = 36,
+    /// [`super::GpuClampPose`] per frame slot, substep and clamp: the clamp's centre and
+    /// rotation at the step's end (host-visible, written before each frame's submit;
+    /// `pc.step_row` selects the substep's rows; only with clamps).
+    CLAMP_POSES = 37,
+    /// u32 per node: its row among the nodes some grab holds (u32::MAX: none; with
+    /// colliders or grabs, 4 bytes without grabs).
+    GRAB_NODES = 38,
+    /// vec4 per frame slot, substep and grabbed node: its attachment at the step's end,
+    /// the target [m] and the stiffness [N/m] in w (infinite: hard, 0: not held this step)
+    /// (host-visible, written before each frame's submit; `pc.grab_first` selects the
+    /// step's rows; with colliders or grabs, 4 bytes without grabs).
+    GRAB_TARGETS = 39,
 }

@@ -21,8 +21,8 @@ pub mod binding {
     include!("bindings.rs");
 }
 
-/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 76 bytes used,
-/// padded to 80.
+/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 84 bytes used,
+/// padded to 96.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct PushConstants {
@@ -72,8 +72,14 @@ pub struct PushConstants {
     /// The current substep's first entry in the collider poses
     /// ([`binding::COLLIDER_POSES`]): `(frame slot * substeps + substep) * colliders`.
     pub collider_first: u32,
+    /// The step's row in the host-written per-step arrays (clamp poses):
+    /// `frame slot * substeps + substep`.
+    pub step_row: u32,
+    /// The step's first row in the grab targets ([`binding::GRAB_TARGETS`]):
+    /// `step_row * grabbed nodes`.
+    pub grab_first: u32,
     /// Padding to a multiple of 16 bytes (not in the shader's block).
-    pub pad: u32,
+    pub pad: [u32; 3],
 }
 
 /// Values of [`PushConstants::combine`] (the `COMBINE_*` macros in bindings.glsl).
@@ -113,7 +119,9 @@ impl PushConstants {
             iteration: 0,
             warm_start: u32::from(params.springs == SpringKind::Implicit && params.warm_start),
             collider_first: 0,
-            pad: 0,
+            step_row: 0,
+            grab_first: 0,
+            pad: [0; 3],
         }
     }
 }
@@ -191,6 +199,32 @@ pub struct GpuColliderPose {
     pub turned: [f32; 4],
 }
 
+/// One clamped node (`ClampNode` in glsl/passes/clamp_drive.comp), 32 bytes.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuClampNode {
+    /// The node.
+    pub node: u32,
+    /// Its clamp (index into the model's clamps).
+    pub clamp: u32,
+    /// Padding.
+    pub pad: [u32; 2],
+    /// Its rest position minus the clamp's centre [m] (w 0).
+    pub offset: [f32; 4],
+}
+
+/// One clamp's pose at the end of one step (`ClampPose` in glsl/passes/clamp_drive.comp),
+/// 32 bytes, computed on the host in f64: a clamped node's target is
+/// `position + rotation * offset`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuClampPose {
+    /// The clamp's centre plus its translation [m] (w 0).
+    pub position: [f32; 4],
+    /// Its rotation (x, y, z, w).
+    pub rotation: [f32; 4],
+}
+
 /// One volume_sum workgroup's result (`VolumePartial` in bindings.glsl).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
@@ -229,7 +263,7 @@ mod tests {
 
     #[test]
     fn sizes_are_std430_multiples_of_16() {
-        assert_eq!(size_of::<PushConstants>(), 80);
+        assert_eq!(size_of::<PushConstants>(), 96);
         assert_eq!(size_of::<GpuSpring>(), 16);
         assert_eq!(size_of::<VolumePartial>(), 16);
         assert_eq!(size_of::<GpuGlobalObject>(), 32);
@@ -262,6 +296,8 @@ mod tests {
             ("iteration", offset_of!(PushConstants, iteration)),
             ("warm_start", offset_of!(PushConstants, warm_start)),
             ("collider_first", offset_of!(PushConstants, collider_first)),
+            ("step_row", offset_of!(PushConstants, step_row)),
+            ("grab_first", offset_of!(PushConstants, grab_first)),
         ];
         // integrate uses floor_on/friction/gravity, volume_sum the tet count: together they
         // name most members; every member the shader keeps must sit where Rust puts it.
@@ -431,6 +467,15 @@ mod tests {
             ("Colliders", binding::COLLIDERS),
             ("ColliderGrids", binding::COLLIDER_GRIDS),
             ("ColliderPoses", binding::COLLIDER_POSES),
+            ("BodySurface", binding::BODY_SURFACE),
+            ("ContactHash", binding::CONTACT_HASH),
+            ("ContactSumsF", binding::CONTACT_SUMS),
+            ("ContactSumsU", binding::CONTACT_SUMS),
+            ("ContactSums", binding::CONTACT_SUMS),
+            ("ClampNodes", binding::CLAMP_NODES),
+            ("ClampPoses", binding::CLAMP_POSES),
+            ("GrabNodes", binding::GRAB_NODES),
+            ("GrabTargets", binding::GRAB_TARGETS),
         ]
         .into_iter()
         .collect();

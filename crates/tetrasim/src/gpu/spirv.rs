@@ -207,11 +207,12 @@ mod tests {
             );
             variants += usize::from(key.contains('#'));
         }
-        // spring_scatter, spring_constraint, distance, volume: ext + cas each;
+        // spring_scatter, spring_constraint, distance, volume, contact_solve: ext + cas each;
         // spring_constraint, distance, volume: gather; constraint_apply: sums, gather,
-        // chebyshev, gather_chebyshev, sums_colliders, gather_colliders; global_volume and
-        // integrate: colliders (their `plain` variants keep the shader's own key).
-        assert_eq!(variants, 19);
+        // chebyshev, gather_chebyshev, sums_colliders, gather_colliders; global_volume,
+        // integrate and contact_apply: colliders (their `plain` variants keep the shader's
+        // own key).
+        assert_eq!(variants, 22);
     }
 
     #[test]

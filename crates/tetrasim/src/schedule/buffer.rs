@@ -76,6 +76,24 @@ pub enum BufferId {
     /// 64 bytes per frame slot, substep and collider: the step's poses (colliders;
     /// host-visible).
     ColliderPoses,
+    /// uvec4 per surface node (node, object), then per surface triangle (nodes, object)
+    /// (body contact).
+    BodySurface,
+    /// u32: per hash bucket its count, per bucket + 1 its offset, then the items (body
+    /// contact).
+    ContactHash,
+    /// vec4 per node: the body contacts' forces of an iteration (float atomics), w the
+    /// node's contact count (u32 bits).
+    ContactSums,
+    /// 32 bytes per clamped node: node, clamp, rest offset from the clamp's centre.
+    ClampNodes,
+    /// 32 bytes per frame slot, substep and clamp: its pose at the step's end (host-visible).
+    ClampPoses,
+    /// u32 per node: its row among the grabbed nodes (u32::MAX: none; colliders or grabs).
+    GrabNodes,
+    /// vec4 per frame slot, substep and grabbed node: its attachment's target and stiffness
+    /// (host-visible; colliders or grabs).
+    GrabTargets,
 }
 
 impl BufferId {
@@ -115,6 +133,13 @@ impl BufferId {
             BufferId::Colliders => "colliders",
             BufferId::ColliderGrids => "collider grids",
             BufferId::ColliderPoses => "collider poses",
+            BufferId::BodySurface => "body contact surface",
+            BufferId::ContactHash => "contact hash",
+            BufferId::ContactSums => "contact sums",
+            BufferId::ClampNodes => "clamp nodes",
+            BufferId::ClampPoses => "clamp poses",
+            BufferId::GrabNodes => "grab nodes",
+            BufferId::GrabTargets => "grab targets",
         }
     }
 
@@ -154,6 +179,13 @@ impl BufferId {
             BufferId::Colliders => binding::COLLIDERS,
             BufferId::ColliderGrids => binding::COLLIDER_GRIDS,
             BufferId::ColliderPoses => binding::COLLIDER_POSES,
+            BufferId::BodySurface => binding::BODY_SURFACE,
+            BufferId::ContactHash => binding::CONTACT_HASH,
+            BufferId::ContactSums => binding::CONTACT_SUMS,
+            BufferId::ClampNodes => binding::CLAMP_NODES,
+            BufferId::ClampPoses => binding::CLAMP_POSES,
+            BufferId::GrabNodes => binding::GRAB_NODES,
+            BufferId::GrabTargets => binding::GRAB_TARGETS,
         }
     }
 }

@@ -156,6 +156,15 @@ pub struct Schedule {
     pub floor: bool,
     /// Kinematic colliders, solved with the floor (0: none).
     pub colliders: u32,
+    /// Whether grabs hold nodes (their attachments are solved with the colliders).
+    pub grabs: bool,
+}
+
+/// The position of the first of `stages` that runs after `kind` (declaration order).
+fn before(stages: &[Stage], kind: PassKind) -> usize {
+    (stages.iter())
+        .position(|s| s.kind > kind)
+        .unwrap_or(stages.len())
 }
 
 impl Schedule {
@@ -164,56 +173,112 @@ impl Schedule {
         let sweeps = problem.sweeps.iter().map(SweepPlan::of).collect();
         Schedule::new(&problem.params, sweeps, problem.global.is_some(), metrics)
             .with_body_contact(problem.bodies.is_some())
-            .with_colliders(problem.model.colliders.len() as u32)
+            .with_colliders(
+                problem.model.colliders.len() as u32,
+                !problem.model.grabs.is_empty(),
+            )
+            .with_clamps(
+                (problem.model.clamps.iter())
+                    .map(|c| c.nodes.len() as u32)
+                    .sum(),
+            )
     }
 
-    /// The same schedule with the body contact stages when `on` ([`crate::contact`]):
-    /// `contact_find` once per step before the iterations, `contact_solve` after each
-    /// iteration's other constraints (once per step for springs-only methods).
+    /// The same schedule with the body contact stages when `on` ([`crate::contact`]): once
+    /// per step before the iterations the broad phase (`contact_count`, `contact_scan`,
+    /// `contact_fill`: a hash of the surface triangles built by counting sort; the GPU's
+    /// own, no-ops on the CPU backends, whose `contact_find` hashes) and `contact_find`;
+    /// after each iteration's other constraints (once per step for springs-only methods)
+    /// `contact_solve` and `contact_apply` (the GPU's application of the solve's per-node
+    /// sums, a no-op on the CPU backends, whose `contact_solve` applies).
     pub fn with_body_contact(mut self, on: bool) -> Self {
         if !on {
             return self;
         }
         use Access::{Read, ReadWrite, Write};
         use BufferId::*;
-        let before = |stages: &[Stage], kind: PassKind| {
-            stages
-                .iter()
-                .position(|s| s.kind > kind)
-                .unwrap_or(stages.len())
-        };
-        let find = Stage {
-            kind: PassKind::ContactFind,
+        let substep = |kind, bindings| Stage {
+            kind,
             repeat: Repeat::Substep,
             domain: Domain::Surface,
             sweep: None,
-            bindings: vec![
-                (Positions, Read),
-                (Velocities, Read),
-                (SurfaceNodes, Read),
-                (SurfaceFaces, Read),
-                (Contacts, Write),
-            ],
+            bindings,
         };
-        let at = before(&self.stages, PassKind::ContactFind);
-        self.stages.insert(at, find);
-        let solve = Stage {
-            kind: PassKind::ContactSolve,
-            repeat: match self.sweeps.is_empty() {
-                true => Repeat::Substep,
-                false => Repeat::IterationEnd,
+        let predicted = [(Positions, Read), (Velocities, Read), (BodySurface, Read)];
+        let broad = vec![
+            substep(
+                PassKind::ContactCount,
+                [
+                    &predicted[..],
+                    &[(ContactHash, ReadWrite), (Status, ReadWrite)],
+                ]
+                .concat(),
+            ),
+            substep(
+                PassKind::ContactScan,
+                vec![
+                    (BodySurface, Read),
+                    (ContactHash, ReadWrite),
+                    (ContactSums, Write),
+                    (Status, ReadWrite),
+                ],
+            ),
+            substep(
+                PassKind::ContactFill,
+                [&predicted[..], &[(ContactHash, ReadWrite)]].concat(),
+            ),
+            substep(
+                PassKind::ContactFind,
+                [
+                    &predicted[..],
+                    &[
+                        (Springs, Read),
+                        (NodeSpringOffsets, Read),
+                        (NodeSpringItems, Read),
+                        (ContactHash, Read),
+                        (Contacts, Write),
+                        (ContactSums, ReadWrite),
+                    ],
+                ]
+                .concat(),
+            ),
+        ];
+        let at = before(&self.stages, PassKind::ContactCount);
+        self.stages.splice(at..at, broad);
+        let repeat = match self.sweeps.is_empty() {
+            true => Repeat::Substep,
+            false => Repeat::IterationEnd,
+        };
+        let solve = vec![
+            Stage {
+                repeat,
+                ..substep(
+                    PassKind::ContactSolve,
+                    vec![
+                        (Positions, Read),
+                        (Velocities, Read),
+                        (Forces, Read),
+                        (Contacts, ReadWrite),
+                        (ContactSums, ReadWrite),
+                    ],
+                )
             },
-            domain: Domain::Surface,
-            sweep: None,
-            bindings: vec![
-                (Positions, Read),
-                (Velocities, Read),
-                (Contacts, ReadWrite),
-                (Forces, ReadWrite),
-            ],
-        };
+            Stage {
+                repeat,
+                domain: Domain::Nodes,
+                ..substep(
+                    PassKind::ContactApply,
+                    vec![
+                        (Positions, Read),
+                        (Velocities, Read),
+                        (ContactSums, ReadWrite),
+                        (Forces, ReadWrite),
+                    ],
+                )
+            },
+        ];
         let at = before(&self.stages, PassKind::ContactSolve);
-        self.stages.insert(at, solve);
+        self.stages.splice(at..at, solve);
         self
     }
 

@@ -12,6 +12,11 @@ use crate::shaders::file;
 /// A compute pass. The declaration order is the execution order within a frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum PassKind {
+    /// Clamped nodes (pins that move) get the velocity that takes them to their target at
+    /// the step's end, before any force (`collider::drive`). On the GPU from the clamps'
+    /// poses the host writes per step; the CPU backends drive them at the start of their
+    /// step, so their arms are no-ops.
+    ClampDrive,
     /// Spring forces scattered with float atomics (`--solver jacobi` paths).
     SpringScatter,
     /// Spring forces gathered per node (no atomics).
@@ -21,6 +26,18 @@ pub enum PassKind {
     SpringWarmStart,
     /// Global volume constraint: `C`, `A` and the surface gradients, once per step.
     GlobalVolumePrepare,
+    /// Body contact's broad phase, first third: every surface triangle counts itself into
+    /// the hash buckets of the cells its predicted bounds (grown by the reach) cover, with
+    /// integer atomics, once per step. GPU only: the CPU backends' `contact_find` builds
+    /// their own hash, so their arms are no-ops.
+    ContactCount,
+    /// Body contact's broad phase, second third: the buckets' prefix sum (one workgroup)
+    /// and the contact degrees cleared. GPU only (no-op arms on the CPU backends).
+    ContactScan,
+    /// Body contact's broad phase, last third: every triangle writes its index into the
+    /// buckets' ranges (counting sort; the counts return to 0). GPU only (no-op arms on the
+    /// CPU backends).
+    ContactFill,
     /// Contact between bodies: each surface node's nearest triangle of another body (or a
     /// non-adjacent one of its own, with self-contact) within the margin, once per step.
     ContactFind,
@@ -40,8 +57,14 @@ pub enum PassKind {
     /// surface nodes, after [`PassKind::GlobalVolumeSum`].
     GlobalVolume,
     /// The step's body contacts solved (Jacobi, one-sided) and applied, then the floor and
-    /// the colliders, after each iteration's other constraints.
+    /// the colliders, after each iteration's other constraints (on the GPU: the
+    /// multipliers, their forces summed per node with float atomics).
     ContactSolve,
+    /// The body contacts' per-node sums applied to the forces (`omega` times the combine
+    /// mode's weight for the node's contact count), then every node's floor and colliders
+    /// solved again. GPU only: the CPU backends' `contact_solve` arm applies, so theirs are
+    /// no-ops.
+    ContactApply,
     /// Velocities and positions, the floor.
     Integrate,
     /// Divergence flags and the first bad node.
@@ -52,11 +75,15 @@ pub enum PassKind {
 
 impl PassKind {
     /// Every pass, in execution order.
-    pub const ALL: [PassKind; 15] = [
+    pub const ALL: [PassKind; 20] = [
+        PassKind::ClampDrive,
         PassKind::SpringScatter,
         PassKind::SpringGather,
         PassKind::SpringWarmStart,
         PassKind::GlobalVolumePrepare,
+        PassKind::ContactCount,
+        PassKind::ContactScan,
+        PassKind::ContactFill,
         PassKind::ContactFind,
         PassKind::SpringConstraint,
         PassKind::Distance,
@@ -65,6 +92,7 @@ impl PassKind {
         PassKind::GlobalVolumeSum,
         PassKind::GlobalVolume,
         PassKind::ContactSolve,
+        PassKind::ContactApply,
         PassKind::Integrate,
         PassKind::Check,
         PassKind::VolumeSum,
@@ -73,10 +101,14 @@ impl PassKind {
     /// The name in plans, timings and records (the shader's file stem).
     pub fn name(self) -> &'static str {
         match self {
+            PassKind::ClampDrive => "clamp_drive",
             PassKind::SpringScatter => "spring_scatter",
             PassKind::SpringGather => "spring_gather",
             PassKind::SpringWarmStart => "spring_warm_start",
             PassKind::GlobalVolumePrepare => "global_volume_prepare",
+            PassKind::ContactCount => "contact_count",
+            PassKind::ContactScan => "contact_scan",
+            PassKind::ContactFill => "contact_fill",
             PassKind::ContactFind => "contact_find",
             PassKind::SpringConstraint => "spring_constraint",
             PassKind::Distance => "distance",
@@ -85,6 +117,7 @@ impl PassKind {
             PassKind::GlobalVolumeSum => "global_volume_sum",
             PassKind::GlobalVolume => "global_volume",
             PassKind::ContactSolve => "contact_solve",
+            PassKind::ContactApply => "contact_apply",
             PassKind::Integrate => "integrate",
             PassKind::Check => "check",
             PassKind::VolumeSum => "volume_sum",
@@ -94,10 +127,14 @@ impl PassKind {
     /// The shader file under `glsl/`.
     pub fn shader(self) -> &'static str {
         match self {
+            PassKind::ClampDrive => file::PASSES_CLAMP_DRIVE_COMP,
             PassKind::SpringScatter => file::PASSES_SPRING_SCATTER_COMP,
             PassKind::SpringGather => file::PASSES_SPRING_GATHER_COMP,
             PassKind::SpringWarmStart => file::PASSES_SPRING_WARM_START_COMP,
             PassKind::GlobalVolumePrepare => file::PASSES_GLOBAL_VOLUME_PREPARE_COMP,
+            PassKind::ContactCount => file::PASSES_CONTACT_COUNT_COMP,
+            PassKind::ContactScan => file::PASSES_CONTACT_SCAN_COMP,
+            PassKind::ContactFill => file::PASSES_CONTACT_FILL_COMP,
             PassKind::ContactFind => file::PASSES_CONTACT_FIND_COMP,
             PassKind::SpringConstraint => file::PASSES_SPRING_CONSTRAINT_COMP,
             PassKind::Distance => file::PASSES_DISTANCE_COMP,
@@ -106,6 +143,7 @@ impl PassKind {
             PassKind::GlobalVolumeSum => file::PASSES_GLOBAL_VOLUME_SUM_COMP,
             PassKind::GlobalVolume => file::PASSES_GLOBAL_VOLUME_COMP,
             PassKind::ContactSolve => file::PASSES_CONTACT_SOLVE_COMP,
+            PassKind::ContactApply => file::PASSES_CONTACT_APPLY_COMP,
             PassKind::Integrate => file::PASSES_INTEGRATE_COMP,
             PassKind::Check => file::PASSES_CHECK_COMP,
             PassKind::VolumeSum => file::PASSES_VOLUME_SUM_COMP,
@@ -122,7 +160,10 @@ impl PassKind {
     pub fn has_floor_constant(self) -> bool {
         matches!(
             self,
-            PassKind::Integrate | PassKind::ConstraintApply | PassKind::GlobalVolume
+            PassKind::Integrate
+                | PassKind::ConstraintApply
+                | PassKind::GlobalVolume
+                | PassKind::ContactApply
         )
     }
 }
@@ -323,23 +364,51 @@ impl Schedule {
             chebyshev,
             floor: params.floor,
             colliders: 0,
+            grabs: false,
         }
     }
 
-    /// The same schedule with `colliders` kinematic colliders: every stage that solves the
-    /// floor ([`PassKind::has_floor_constant`]) solves their contacts too, reading their
-    /// data and poses and keeping their force in [`BufferId::ColliderContacts`].
-    pub fn with_colliders(mut self, colliders: u32) -> Self {
+    /// The same schedule with `clamped` nodes held by clamps: `clamp_drive` first in every
+    /// step, setting their velocities from the host's per-step clamp poses.
+    pub fn with_clamps(mut self, clamped: u32) -> Self {
+        use Access::{Read, ReadWrite};
+        use BufferId::*;
+        if clamped > 0 {
+            let bindings = vec![
+                (Positions, Read),
+                (ClampNodes, Read),
+                (ClampPoses, Read),
+                (Velocities, ReadWrite),
+            ];
+            let drive = stage(
+                PassKind::ClampDrive,
+                Repeat::Substep,
+                Domain::Nodes,
+                bindings,
+            );
+            self.stages.insert(0, drive);
+        }
+        self
+    }
+
+    /// The same schedule with `colliders` kinematic colliders and, when `grabs`, grabs:
+    /// every stage that solves the floor ([`PassKind::has_floor_constant`]) solves their
+    /// contacts (a grabbed node's attachment first) too, reading their data, poses and
+    /// attachments and keeping their force in [`BufferId::ColliderContacts`].
+    pub fn with_colliders(mut self, colliders: u32, grabs: bool) -> Self {
         use Access::{Read, ReadWrite};
         use BufferId::*;
         self.colliders = colliders;
-        if colliders > 0 {
+        self.grabs = grabs;
+        if colliders > 0 || grabs {
             for stage in (self.stages.iter_mut()).filter(|s| s.kind.has_floor_constant()) {
                 stage.bindings.extend([
                     (ColliderContacts, ReadWrite),
                     (Colliders, Read),
                     (ColliderGrids, Read),
                     (ColliderPoses, Read),
+                    (GrabNodes, Read),
+                    (GrabTargets, Read),
                 ]);
             }
         }

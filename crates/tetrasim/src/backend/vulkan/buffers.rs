@@ -10,6 +10,7 @@ use gpu_allocator::MemoryLocation;
 
 use super::plan::{BufferId, EnginePlan};
 use crate::backend::State;
+use crate::contact::BodyContact;
 use crate::gpu::layout::{vec4, GpuGlobalObject, GpuSpring};
 use crate::gpu::{Buffer, Context, Uploads};
 use crate::model::{ConstraintKind, GlobalVolume, Model, Sweep};
@@ -186,6 +187,12 @@ impl SimBuffers {
         if plan.has(BufferId::Colliders) {
             collider_buffers(&mut optional, model)?;
         }
+        if plan.has(BufferId::ClampNodes) {
+            clamp_buffers(&mut optional, model)?;
+        }
+        if let Some(bodies) = problem.bodies.as_ref().filter(|_| plan.body.is_some()) {
+            body_buffers(&mut optional, bodies, n)?;
+        }
         let Optional { up, built, .. } = optional;
         let partials_size = plan.buffer(BufferId::Partials).map_or(0, |b| b.bytes);
         let buffers = SimBuffers {
@@ -313,22 +320,88 @@ fn global_buffers(optional: &mut Optional<'_>, global: &GlobalVolume) -> Result<
 fn collider_buffers(optional: &mut Optional<'_>, model: &Model) -> Result<()> {
     let (data, values) = super::colliders::static_data(&model.colliders);
     optional.zeroed(BufferId::ColliderContacts, (16 * model.node_count()) as u64)?;
-    optional.data(BufferId::Colliders, bytes(&data))?;
+    match data.is_empty() {
+        true => optional.zeroed(BufferId::Colliders, 4)?,
+        false => optional.data(BufferId::Colliders, bytes(&data))?,
+    }
+    // Each node's row among the grabbed nodes (4 zero bytes without grabs: never read).
+    let grabbed = super::plan::grabbed_nodes(&model.grabs);
+    match grabbed.is_empty() {
+        true => optional.zeroed(BufferId::GrabNodes, 4)?,
+        false => {
+            let mut rows = vec![u32::MAX; model.node_count()];
+            for (row, &i) in grabbed.iter().enumerate() {
+                rows[i as usize] = row as u32;
+            }
+            optional.data(BufferId::GrabNodes, bytes(&rows))?
+        }
+    }
     match values.is_empty() {
         true => optional.zeroed(BufferId::ColliderGrids, 4)?,
         false => optional.data(BufferId::ColliderGrids, bytes(&values))?,
     }
-    if let Some(poses) = optional.plan.buffer(BufferId::ColliderPoses) {
+    for id in [BufferId::ColliderPoses, BufferId::GrabTargets] {
+        if let Some(planned) = optional.plan.buffer(id) {
+            let buffer = Buffer::new(
+                optional.ctx,
+                id.name(),
+                planned.bytes,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                MemoryLocation::CpuToGpu,
+            )?;
+            optional.built.insert(id, buffer);
+        }
+    }
+    Ok(())
+}
+
+/// The clamps' buffers: each clamped node with its clamp and rest offset from the clamp's
+/// centre, and the host-visible poses, which every frame slot writes before its submit
+/// ([`super::colliders::clamp_poses`]).
+fn clamp_buffers(optional: &mut Optional<'_>, model: &Model) -> Result<()> {
+    let nodes = super::colliders::clamp_nodes(&model.clamps, &model.positions);
+    optional.data(BufferId::ClampNodes, bytes(&nodes))?;
+    if let Some(poses) = optional.plan.buffer(BufferId::ClampPoses) {
         let buffer = Buffer::new(
             optional.ctx,
-            BufferId::ColliderPoses.name(),
+            BufferId::ClampPoses.name(),
             poses.bytes,
             vk::BufferUsageFlags::STORAGE_BUFFER,
             MemoryLocation::CpuToGpu,
         )?;
-        optional.built.insert(BufferId::ColliderPoses, buffer);
+        optional.built.insert(BufferId::ClampPoses, buffer);
     }
     Ok(())
+}
+
+/// Body contact's buffers: each surface node, then each surface triangle, with its object
+/// (bit 31: the object collides with itself), and the zeroed hash (its counts are 0 between
+/// steps), contact records and sums.
+fn body_buffers(optional: &mut Optional<'_>, bodies: &BodyContact, n: usize) -> Result<()> {
+    let object = |i: u32| {
+        let k = bodies.object_of[i as usize];
+        let own = bodies
+            .self_contact
+            .get(k as usize)
+            .copied()
+            .unwrap_or(false);
+        k | (u32::from(own) << 31)
+    };
+    let surface: Vec<[u32; 4]> = (bodies.nodes.iter())
+        .map(|&i| [i, object(i), 0, 0])
+        .chain(
+            bodies
+                .triangles
+                .iter()
+                .map(|t| [t[0], t[1], t[2], object(t[0])]),
+        )
+        .collect();
+    optional.data(BufferId::BodySurface, bytes(&surface))?;
+    for id in [BufferId::ContactHash, BufferId::Contacts] {
+        let size = optional.plan.buffer(id).map_or(4, |b| b.bytes);
+        optional.zeroed(id, size)?;
+    }
+    optional.zeroed(BufferId::ContactSums, (16 * n) as u64)
 }
 
 /// The optional buffers while they are uploaded: each is built when the plan has it.
@@ -360,7 +433,7 @@ impl Optional<'_> {
 }
 
 /// Every buffer kind.
-const ALL_BUFFERS: [BufferId; 33] = [
+const ALL_BUFFERS: [BufferId; 40] = [
     BufferId::Positions,
     BufferId::Velocities,
     BufferId::Forces,
@@ -394,4 +467,11 @@ const ALL_BUFFERS: [BufferId; 33] = [
     BufferId::Colliders,
     BufferId::ColliderGrids,
     BufferId::ColliderPoses,
+    BufferId::BodySurface,
+    BufferId::ContactHash,
+    BufferId::ContactSums,
+    BufferId::ClampNodes,
+    BufferId::ClampPoses,
+    BufferId::GrabNodes,
+    BufferId::GrabTargets,
 ];

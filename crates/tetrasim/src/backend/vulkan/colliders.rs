@@ -5,8 +5,9 @@
 
 use glam::{DQuat, DVec3};
 
+use crate::collider::{attachments, Clamp, Grab};
 use crate::collider::{Collider, ColliderAt, Shape};
-use crate::gpu::layout::{GpuCollider, GpuColliderPose};
+use crate::gpu::layout::{vec4, GpuClampNode, GpuClampPose, GpuCollider, GpuColliderPose};
 
 /// Each collider's [`GpuCollider`] and every mesh collider's grid samples, one grid after
 /// another (each collider's `grid_dims.w` its first sample).
@@ -73,6 +74,68 @@ pub(crate) fn poses(
                     turned: quat(at.start.rotation * at.end.rotation.inverse()),
                 }
             })
+        })
+        .collect()
+}
+
+/// Every clamped node, clamp after clamp, with its clamp and its rest position (`rest`,
+/// the model's initial positions) relative to the clamp's centre.
+pub(crate) fn clamp_nodes(clamps: &[Clamp], rest: &[DVec3]) -> Vec<GpuClampNode> {
+    (clamps.iter().enumerate())
+        .flat_map(|(k, c)| {
+            c.nodes.iter().map(move |&i| GpuClampNode {
+                node: i,
+                clamp: k as u32,
+                pad: [0; 2],
+                offset: vec4(rest[i as usize] - c.centre, 0.0),
+            })
+        })
+        .collect()
+}
+
+/// Every clamp's pose at the end of each of the `substeps` steps from step `first`
+/// (`collider::drive`: step `s` ends at `(s + 1) dt`), substep after substep.
+pub(crate) fn clamp_poses(
+    clamps: &[Clamp],
+    first: u64,
+    substeps: u32,
+    dt: f64,
+) -> Vec<GpuClampPose> {
+    (0..u64::from(substeps))
+        .flat_map(|j| {
+            let t = (first + j + 1) as f64 * dt;
+            clamps.iter().map(move |c| {
+                let (translation, rotation) = c.motion.displacement(t);
+                GpuClampPose {
+                    position: vec4(c.centre + translation, 0.0),
+                    rotation: quat(rotation),
+                }
+            })
+        })
+        .collect()
+}
+
+/// The grabbed nodes' attachments over each of the `substeps` steps from step `first`
+/// ([`attachments`]: the grabs holding at the step's end, the first one winning), substep
+/// after substep, `grabbed` node after node: the target and the stiffness in w (infinite:
+/// hard; 0: not held in that step). `rest` are the model's initial positions.
+pub(crate) fn grab_targets(
+    grabs: &[Grab],
+    grabbed: &[u32],
+    rest: &[DVec3],
+    first: u64,
+    substeps: u32,
+    dt: f64,
+) -> Vec<[f32; 4]> {
+    (0..u64::from(substeps))
+        .flat_map(|j| {
+            let held = attachments(grabs, rest, (first + j) as f64 * dt, dt);
+            (grabbed.iter())
+                .map(|&i| match held[i as usize] {
+                    Some(a) => vec4(a.target, a.stiffness),
+                    None => [0.0; 4],
+                })
+                .collect::<Vec<_>>()
         })
         .collect()
 }

@@ -101,6 +101,13 @@ pub struct VulkanBackend {
     submitted: u64,
     /// The model's kinematic colliders, whose poses each frame slot gets before its submit.
     colliders: Vec<crate::collider::Collider>,
+    /// The model's clamps, whose poses each frame slot gets before its submit.
+    clamps: Vec<crate::collider::Clamp>,
+    /// The model's grabs, the nodes they hold (the rows of the grab targets) and the
+    /// initial positions they hold from (empty without grabs).
+    grabs: Vec<crate::collider::Grab>,
+    grabbed: Vec<u32>,
+    rest: Vec<DVec3>,
     /// Time step [s] (f64: the colliders' poses are computed on the host in f64).
     dt: f64,
     /// The model's inverse masses and masses, the `w` of the uploaded positions and
@@ -182,24 +189,6 @@ impl VulkanBackend {
             return Err(Error::param(
                 "frames-in-flight",
                 format!("must be 1 to {MAX_FRAMES_IN_FLIGHT}, not {depth}"),
-            ));
-        }
-        if problem.bodies.is_some() {
-            return Err(Error::param(
-                "contact",
-                "contact between bodies and self-contact run on the cpu-ref and cpu backends; \
-                 the vulkan backend does not solve them yet",
-            ));
-        }
-        if !model.clamps.is_empty() || !model.grabs.is_empty() {
-            return Err(Error::param(
-                if model.grabs.is_empty() {
-                    "pin.motion"
-                } else {
-                    "grab"
-                },
-                "moving pins and grabs run on the cpu-ref and cpu backends; the vulkan backend \
-                 does not drive them yet",
             ));
         }
         let info = ctx.info();
@@ -288,6 +277,13 @@ impl VulkanBackend {
             frames: 0,
             submitted: 0,
             colliders: model.colliders.clone(),
+            clamps: model.clamps.clone(),
+            grabs: model.grabs.clone(),
+            grabbed: plan::grabbed_nodes(&model.grabs),
+            rest: match model.grabs.is_empty() {
+                true => Vec::new(),
+                false => model.positions.clone(),
+            },
             dt: params.dt,
             inv_mass: model.inv_mass.clone(),
             mass: model.mass.clone(),
@@ -370,10 +366,31 @@ impl VulkanBackend {
         &self.ctx
     }
 
-    /// Writes the colliders' poses over the next frame's steps into frame slot `k`'s rows
-    /// of the host-visible poses buffer (slot `k` is not in flight: its last frame was
-    /// collected before it is reused). Nothing without colliders.
+    /// Writes the colliders' and the clamps' poses over the next frame's steps into frame
+    /// slot `k`'s rows of the host-visible poses buffers (slot `k` is not in flight: its
+    /// last frame was collected before it is reused). Nothing without either.
     fn write_poses(&mut self, k: usize) -> Result<()> {
+        let substeps = self.plan.schedule.substeps;
+        let first = self.submitted * u64::from(substeps);
+        if let Some(buffer) = (self.buffers.optional.get_mut(&plan::BufferId::GrabTargets))
+            .filter(|_| !self.grabbed.is_empty())
+        {
+            let rows = colliders::grab_targets(
+                &self.grabs,
+                &self.grabbed,
+                &self.rest,
+                first,
+                substeps,
+                self.dt,
+            );
+            let bytes: &[u8] = bytemuck::cast_slice(&rows);
+            buffer.write_at(k * bytes.len(), bytes)?;
+        }
+        if let Some(buffer) = self.buffers.optional.get_mut(&plan::BufferId::ClampPoses) {
+            let rows = colliders::clamp_poses(&self.clamps, first, substeps, self.dt);
+            let bytes: &[u8] = bytemuck::cast_slice(&rows);
+            buffer.write_at(k * bytes.len(), bytes)?;
+        }
         let Some(buffer) = self
             .buffers
             .optional
@@ -381,13 +398,7 @@ impl VulkanBackend {
         else {
             return Ok(());
         };
-        let substeps = self.plan.schedule.substeps;
-        let rows = colliders::poses(
-            &self.colliders,
-            self.submitted * u64::from(substeps),
-            substeps,
-            self.dt,
-        );
+        let rows = colliders::poses(&self.colliders, first, substeps, self.dt);
         let bytes: &[u8] = bytemuck::cast_slice(&rows);
         buffer.write_at(k * bytes.len(), bytes)
     }
@@ -450,6 +461,14 @@ impl VulkanBackend {
         let [flags, node, limit, fastest] = words;
         if flags == 0 {
             return Ok(());
+        }
+        if flags & 4 != 0 {
+            return Err(Error::Gpu(format!(
+                "frame {}: body contact's spatial hash overflowed (a surface triangle covers \
+                 more than 4096 cells, or the triangles' cells exceed the item array sized \
+                 from the rest mesh): the surface has stretched far beyond its rest size",
+                self.frames.saturating_sub(1)
+            )));
         }
         let frame = self.frames.saturating_sub(1);
         let limit = f32::from_bits(limit);

@@ -271,6 +271,8 @@ impl Recorder<'_> {
         for substep in 0..substeps {
             let push = PushConstants {
                 collider_first: (slot * substeps + substep) * plan.counts.colliders,
+                step_row: slot * substeps + substep,
+                grab_first: (slot * substeps + substep) * plan.counts.grabbed,
                 ..*self.push
             };
             self.record_step(plan, p, b, &push)?;

@@ -112,6 +112,8 @@ pub(super) fn run(member: Member<'_>, inputs: &Inputs<'_>, outputs: &Outputs<'_>
                     unsafe { resolve_contacts(inputs, outputs, &nodes, reach.as_deref()) };
                 }
             }
+            // The GPU's application of the contact sums: `contact_solve` applies here.
+            (PassKind::ContactApply, _) => continue,
             (PassKind::GlobalVolume, _) => {
                 if let Some(global) = inputs.global {
                     // SAFETY: apply phase: nobody writes `partial`; each member writes

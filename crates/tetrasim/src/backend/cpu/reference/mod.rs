@@ -199,6 +199,16 @@ impl ReferenceBackend {
                 }
             }
             (PassKind::ContactSolve, _) => self.contact_iteration(step),
+            // The GPU's clamp drive, broad phase and application of the contact sums: here
+            // `step` drives the clamps, `contact_find` hashes and `contact_solve` applies.
+            (
+                PassKind::ClampDrive
+                | PassKind::ContactCount
+                | PassKind::ContactScan
+                | PassKind::ContactFill
+                | PassKind::ContactApply,
+                _,
+            ) => {}
             (PassKind::SpringConstraint | PassKind::Distance | PassKind::Volume, Some(at)) => {
                 step.sum = self.solve_group(at, step)
             }

@@ -14,6 +14,12 @@ pub struct PlanCounts {
     pub colliders: u32,
     /// Distance-grid samples of all mesh colliders.
     pub grid_values: u32,
+    /// Clamps ([`crate::model::Model::clamps`]).
+    pub clamps: u32,
+    /// Nodes held by clamps.
+    pub clamped: u32,
+    /// Nodes held by grabs (each once).
+    pub grabbed: u32,
 }
 
 impl PlanCounts {
@@ -29,6 +35,12 @@ impl PlanCounts {
             springs: count("springs", model.springs.len())?,
             tets: count("tets", model.tets.len())?,
             colliders: count("colliders", model.colliders.len())?,
+            clamps: count("clamps", model.clamps.len())?,
+            grabbed: count("grabbed nodes", grabbed_nodes(&model.grabs).len())?,
+            clamped: count(
+                "clamped nodes",
+                model.clamps.iter().map(|c| c.nodes.len()).sum(),
+            )?,
             grid_values: count(
                 "collider grid samples",
                 (model.colliders.iter())
@@ -40,6 +52,14 @@ impl PlanCounts {
             )?,
         })
     }
+}
+
+/// The nodes any of `grabs` holds, ascending, each once: the rows of the grab targets.
+pub fn grabbed_nodes(grabs: &[crate::collider::Grab]) -> Vec<u32> {
+    let mut nodes: Vec<u32> = grabs.iter().flat_map(|g| g.nodes.iter().copied()).collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    nodes
 }
 
 /// Peak memory bandwidth of some GPUs [bytes/s], from the vendors' data sheets, for the
@@ -97,4 +117,51 @@ pub struct SweepOffsets {
     pub member: u32,
     /// Its first slot in the contributions.
     pub slot: u32,
+}
+
+/// Sizes of body contact ([`crate::contact::BodyContact`]) and its broad phase on the GPU.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyCounts {
+    /// Surface nodes (one contact record each).
+    pub nodes: u32,
+    /// Surface triangles.
+    pub triangles: u32,
+    /// Hash buckets: a power of two, at least 8 per triangle.
+    pub buckets: u32,
+    /// Hash items the item array holds: 64 per triangle (a triangle of the rest mesh's
+    /// median edge covers at most 27 cells of twice the reach; more, from a stretched
+    /// surface, fail the frame with status flag 4 rather than lose contacts silently).
+    pub capacity: u32,
+    /// Contact thickness [m].
+    pub thickness: f64,
+    /// Detection margin [m].
+    pub margin: f64,
+}
+
+impl BodyCounts {
+    /// The sizes of `bodies`.
+    pub fn of(bodies: &crate::contact::BodyContact) -> Self {
+        let triangles = bodies.triangles.len() as u32;
+        BodyCounts {
+            nodes: bodies.nodes.len() as u32,
+            triangles,
+            buckets: (8 * triangles).max(1024).next_power_of_two(),
+            capacity: (64 * triangles).max(1024),
+            thickness: bodies.thickness,
+            margin: bodies.margin,
+        }
+    }
+
+    /// The specialisation constants of the body contact passes (glsl/physics/bodies.glsl,
+    /// ids 1 to 6).
+    pub fn constants(&self) -> Vec<u32> {
+        vec![
+            self.nodes,
+            self.triangles,
+            self.buckets,
+            self.capacity,
+            (self.thickness as f32).to_bits(),
+            (self.margin as f32).to_bits(),
+        ]
+    }
 }

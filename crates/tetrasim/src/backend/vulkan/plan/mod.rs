@@ -30,7 +30,9 @@ mod workgroups;
 
 pub use buffer::BufferPlan;
 pub use cost::{profile as gpu_profile, GpuProfile, GPU_PROFILES};
-pub use counts::{GlobalCounts, PlanCounts, SweepOffsets, PEAK_BANDWIDTH};
+pub use counts::{
+    grabbed_nodes, BodyCounts, GlobalCounts, PlanCounts, SweepOffsets, PEAK_BANDWIDTH,
+};
 pub use pass::{volume_sum_pass, PassPlan, Variant};
 pub use workgroups::for_elements as workgroup_for_elements;
 
@@ -52,6 +54,8 @@ pub struct EnginePlan {
     pub schedule: Schedule,
     /// The global volume constraints' sizes, when solved.
     pub global: Option<GlobalCounts>,
+    /// Body contact's sizes, when the model has it.
+    pub body: Option<BodyCounts>,
     /// Invocations per workgroup.
     pub workgroup_size: u32,
     /// Whether the frame measures the volume (`volume_sum` + partials copy).
@@ -88,13 +92,14 @@ impl EnginePlan {
         metrics: bool,
     ) -> crate::Result<Self> {
         let sweeps: Vec<SweepPlan> = problem.sweeps.iter().map(SweepPlan::of).collect();
-        Ok(EnginePlan::new(
+        Ok(EnginePlan::with_bodies(
             PlanCounts::of(&problem.model)?,
             &problem.params,
             workgroup_size,
             metrics,
             &sweeps,
             problem.global.as_ref().map(GlobalCounts::of),
+            problem.bodies.as_ref().map(BodyCounts::of),
         ))
     }
 
@@ -110,12 +115,59 @@ impl EnginePlan {
         sweeps: &[SweepPlan],
         global: Option<GlobalCounts>,
     ) -> Self {
+        Self::with_bodies(
+            counts,
+            params,
+            workgroup_size,
+            metrics,
+            sweeps,
+            global,
+            None,
+        )
+    }
+
+    /// [`Self::new`] with body contact's sizes when the model has it.
+    pub fn with_bodies(
+        counts: PlanCounts,
+        params: &SimParams,
+        workgroup_size: u32,
+        metrics: bool,
+        sweeps: &[SweepPlan],
+        global: Option<GlobalCounts>,
+        body: Option<BodyCounts>,
+    ) -> Self {
         let global = global.filter(|_| params.solves_global_volume());
         let schedule = Schedule::new(params, sweeps.to_vec(), global.is_some(), metrics)
-            .with_colliders(counts.colliders);
-        let buffers = buffers(counts, params, &schedule, global, workgroup_size, metrics);
+            .with_body_contact(body.is_some())
+            .with_colliders(counts.colliders, counts.grabbed > 0)
+            .with_clamps(counts.clamped);
+        let mut buffers = buffers(counts, params, &schedule, global, workgroup_size, metrics);
+        if counts.clamped > 0 {
+            let poses = CLAMP_POSE_BYTES * u64::from(counts.clamps * schedule.substeps);
+            for (id, bytes, upload_bytes) in [
+                (BufferId::ClampNodes, 32 * u64::from(counts.clamped), 0),
+                (BufferId::ClampPoses, poses * u64::from(POSE_SLOTS), poses),
+            ] {
+                buffers.push(BufferPlan {
+                    id,
+                    bytes: alloc(bytes),
+                    readback_bytes: 0,
+                    upload_bytes,
+                });
+            }
+        }
+        if let Some(b) = body {
+            buffers.extend(body_buffers(counts, b));
+        }
         let passes = (schedule.stages.iter())
-            .map(|stage| PassPlan::of(stage, &schedule, counts, global, workgroup_size, params))
+            .map(|stage| {
+                let mut pass =
+                    PassPlan::of(stage, &schedule, counts, global, workgroup_size, params);
+                if let Some(b) = body {
+                    pass.body_contact(b, counts, workgroup_size);
+                }
+                pass
+            })
             .collect();
         EnginePlan {
             method: params.method,
@@ -123,6 +175,7 @@ impl EnginePlan {
             counts,
             schedule,
             global,
+            body,
             workgroup_size,
             metrics,
             buffers,
@@ -130,6 +183,33 @@ impl EnginePlan {
         }
     }
 }
+
+/// Body contact's buffers for a model of `counts` with `body`'s sizes (section "Contact
+/// between bodies" of docs/GPU.md).
+fn body_buffers(counts: PlanCounts, body: BodyCounts) -> Vec<BufferPlan> {
+    use BufferId::*;
+    let n = u64::from(counts.nodes);
+    let (s, t) = (u64::from(body.nodes), u64::from(body.triangles));
+    let h = u64::from(body.buckets);
+    [
+        (BodySurface, 16 * (s + t)),
+        (ContactHash, 4 * (2 * h + 1 + u64::from(body.capacity))),
+        (Contacts, CONTACT_BYTES * s),
+        (ContactSums, 16 * n),
+    ]
+    .into_iter()
+    .map(|(id, bytes)| BufferPlan {
+        id,
+        bytes: alloc(bytes),
+        readback_bytes: 0,
+        upload_bytes: 0,
+    })
+    .collect()
+}
+
+/// Bytes of one surface node's body contact record (`BodyContactRecord`,
+/// glsl/physics/bodies.glsl).
+pub const CONTACT_BYTES: u64 = 48;
 
 /// The buffers of a plan in creation order: every array a stage of `schedule` touches, the
 /// rest volumes (the local volume error needs them) and the divergence status, with their
@@ -234,14 +314,19 @@ fn buffers(
             upload_bytes: 0,
         })
         .collect();
-    if counts.colliders > 0 {
+    if counts.colliders > 0 || counts.grabbed > 0 {
         let (c, values) = (u64::from(counts.colliders), u64::from(counts.grid_values));
         let poses = POSE_BYTES * c * u64::from(schedule.substeps);
+        let grabbed = u64::from(counts.grabbed);
+        let targets = 16 * grabbed * u64::from(schedule.substeps);
+        let grab_nodes = if grabbed > 0 { 4 * n } else { 0 };
         for (id, bytes, upload_bytes) in [
             (ColliderContacts, 16 * n, 0),
             (Colliders, 64 * c, 0),
             (ColliderGrids, 4 * values, 0),
             (ColliderPoses, poses * u64::from(POSE_SLOTS), poses),
+            (GrabNodes, grab_nodes, 0),
+            (GrabTargets, targets * u64::from(POSE_SLOTS), targets),
         ] {
             buffers.push(BufferPlan {
                 id,
@@ -256,6 +341,9 @@ fn buffers(
 
 /// Bytes of one collider's pose over one step ([`crate::gpu::layout::GpuColliderPose`]).
 pub const POSE_BYTES: u64 = 64;
+
+/// Bytes of one clamp's pose at one step's end ([`crate::gpu::layout::GpuClampPose`]).
+pub const CLAMP_POSE_BYTES: u64 = 32;
 
 /// Frame slots the collider poses buffer has rows for (host-visible, each slot's written
 /// before its submit): as many as frames may be in flight.
@@ -275,17 +363,17 @@ impl PassPlan {
     ) -> Self {
         let floor = u32::from(params.floor);
         let chebyshev = !schedule.chebyshev.is_empty();
-        // Kinematic colliders (refused with Chebyshev by `Problem::new`).
+        // Kinematic colliders and grabs (colliders are refused with Chebyshev by
+        // `Problem::new`): whether the floor's stages solve them.
         let colliders = match chebyshev {
             true => 0,
             false => schedule.colliders,
         };
+        let solve = !chebyshev && (colliders > 0 || schedule.grabs);
         let variant = match (stage.kind, schedule.gather) {
-            (PassKind::ConstraintApply, true) if colliders > 0 => {
-                Variant::Named("gather_colliders")
-            }
-            (PassKind::ConstraintApply, false) if colliders > 0 => Variant::Named("sums_colliders"),
-            (PassKind::Integrate | PassKind::GlobalVolume, _) if colliders > 0 => {
+            (PassKind::ConstraintApply, true) if solve => Variant::Named("gather_colliders"),
+            (PassKind::ConstraintApply, false) if solve => Variant::Named("sums_colliders"),
+            (PassKind::Integrate | PassKind::GlobalVolume, _) if solve => {
                 Variant::Named("colliders")
             }
             (PassKind::SpringScatter, _) => Variant::Atomics,
@@ -311,15 +399,20 @@ impl PassPlan {
             _ if stage.kind.has_floor_constant() => (workgroup_size, vec![floor]),
             _ => (workgroup_size, Vec::new()),
         };
+        if stage.kind == PassKind::ClampDrive {
+            constants = vec![counts.clamped, counts.clamps];
+        }
         // The collider count follows the floor's constants (id 2, or 3 after the chunks).
-        if colliders > 0 && stage.kind.has_floor_constant() {
-            constants.push(colliders);
+        // Then the grabbed nodes' count (the rows of one step's grab targets).
+        if solve && stage.kind.has_floor_constant() {
+            constants.extend([colliders, counts.grabbed]);
         }
         let constraints = |sweep: Option<usize>| match sweep.map(|s| schedule.sweeps[s].kind) {
             Some(ConstraintKind::Volume) => counts.tets,
             _ => counts.springs,
         };
         let elements = match (stage.domain, global) {
+            (Domain::Nodes, _) if stage.kind == PassKind::ClampDrive => counts.clamped,
             (Domain::Nodes, _) => counts.nodes,
             (Domain::Springs, _) => counts.springs,
             (Domain::Tets, _) => counts.tets,
@@ -333,6 +426,31 @@ impl PassPlan {
             constants,
             workgroup_size,
             elements,
+        }
+    }
+
+    /// A body contact pass's elements, constants and variant (nothing for the others):
+    /// the broad phase's count and fill per triangle, its scan in one workgroup, the find
+    /// and solve per surface node (the solve on the device's float-atomic path), the apply
+    /// per node with the floor and collider constants of [`Self::of`].
+    fn body_contact(&mut self, body: BodyCounts, counts: PlanCounts, workgroup_size: u32) {
+        let elements = match self.stage.kind {
+            PassKind::ContactCount | PassKind::ContactFill => body.triangles,
+            PassKind::ContactScan => workgroup_size,
+            PassKind::ContactFind | PassKind::ContactSolve => body.nodes,
+            PassKind::ContactApply => {
+                self.elements = counts.nodes;
+                if self.constants.len() > 1 {
+                    self.variant = Variant::Named("colliders");
+                }
+                return;
+            }
+            _ => return,
+        };
+        self.elements = elements;
+        self.constants = body.constants();
+        if self.stage.kind == PassKind::ContactSolve {
+            self.variant = Variant::Atomics;
         }
     }
 }

@@ -9,6 +9,9 @@ const COUNTS: PlanCounts = PlanCounts {
     tets: 12,
     colliders: 0,
     grid_values: 0,
+    clamps: 0,
+    clamped: 0,
+    grabbed: 0,
 };
 
 fn plan(params: &SimParams, sweeps: &[SweepPlan]) -> EnginePlan {
@@ -219,7 +222,8 @@ fn colliders_add_their_buffers_variants_and_count_only_when_there_are_some() {
     assert_eq!(with.upload_bytes(), pose_row);
     assert_eq!(
         with.device_bytes() - without.device_bytes(),
-        16 * 10 + 64 * 3 + 4 * 100 + pose_row * u64::from(POSE_SLOTS)
+        // The grab buffers are 4-byte placeholders without grabs.
+        16 * 10 + 64 * 3 + 4 * 100 + pose_row * u64::from(POSE_SLOTS) + 4 + 4
     );
     assert_eq!(
         with.pass_list(),
@@ -234,8 +238,10 @@ fn colliders_add_their_buffers_variants_and_count_only_when_there_are_some() {
     );
     for pass in &with.passes {
         if pass.stage.kind.has_floor_constant() {
-            // The count follows the floor (and the global passes' chunks).
-            assert_eq!(pass.constants.last(), Some(&3), "{}", pass.label());
+            // The count follows the floor (and the global passes' chunks), then the
+            // grabbed nodes' (none).
+            let n = pass.constants.len();
+            assert_eq!(pass.constants[n - 2..], [3, 0], "{}", pass.label());
             for id in collider_buffers {
                 assert!(pass.stage.touches(id), "{} binds {id:?}", pass.label());
             }

@@ -57,6 +57,7 @@ fn element_wise(kind: PassKind) -> bool {
             | PassKind::GlobalVolume
             | PassKind::Check
             | PassKind::VolumeSum
+            | PassKind::ContactScan
     )
 }
 

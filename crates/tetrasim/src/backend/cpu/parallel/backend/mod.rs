@@ -418,6 +418,11 @@ impl ParallelBackend {
                         self.body_contacts = found.into_iter().map(|c| (c, 0.0)).collect();
                     }
                 }
+                // The GPU's clamp drive (done above) and broad phase (`contact_find` hashes).
+                PassKind::ClampDrive
+                | PassKind::ContactCount
+                | PassKind::ContactScan
+                | PassKind::ContactFill => {}
                 PassKind::GlobalVolumePrepare => {
                     if let Some(global) = &mut self.global {
                         global.prepare(&self.x);
