@@ -236,8 +236,8 @@ fn elastic(method: Method, nu: f64) -> SimParams {
     }
 }
 
-/// The ball twice, each object with its own material (the model carries them): a soft one
-/// with compliant volumes, a stiff one with the paper's springs.
+/// The ball twice, side by side, each object with its own material (the model carries
+/// them): a soft one with compliant volumes, a stiff one with the paper's springs.
 fn two_materials(mesh: &tetrasim::TetMesh) -> Model {
     let soft = SimParams {
         youngs_modulus: Some(2e5),
@@ -249,7 +249,9 @@ fn two_materials(mesh: &tetrasim::TetMesh) -> Model {
         .material(&real(Method::Volume))
         .build()
         .unwrap();
-    let b = gpu_support::jittered(&b, 0.01, 0.3, 43);
+    let mut b = gpu_support::jittered(&b, 0.01, 0.3, 43);
+    // Beside the first (objects collide: two balls in one place would start interpenetrated).
+    b.positions.iter_mut().for_each(|p| p.x += 2.0);
     Model::concat(&[a, b]).unwrap()
 }
 
