@@ -147,6 +147,8 @@ fn flags_that_would_do_nothing_are_refused() {
     ] {
         assert_refused(&run(gpu_flag), &["--backend vulkan", "cpu"]);
     }
+    // `render --backend cpu` steps on the CPU and draws on the GPU; without an output it
+    // still has nothing to write.
     assert_refused(
         &tetrasim(&[
             "render",
@@ -157,7 +159,7 @@ fn flags_that_would_do_nothing_are_refused() {
             "--mesh",
             &mesh,
         ]),
-        &["backend", "vulkan", "cpu"],
+        &["nothing to write", "--frames-dir", "--sheet"],
     );
     assert_refused(
         &tetrasim(&["render", "--every", "2", "--frames", "1", "--mesh", &mesh]),
