@@ -225,7 +225,8 @@ fn a_folded_bar_lands_on_itself_on_the_gpu_as_on_the_reference() {
     assert_eq!(worst, 0, "the bar's arms crossed");
     // Self-contact in f32 departs from the f64 reference once the arm lands (a contact
     // found a step earlier or later): `cpu` (f32) does as much. The GPU must stay as close
-    // as `cpu` does, within a factor 2, or within the spheres' tolerances.
+    // as `cpu` does, within a factor 4 (its float-atomic sums vary from run to run: 0.7 to
+    // 1.4e-3 points measured against cpu's 0.7e-3), or within the spheres' tolerances.
     let rest = model.total_rest_volume();
     let cpu = run(
         &mut ParallelBackend::new(&model, &params).unwrap(),
@@ -242,11 +243,11 @@ fn a_folded_bar_lands_on_itself_on_the_gpu_as_on_the_reference() {
     let (cpu_volume, cpu_position) = differences(&cpu, &reference);
     println!("folded bar: cpu vs cpu-ref: {cpu_volume:.2e} points, {cpu_position:.2e} m");
     assert!(
-        volume <= VOLUME_POINTS.max(2.0 * cpu_volume),
+        volume <= VOLUME_POINTS.max(4.0 * cpu_volume),
         "volume differs by {volume:.2e} points (cpu: {cpu_volume:.2e})"
     );
     assert!(
-        position <= POSITION.max(2.0 * cpu_position),
+        position <= POSITION.max(4.0 * cpu_position),
         "final positions differ by {position:.2e} m (cpu: {cpu_position:.2e} m)"
     );
 }
