@@ -379,6 +379,14 @@ pub struct NodeContact {
     pub touching: Option<(usize, DVec3)>,
 }
 
+impl NodeContact {
+    /// No contact: no force, touching nothing.
+    pub const NONE: NodeContact = NodeContact {
+        force: DVec3::ZERO,
+        touching: None,
+    };
+}
+
 /// Re-solves one node's collider contacts against its total force `f` [N], which holds the
 /// colliders' force found so far, `contact`: each collider in turn pushes the node's
 /// end-of-step position (given the forces so far) out to its thickness along its normal
@@ -411,10 +419,7 @@ pub fn solve_node_attached(
     dt: f64,
 ) -> (DVec3, NodeContact) {
     let other = f - contact;
-    let mut out = NodeContact {
-        force: DVec3::ZERO,
-        touching: None,
-    };
+    let mut out = NodeContact::NONE;
     if w <= 0.0 {
         return (other, out);
     }
@@ -469,11 +474,7 @@ pub fn solve_node_clear(
 ) -> (DVec3, NodeContact) {
     let other = f - contact;
     if end_position(x, v, other, w, dt).distance(x) < clear {
-        let none = NodeContact {
-            force: DVec3::ZERO,
-            touching: None,
-        };
-        return (other, none);
+        return (other, NodeContact::NONE);
     }
     solve_node(colliders, f, contact, x, v, w, dt)
 }

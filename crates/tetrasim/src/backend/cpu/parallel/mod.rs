@@ -14,7 +14,7 @@
 //! at least [`CHUNK`] on the same threads. Every result is computed
 //! by one thread with the same arithmetic in the same order whatever the thread count, so
 //! the states are bit-identical for any `RAYON_NUM_THREADS` (the unit tests in `tests.rs`).
-use glam::{DVec3, Vec3A};
+use glam::Vec3A;
 use rayon::prelude::*;
 
 use super::{check_state, diverged, Bad};
@@ -228,19 +228,13 @@ impl Colliders<'_> {
             // The common case, inline: far from every collider and untouched so far.
             let step = (v + *f * (w * self.dt)) * self.dt;
             if f64::from(step.length_squared()) < clear * clear * (1.0 - 1e-5) {
-                return NO_CONTACT;
+                return NodeContact::NONE;
             }
         }
         let attached = self.attached.get(i).copied().flatten();
         collide(self.at, clear, attached, f, c, x, v, w, self.dt)
     }
 }
-
-/// No collider contact.
-const NO_CONTACT: NodeContact = NodeContact {
-    force: DVec3::ZERO,
-    touching: None,
-};
 
 /// One node's collider contacts re-solved against its total force `f`, which holds their
 /// force so far, `c` ([`collider::solve_node`], in double precision): both updated. While
@@ -265,10 +259,7 @@ pub(super) fn collide(
     {
         *f = other;
         *c = Vec3A::ZERO;
-        return NodeContact {
-            force: DVec3::ZERO,
-            touching: None,
-        };
+        return NodeContact::NONE;
     }
     let (f1, contact) = collider::solve_node_attached(
         at,

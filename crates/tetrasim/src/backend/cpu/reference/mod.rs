@@ -459,12 +459,6 @@ impl ReferenceBackend {
     }
 }
 
-/// No collider contact.
-const NO_CONTACT: NodeContact = NodeContact {
-    force: DVec3::ZERO,
-    touching: None,
-};
-
 impl Backend for ReferenceBackend {
     fn name(&self) -> &'static str {
         "cpu-ref"

@@ -2,7 +2,7 @@
 
 use glam::DVec3;
 
-use super::{ReferenceBackend, NO_CONTACT};
+use super::ReferenceBackend;
 use crate::collider::{self, NodeContact};
 use crate::contact::Contact;
 
@@ -47,7 +47,7 @@ impl StepForces {
             springs: vec![DVec3::ZERO; n],
             total: Vec::new(),
             floor: vec![0.0; n],
-            contacts: vec![NO_CONTACT; n],
+            contacts: vec![NodeContact::NONE; n],
             clearance: Vec::new(),
             attached: Vec::new(),
             spring_lambda: backend.spring_warm.clone(),
