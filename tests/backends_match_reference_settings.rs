@@ -4,8 +4,9 @@
 //! all colour groups, the global volume constraint with either solver (on two objects,
 //! one constraint each), Chebyshev with and without it, implicit springs (mss with Jacobi,
 //! volume with Gauss-Seidel, warm-started), materials from a Young's modulus (compliant
-//! volumes, explicit springs) and two objects with different materials, each on a small ball
-//! dropped from 1 cm so that the floor is part of every run (60 frames).
+//! volumes, explicit springs), two objects with different materials and split contact (hard
+//! distance constraints with friction; compliant springs and volumes with Jacobi), each on a
+//! small ball dropped from 1 cm so that the floor is part of every run (60 frames).
 //!
 //! Tolerances: every node within 1e-5 of the bounding-box diagonal and every frame's volume
 //! within 1e-3 percentage points (f32 against f64; the default settings measure about 1e-7
@@ -16,7 +17,9 @@ mod gpu_support;
 use glam::DVec3;
 use tetrasim::backend::cpu::ReferenceBackend;
 use tetrasim::mesh::grid::grid_tets;
-use tetrasim::params::{ConstraintCombine, MassMode, Method, Placement, Solver, SpringKind};
+use tetrasim::params::{
+    ConstraintCombine, ContactMode, MassMode, Method, Placement, Solver, SpringKind,
+};
 use tetrasim::{Backend, Model, ModelBuilder, SimParams};
 
 const FRAMES: u32 = 60;
@@ -207,6 +210,25 @@ fn cases() -> Vec<(&'static str, Model, SimParams)> {
             "young's modulus, nu 0.3, explicit springs",
             gpu_support::jittered(&dense, 0.01, 0.3, 41),
             elastic(Method::Volume, 0.3),
+        ),
+        (
+            "split contact, distance, friction 0.3, deformed",
+            gpu_support::jittered(&plain, 0.01, 0.3, 53),
+            SimParams {
+                contact: ContactMode::Split,
+                friction: 0.3,
+                ..base(Method::Distance)
+            },
+        ),
+        (
+            "split contact, young's modulus, implicit springs, jacobi",
+            gpu_support::jittered(&dense, 0.01, 0.3, 59),
+            SimParams {
+                contact: ContactMode::Split,
+                springs: SpringKind::Implicit,
+                solver: Solver::Jacobi,
+                ..elastic(Method::Volume, 0.45)
+            },
         ),
         ("two objects, two materials", two_materials(&mesh), {
             SimParams {

@@ -14,7 +14,7 @@ mod gpu_support;
 
 use glam::DVec3;
 use tetrasim::backend::cpu::{ParallelBackend, ReferenceBackend};
-use tetrasim::params::{Placement, SimParams};
+use tetrasim::params::{ContactMode, Placement, SimParams};
 use tetrasim::sim::bundled::bundled;
 use tetrasim::{Backend, Model, ModelBuilder};
 
@@ -175,16 +175,25 @@ fn two_spheres_collide_on_the_gpu_as_on_the_reference() {
         sphere(DVec3::new(0.55, 0.1, 0.0), DVec3::new(-1.0, 0.0, 0.0)),
     ])
     .expect("two spheres");
+    for contact in ContactMode::ALL {
+        two_spheres_collide(&model, contact);
+    }
+}
+
+/// The two spheres' collision with `contact`.
+fn two_spheres_collide(model: &Model, contact: ContactMode) {
     let params = SimParams {
         gravity: 0.0,
         floor: false,
         substeps: 5,
+        contact,
         ..SimParams::default()
     };
+    let model = model.clone();
     let p0 = momentum(&model, &model.velocities);
     let mut worst_inside = 0;
     let ((_, state), (volume, position)) =
-        against_reference("two spheres", &model, &params, 60, |frame, state| {
+        against_reference(contact.name(), &model, &params, 60, |frame, state| {
             let p = momentum(&model, &state.velocities);
             assert!(
                 (p - p0).length() < 1e-4 * p0.length().max(1.0),
@@ -194,7 +203,10 @@ fn two_spheres_collide_on_the_gpu_as_on_the_reference() {
                 inside(&model, &state.positions, 0, 1) + inside(&model, &state.positions, 1, 0),
             );
         });
-    assert_eq!(worst_inside, 0, "nodes went inside the other sphere");
+    assert_eq!(
+        worst_inside, 0,
+        "{contact}: nodes went inside the other sphere"
+    );
     assert!(
         volume <= VOLUME_POINTS,
         "volume differs by {volume:.2e} points"

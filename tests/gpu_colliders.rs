@@ -1,7 +1,8 @@
 //! Kinematic colliders on the Vulkan engine: the bundled sphere dropped onto (a) a fixed
 //! ball (Jacobi: atomic sums), (b) a turning box swept by a keyframed capsule (two substeps
-//! a frame), (c) a mesh collider (a torus's sampled distance) over a tilted plane (no
-//! floor), every one with friction, matches `cpu-ref` per frame (volume) and at the end
+//! a frame; again with split contact, whose velocity solve lets each collider keep a node's
+//! starting penetration), (c) a mesh collider (a torus's sampled distance) over a tilted
+//! plane (no floor), every one with friction, matches `cpu-ref` per frame (volume) and at the end
 //! (positions), and no node ever ends a frame more than 1 mm inside a collider. Frames in
 //! flight read their own slot's poses. Without the colliders' solve the sphere would fall
 //! through them (each scene checks that it touched every collider), so these fail when the
@@ -16,7 +17,7 @@ mod gpu_support;
 use glam::{DQuat, DVec3};
 use tetrasim::backend::cpu::ReferenceBackend;
 use tetrasim::collider::{Collider, DistanceGrid, Keyframe, Motion};
-use tetrasim::params::{SimParams, Solver};
+use tetrasim::params::{ContactMode, SimParams, Solver};
 use tetrasim::{Backend, Model};
 
 /// Largest allowed per-frame difference of the volume percentage [percentage points].
@@ -62,7 +63,7 @@ fn torus_grid(centre: DVec3, r_major: f64, r_minor: f64) -> DistanceGrid {
     }
 }
 
-/// The three scenes: name, model, parameters, frames.
+/// The scenes: name, model, parameters, frames.
 fn scenes() -> Vec<(&'static str, Model, SimParams, u32)> {
     let fixed = Collider::sphere(DVec3::new(0.2, -0.3, 0.0), 0.35).with_friction(0.5);
     let turning = Collider::cuboid(
@@ -113,8 +114,17 @@ fn scenes() -> Vec<(&'static str, Model, SimParams, u32)> {
         ),
         (
             "turning box and keyframed capsule",
+            sphere_with(vec![turning.clone(), sweeping.clone()]),
+            substeps.clone(),
+            220,
+        ),
+        (
+            "turning box and keyframed capsule, split contact",
             sphere_with(vec![turning, sweeping]),
-            substeps,
+            SimParams {
+                contact: ContactMode::Split,
+                ..substeps
+            },
             220,
         ),
         (

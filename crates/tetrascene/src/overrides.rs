@@ -9,7 +9,7 @@
 
 use serde::Deserialize;
 
-use tetrasim::params::{ConstraintCombine, MassMode, SimParams, Solver, SpringKind};
+use tetrasim::params::{ConstraintCombine, ContactMode, MassMode, SimParams, Solver, SpringKind};
 
 /// Time stepping and the constraint solver, shared by all objects: a scene's `[solver]`
 /// table and `run`'s solver flags. `None` keeps the base value (the preset's).
@@ -58,6 +58,11 @@ pub struct SolverOverrides {
     /// Spectral radius estimate of the Chebyshev solver, in (0, 1) (default 0.95).
     #[cfg_attr(feature = "clap", arg(long))]
     pub rho: Option<f64>,
+    /// How contact and hard constraints turn position corrections into velocity:
+    /// `combined` (one solve, default) or `split` (split impulses: a nearly rigid body does
+    /// not bounce; about twice the solve, a higher local volume error; docs/PHYSICS.md).
+    #[cfg_attr(feature = "clap", arg(long, value_enum))]
+    pub contact: Option<ContactMode>,
     /// Skip a constraint whose denominator A is at or below this.
     #[cfg_attr(feature = "clap", arg(long))]
     pub epsilon: Option<f64>,
@@ -83,12 +88,13 @@ impl SolverOverrides {
         set(&mut params.rho, self.rho);
         set(&mut params.springs, self.springs);
         set(&mut params.warm_start, self.warm_start);
+        set(&mut params.contact, self.contact);
         set(&mut params.constraint_epsilon, self.epsilon);
         set(&mut params.gravity, self.gravity);
     }
 
     /// Every key (a `[solver]` key, a flag's id).
-    pub const KEYS: [&'static str; 14] = [
+    pub const KEYS: [&'static str; 15] = [
         "dt",
         "substeps",
         "iterations",
@@ -100,6 +106,7 @@ impl SolverOverrides {
         "springs",
         "warm_start",
         "rho",
+        "contact",
         "epsilon",
         "gravity",
         "frames",

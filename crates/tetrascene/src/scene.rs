@@ -20,6 +20,7 @@
 //!                       # gauss-seidel, off for jacobi and chebyshev)
 //! springs = "explicit"  # the paper's forces, or "implicit" (compliant constraints)
 //! warm_start = false    # implicit springs start each step from the last multipliers
+//! contact = "combined"  # or "split": split impulses, no rebound, about twice the solve
 //! # (GPU choices such as --atomics, --device and --workgroup-size are flags, not scene keys)
 //! epsilon = 1e-20     # skip a constraint whose denominator A is at or below this
 //! gravity = 9.81      # m/s^2, along -Y

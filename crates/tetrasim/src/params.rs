@@ -176,6 +176,48 @@ impl std::fmt::Display for SpringKind {
     }
 }
 
+/// How contacts and hard constraints turn their position corrections into velocity
+/// (physics.md, "Contact that does not bounce back"; docs/PHYSICS.md, "Split contact").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
+pub enum ContactMode {
+    /// One solve: every constraint's `C / dt^2` term moves positions and stays in the
+    /// velocity (the implicit framework as the paper has it). A nearly rigid body rebounds by
+    /// what the iterations leave of its impact.
+    #[default]
+    Combined,
+    /// Split impulses: each step is solved twice from the same state, once in full (the new
+    /// positions) and once with every hard constraint's value at 0 and every contact's
+    /// penetration at the step's start ignored (the new velocities), so no position
+    /// correction becomes velocity. About twice the cost of a step; no rebound.
+    Split,
+}
+
+impl ContactMode {
+    /// Every mode.
+    pub const ALL: [ContactMode; 2] = [ContactMode::Combined, ContactMode::Split];
+
+    /// The name used on the command line, in scene files and in records.
+    pub fn name(self) -> &'static str {
+        match self {
+            ContactMode::Combined => "combined",
+            ContactMode::Split => "split",
+        }
+    }
+
+    /// Whether it is the default (left out of records, which then read as before).
+    pub fn is_combined(&self) -> bool {
+        *self == ContactMode::Combined
+    }
+}
+
+impl std::fmt::Display for ContactMode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// Everything the solver needs besides the model. Units are SI.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -244,6 +286,10 @@ pub struct SimParams {
     /// Spectral radius estimate of the Chebyshev solver, in `(0, 1)` (ignored by the others).
     #[serde(default = "default_rho")]
     pub rho: f64,
+    /// How position corrections reach the velocity: one combined solve (default) or split
+    /// impulses (`split`: no rebound, twice the solve).
+    #[serde(default, skip_serializing_if = "ContactMode::is_combined")]
+    pub contact: ContactMode,
     /// A constraint is skipped when its `A = sum_k w_k |grad_k C|^2` is at or below this
     /// (units of `A`: 1/kg m^2 for distance, 1/kg m^4 for volume constraints); guards
     /// collapsed elements, whose multiplier would be unbounded. Not in physics.md.
@@ -276,6 +322,7 @@ impl Default for SimParams {
             groups: default_groups(),
             global_volume: None,
             rho: default_rho(),
+            contact: ContactMode::Combined,
             constraint_epsilon: default_constraint_epsilon(),
         }
     }
@@ -424,6 +471,21 @@ impl SimParams {
                 ));
             }
         }
+        if self.contact == ContactMode::Split {
+            if self.warm_start {
+                return Err(Error::param(
+                    "contact",
+                    "split contact solves each step twice from the same multipliers; it does \
+                     not combine with warm_start (set warm_start = false)",
+                ));
+            }
+            if self.solver == Solver::Chebyshev {
+                return Err(Error::param(
+                    "contact",
+                    "split contact is solved by jacobi or gauss-seidel, not chebyshev",
+                ));
+            }
+        }
         non_negative_finite("constraint_epsilon", self.constraint_epsilon)?;
         match self.mass {
             MassMode::PerNode { mass } => positive_finite("mass", mass)?,
@@ -484,6 +546,31 @@ mod tests {
         let limit = 2.0 / (1.0 + (1.0 - rho * rho).sqrt());
         assert!(w[1..].windows(2).all(|p| p[1] <= p[0] && p[1] >= limit));
         assert!((w[59] - limit).abs() < 1e-9, "{} vs {limit}", w[59]);
+    }
+
+    #[test]
+    fn split_contact_refuses_warm_start_and_chebyshev() {
+        let split = SimParams {
+            contact: ContactMode::Split,
+            ..SimParams::default()
+        };
+        split.validate().expect("split contact with the defaults");
+        let warm = SimParams {
+            springs: SpringKind::Implicit,
+            warm_start: true,
+            ..split.clone()
+        };
+        let chebyshev = SimParams {
+            solver: Solver::Chebyshev,
+            ..split
+        };
+        for (params, says) in [(warm, "warm_start"), (chebyshev, "chebyshev")] {
+            let message = params.validate().unwrap_err().to_string();
+            assert!(
+                message.contains("contact") && message.contains(says),
+                "{message}"
+            );
+        }
     }
 }
 

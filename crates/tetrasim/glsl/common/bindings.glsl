@@ -71,6 +71,8 @@ layout(push_constant, std430) uniform PushConstants {
     uint collider_first; // the substep's first entry in ColliderPoses (colliders)
     uint step_row;    // frame slot * substeps + substep: the step's row of ClampPoses
     uint grab_first;  // step_row * grabbed nodes: the step's first entry in GrabTargets
+    uint phase;       // PHASE_FULL, or PHASE_VELOCITY in split contact's velocity solve
+                      // (physics/solve.glsl)
 } pc;
 
 // Index of node i's per-group data (degrees, slot rows) in the current group.

@@ -81,7 +81,7 @@ void main() {
 #endif
     if (FLOOR != 0u && pc.floor_on != 0u) {
         vec4 p = positions[i];
-        f = floor_solve(f, p.y, velocities[i].y, p.w, pc.dt);
+        f = floor_solve(f, p.y + solve_slack(pc.phase, p.y), velocities[i].y, p.w, pc.dt);
     }
 #ifdef COLLIDERS_ON
     {

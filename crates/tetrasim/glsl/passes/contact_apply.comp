@@ -43,7 +43,7 @@ void main() {
     }
     if (FLOOR != 0u && pc.floor_on != 0u) {
         vec4 p = positions[i];
-        f = floor_solve(f, p.y, velocities[i].y, p.w, pc.dt);
+        f = floor_solve(f, p.y + solve_slack(pc.phase, p.y), velocities[i].y, p.w, pc.dt);
     }
 #ifdef COLLIDERS_ON
     {

@@ -36,7 +36,7 @@ void main() {
     float b = 0.0;
     implicit_accumulate(a, b, ga, xa.w, combine_a_scale(pc.combine, degrees[group_node(sp.a)]), velocities[sp.a].xyz, forces[sp.a].xyz, pc.dt);
     implicit_accumulate(a, b, gb, xb.w, combine_a_scale(pc.combine, degrees[group_node(sp.b)]), velocities[sp.b].xyz, forces[sp.b].xyz, pc.dt);
-    float lambda = implicit_multiplier(c, a, b, pc.dt, pc.epsilon);
+    float lambda = implicit_multiplier(solve_hard(pc.phase, c), a, b, pc.dt, pc.epsilon);
     constraint_output(position, 2u, 0u, sp.a, -lambda * ga, lambda != 0.0);
     constraint_output(position, 2u, 1u, sp.b, -lambda * gb, lambda != 0.0);
 }

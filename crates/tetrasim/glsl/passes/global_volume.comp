@@ -45,7 +45,7 @@ void main() {
         partial += global_state[index * CHUNKS + chunk].xyz;
     }
     vec3 sums = vec3(workgroup_sum2(partial.x, partial.y), workgroup_sum2(partial.z, 0.0).x);
-    float lambda = implicit_multiplier(sums.x - object.rest_volume, sums.y, sums.z, pc.dt, pc.epsilon);
+    float lambda = implicit_multiplier(solve_hard(pc.phase, sums.x - object.rest_volume), sums.y, sums.z, pc.dt, pc.epsilon);
     uint k = global_chunk_item();
     if (k >= object.node_count) {
         return;
@@ -55,7 +55,7 @@ void main() {
     f.xyz -= lambda * surface_gradients[object.node_first + k].xyz;
     if (FLOOR != 0u && pc.floor_on != 0u) {
         vec4 p = positions[node];
-        f = floor_solve(f, p.y, velocities[node].y, p.w, pc.dt);
+        f = floor_solve(f, p.y + solve_slack(pc.phase, p.y), velocities[node].y, p.w, pc.dt);
     }
 #ifdef COLLIDERS_ON
     {

@@ -46,6 +46,8 @@ void main() {
     float so_far = 0.0;
     if (softness > 0.0) {
         so_far = multiplier_so_far(volume_multipliers[t], pc.iteration, 0u);
+    } else {
+        c = solve_hard(pc.phase, c);
     }
     float lambda = compliant_multiplier(c, a, b - softness * so_far, pc.dt, softness, 0.0, pc.epsilon);
     if (softness > 0.0) {

@@ -12,6 +12,8 @@
 #ifndef PHYSICS_CONTACT_GLSL
 #define PHYSICS_CONTACT_GLSL
 
+#include "physics/solve.glsl"
+
 // Shape codes (src/collider/mod.rs, Shape::code).
 #define SHAPE_PLANE 0u
 #define SHAPE_SPHERE 1u
@@ -209,6 +211,17 @@ float collider_distance(uint k, vec3 x, out vec3 normal) {
     return phi;
 }
 
+// ColliderAt::distance_at_start: the world point x against collider k at the step's start
+// pose (position end - moved, rotation turned * end).
+float collider_distance_at_start(uint k, vec3 x) {
+    ColliderPose pose = poses[pc.collider_first + k];
+    vec3 r = x - (pose.end_position.xyz - pose.moved.xyz);
+    vec3 in_end = rotate(vec4(-pose.turned.xyz, pose.turned.w), r);
+    vec3 local = rotate(vec4(-pose.end_rotation.xyz, pose.end_rotation.w), in_end);
+    vec3 unused;
+    return shape_distance(colliders[k], local, unused);
+}
+
 // ColliderAt::surface_velocity: (x - start.apply(end.invert(x))) / dt, written as
 // (moved - (R_turned r - r)) / dt with r = x - end position.
 vec3 surface_velocity(uint k, vec3 x, float dt) {
@@ -219,7 +232,8 @@ vec3 surface_velocity(uint k, vec3 x, float dt) {
 // solve_node_attached: re-solves node i's collider contacts against its total force f,
 // which holds the colliders' force found so far, `contact`; first its grab's attachment
 // (grab_force), then each collider in order pushes the node's end position out to its
-// thickness along its normal. Returns the new total force;
+// thickness along its normal (in split contact's velocity solve, pc.phase, keeping the
+// penetration the node starts the step with: solve_slack). Returns the new total force;
 // `contact` becomes the colliders' new force, `touching` the last collider that pushed
 // (-1: none) and `normal` its normal. A pinned node (w = 0) gets none.
 vec3 colliders_solve(uint i, vec3 f, inout vec3 contact, vec3 x, vec3 v, float w, float dt,
@@ -242,7 +256,11 @@ vec3 colliders_solve(uint i, vec3 f, inout vec3 contact, vec3 x, vec3 v, float w
         }
         vec3 n;
         float phi = collider_distance(k, end, n);
-        float push = contact_push(phi, colliders[k].thickness, w, dt);
+        float thickness = colliders[k].thickness;
+        if (pc.phase == PHASE_VELOCITY) {
+            phi += solve_slack(pc.phase, collider_distance_at_start(k, x) - thickness);
+        }
+        float push = contact_push(phi, thickness, w, dt);
         if (push > 0.0) {
             contact += n * push;
             touching = int(k);

@@ -7,6 +7,8 @@
 #ifndef PHYSICS_IMPLICIT_GLSL
 #define PHYSICS_IMPLICIT_GLSL
 
+#include "physics/solve.glsl"
+
 // The two per-node factors of ConstraintCombine::node_factors for a node touched by
 // `degree` constraints: the scale s_k of its inverse mass in A, and the weight of its summed
 // constraint forces.

@@ -25,7 +25,7 @@ pub use motion::{Keyframe, Motion, Pose};
 pub use surface::{MAX_CELLS, MIN_CELLS, PAD_CELLS};
 
 use crate::error::Result;
-use crate::physics::{contact_push, end_position, surface_friction};
+use crate::physics::{contact_push, end_position, surface_friction, Solve};
 
 /// A collider's shape in its local frame (see [`Collider::pose`] for how it is placed).
 #[derive(Debug, Clone, PartialEq)]
@@ -352,6 +352,11 @@ impl<'a> ColliderAt<'a> {
         (phi, self.end.rotation * normal)
     }
 
+    /// Signed distance [m] of the world point `x` from the collider at the step's start.
+    pub fn distance_at_start(&self, x: DVec3) -> f64 {
+        self.collider.shape.distance(self.start.invert(x)).0
+    }
+
     /// Velocity [m/s] of the collider's surface point at `x` (at the step's end) over the
     /// step: where that point was at the step's start, to `x`, over `dt`.
     pub fn surface_velocity(&self, x: DVec3, dt: f64) -> DVec3 {
@@ -401,16 +406,19 @@ pub fn solve_node(
     w: f64,
     dt: f64,
 ) -> (DVec3, NodeContact) {
-    solve_node_attached(colliders, None, f, contact, x, v, w, dt)
+    solve_node_attached(colliders, None, Solve::Full, f, contact, x, v, w, dt)
 }
 
 /// [`solve_node`] for a node that may be attached to a grab's handle: the attachment's force
 /// ([`Attachment::force`]) comes first, then the colliders push. Both are kept in the
-/// contact's force.
+/// contact's force. In split contact's velocity solve (`solve`) each collider lets the node
+/// keep the penetration it starts the step with ([`Solve::slack`]); the attachment, a
+/// driven tool, is solved the same in both solves.
 #[allow(clippy::too_many_arguments)]
 pub fn solve_node_attached(
     colliders: &[ColliderAt<'_>],
     attachment: Option<Attachment>,
+    solve: Solve,
     f: DVec3,
     contact: DVec3,
     x: DVec3,
@@ -432,7 +440,12 @@ pub fn solve_node_attached(
             continue;
         }
         let (phi, normal) = c.distance(end);
-        let push = contact_push(phi, c.collider.thickness, w, dt);
+        let thickness = c.collider.thickness;
+        let slack = match solve {
+            Solve::Full => 0.0,
+            Solve::Velocity => solve.slack(c.distance_at_start(x) - thickness),
+        };
+        let push = contact_push(phi + slack, thickness, w, dt);
         if push > 0.0 {
             out.force += normal * push;
             out.touching = Some((k, normal));
@@ -458,13 +471,15 @@ pub fn clearance(colliders: &[ColliderAt<'_>], x: DVec3) -> f64 {
     0.5 * least
 }
 
-/// [`solve_node`] for a node with the step's [`clearance`] `clear`: the same result, without
-/// evaluating any collider while the node's end position (without collider forces) stays
-/// within `clear` of `x`.
+/// [`solve_node_attached`] without attachment for a node with the step's [`clearance`]
+/// `clear`: the same result, without evaluating any collider while the node's end position
+/// (without collider forces) stays within `clear` of `x` (the velocity solve's slack is 0
+/// there: the node starts outside every collider).
 #[allow(clippy::too_many_arguments)]
 pub fn solve_node_clear(
     colliders: &[ColliderAt<'_>],
     clear: f64,
+    solve: Solve,
     f: DVec3,
     contact: DVec3,
     x: DVec3,
@@ -476,7 +491,7 @@ pub fn solve_node_clear(
     if end_position(x, v, other, w, dt).distance(x) < clear {
         return (other, NodeContact::NONE);
     }
-    solve_node(colliders, f, contact, x, v, w, dt)
+    solve_node_attached(colliders, None, solve, f, contact, x, v, w, dt)
 }
 
 /// A node's velocity after the step's update `v1`, with the friction of the collider it

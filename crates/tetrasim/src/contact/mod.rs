@@ -23,7 +23,7 @@ use glam::DVec3;
 
 use crate::model::Model;
 use crate::params::SimParams;
-use crate::physics::{implicit_accumulate, implicit_multiplier};
+use crate::physics::{implicit_accumulate, implicit_multiplier, Solve};
 
 /// One contact of a step: a surface node against a surface triangle.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -150,13 +150,17 @@ impl BodyContact {
     /// (closures over node indices, so that either precision can call it), under `params`
     /// for `model`: each contact's increment ([`implicit_multiplier`], each node's inverse
     /// mass scaled by the combine mode for its number of contacts), the total kept at or
-    /// below 0 (a contact pushes, never pulls). Returns the force to add to each touched
-    /// node, `-delta grad C` times `omega` and the combine mode's weight, in node order.
+    /// below 0 (a contact pushes, never pulls); in split contact's velocity solve (`solve`)
+    /// a contact keeps the penetration it starts with ([`Solve::slack`]). Returns the force
+    /// to add to each touched node, `-delta grad C` times `omega` and the combine mode's
+    /// weight, in node order.
+    #[allow(clippy::too_many_arguments)]
     pub fn sweep(
         &self,
         contacts: &mut [(Contact, f64)],
         model: &Model,
         params: &SimParams,
+        solve: Solve,
         x: impl Fn(usize) -> DVec3,
         v: impl Fn(usize) -> DVec3,
         f: impl Fn(usize) -> DVec3,
@@ -171,6 +175,7 @@ impl BodyContact {
             let ids = c.nodes().map(|i| i as usize);
             let grad = c.gradients();
             let value = c.value(ids.map(&x), self.thickness);
+            let value = value + solve.slack(value);
             let (mut a, mut b) = (0.0, 0.0);
             for k in 0..4 {
                 let i = ids[k];

@@ -130,4 +130,8 @@ bindings! {
     /// (host-visible, written before each frame's submit; `pc.grab_first` selects the
     /// step's rows; with colliders or grabs, 4 bytes without grabs).
     GRAB_TARGETS = 39,
+    /// vec4 per node: split contact's velocity at the step's end [m/s] (w unused), from the
+    /// velocity solve (`split_velocity`), which `integrate` keeps instead of the full
+    /// solve's (only with `contact = "split"`).
+    SPLIT_VELOCITIES = 40,
 }

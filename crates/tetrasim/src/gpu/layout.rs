@@ -21,7 +21,7 @@ pub mod binding {
     include!("bindings.rs");
 }
 
-/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 84 bytes used,
+/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 88 bytes used,
 /// padded to 96.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
@@ -78,8 +78,29 @@ pub struct PushConstants {
     /// The step's first row in the grab targets ([`binding::GRAB_TARGETS`]):
     /// `step_row * grabbed nodes`.
     pub grab_first: u32,
+    /// Which of the step's solves the dispatch belongs to: [`phase::FULL`], or
+    /// [`phase::VELOCITY`] in split contact's velocity solve (glsl/physics/solve.glsl).
+    pub phase: u32,
     /// Padding to a multiple of 16 bytes (not in the shader's block).
-    pub pad: [u32; 3],
+    pub pad: [u32; 2],
+}
+
+/// Values of [`PushConstants::phase`] (the `PHASE_*` macros in glsl/physics/solve.glsl).
+pub mod phase {
+    use crate::physics::Solve;
+
+    /// The full solve.
+    pub const FULL: u32 = 0;
+    /// Split contact's velocity solve.
+    pub const VELOCITY: u32 = 1;
+
+    /// The value for `solve`.
+    pub fn of(solve: Solve) -> u32 {
+        match solve {
+            Solve::Full => FULL,
+            Solve::Velocity => VELOCITY,
+        }
+    }
 }
 
 /// Values of [`PushConstants::combine`] (the `COMBINE_*` macros in bindings.glsl).
@@ -121,7 +142,8 @@ impl PushConstants {
             collider_first: 0,
             step_row: 0,
             grab_first: 0,
-            pad: [0; 3],
+            phase: phase::FULL,
+            pad: [0; 2],
         }
     }
 }
@@ -298,6 +320,7 @@ mod tests {
             ("collider_first", offset_of!(PushConstants, collider_first)),
             ("step_row", offset_of!(PushConstants, step_row)),
             ("grab_first", offset_of!(PushConstants, grab_first)),
+            ("phase", offset_of!(PushConstants, phase)),
         ];
         // integrate uses floor_on/friction/gravity, volume_sum the tet count: together they
         // name most members; every member the shader keeps must sit where Rust puts it.
@@ -476,6 +499,7 @@ mod tests {
             ("ClampPoses", binding::CLAMP_POSES),
             ("GrabNodes", binding::GRAB_NODES),
             ("GrabTargets", binding::GRAB_TARGETS),
+            ("SplitVelocities", binding::SPLIT_VELOCITIES),
         ]
         .into_iter()
         .collect();

@@ -5,6 +5,47 @@
 
 use super::{Real, Vector};
 
+/// Which of a time step's solves runs (physics.md, "Contact that does not bounce back"): the
+/// full one, whose forces give the new positions (and, with combined contact, the new
+/// velocities too), or split contact's velocity solve, whose forces give the new velocities:
+/// it asks every hard constraint for no change of its value (`C = 0`) and every one-sided
+/// constraint (floor, colliders, contacts between bodies) to close its gap but not to undo
+/// the penetration it starts the step with. Its GLSL twin is the push constant `phase`
+/// (`PHASE_FULL`, `PHASE_VELOCITY`) with the same two functions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Solve {
+    /// Every constraint as it is.
+    #[default]
+    Full,
+    /// Position errors left out: only velocities are solved for.
+    Velocity,
+}
+
+impl Solve {
+    /// The value [`compliant_multiplier`](super::compliant_multiplier) is given for a hard
+    /// constraint of value `c`: `c`, or 0 in the velocity solve. Compliant constraints are
+    /// elastic forces and keep their value in both.
+    #[inline]
+    pub fn hard<R: Real>(self, c: R) -> R {
+        match self {
+            Solve::Full => c,
+            Solve::Velocity => R::ZERO,
+        }
+    }
+
+    /// What a one-sided constraint (`C >= 0`) whose value at the step's start is `c_start`
+    /// adds to its value: 0, or in the velocity solve the penetration it starts with
+    /// (`max(-c_start, 0)`), so that the velocities stop the node going deeper without
+    /// pushing it out.
+    #[inline]
+    pub fn slack<R: Real>(self, c_start: R) -> R {
+        match self {
+            Solve::Full => R::ZERO,
+            Solve::Velocity => (R::ZERO - c_start).max(R::ZERO),
+        }
+    }
+}
+
 /// Where a node at `x` [m] with velocity `v` [m/s], total force `f` [N] and inverse mass `w`
 /// [1/kg] ends the step of `dt` [s] by symplectic Euler: `x + dt (v + dt w f)`.
 #[inline]

@@ -32,7 +32,7 @@ pub use constraint::{
     compliant_multiplier, distance_constraint, face_volume, implicit_accumulate, implicit_lambda,
     implicit_multiplier, spring_constraint, spring_softness, volume_constraint, volume_softness,
 };
-pub use contact::{contact_push, end_position, surface_friction};
+pub use contact::{contact_push, end_position, surface_friction, Solve};
 pub use integrate::{floor_force, floor_friction, floor_solve, integrate_node, symplectic_euler};
 pub use spring::spring_force;
 pub use tetmesh::geometry::{tet_volume, Real, Vector};

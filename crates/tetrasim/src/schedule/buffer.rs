@@ -94,6 +94,8 @@ pub enum BufferId {
     /// vec4 per frame slot, substep and grabbed node: its attachment's target and stiffness
     /// (host-visible; colliders or grabs).
     GrabTargets,
+    /// vec4 per node: the velocity solve's new velocity (split contact).
+    SplitVelocities,
 }
 
 impl BufferId {
@@ -140,6 +142,7 @@ impl BufferId {
             BufferId::ClampPoses => "clamp poses",
             BufferId::GrabNodes => "grab nodes",
             BufferId::GrabTargets => "grab targets",
+            BufferId::SplitVelocities => "split velocities",
         }
     }
 
@@ -186,6 +189,7 @@ impl BufferId {
             BufferId::ClampPoses => binding::CLAMP_POSES,
             BufferId::GrabNodes => binding::GRAB_NODES,
             BufferId::GrabTargets => binding::GRAB_TARGETS,
+            BufferId::SplitVelocities => binding::SPLIT_VELOCITIES,
         }
     }
 }

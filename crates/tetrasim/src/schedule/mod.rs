@@ -158,6 +158,10 @@ pub struct Schedule {
     pub colliders: u32,
     /// Whether grabs hold nodes (their attachments are solved with the colliders).
     pub grabs: bool,
+    /// Split contact (`contact = "split"`): each step solves twice from the same state,
+    /// first the velocity solve, ended by `split_velocity`, then the full solve
+    /// ([`Schedule::step`]).
+    pub split: bool,
 }
 
 /// The position of the first of `stages` that runs after `kind` (declaration order).
@@ -280,6 +284,15 @@ impl Schedule {
         let at = before(&self.stages, PassKind::ContactSolve);
         self.stages.splice(at..at, solve);
         self
+    }
+
+    /// How many of a step's solves run stage `kind`: 2 for the stages before
+    /// `split_velocity` with split contact ([`Schedule::step`]), else 1.
+    pub fn solves_running(&self, kind: PassKind) -> u32 {
+        match self.split && kind < PassKind::SplitVelocity {
+            true => 2,
+            false => 1,
+        }
     }
 
     /// Whether `kind` runs in the frame.

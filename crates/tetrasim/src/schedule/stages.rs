@@ -6,7 +6,7 @@
 
 use super::{Access, BufferId, Domain, Repeat, Schedule, Stage, SweepPlan};
 use crate::model::ConstraintKind;
-use crate::params::{chebyshev_weights, Method, SimParams, Solver, SpringKind};
+use crate::params::{chebyshev_weights, ContactMode, Method, SimParams, Solver, SpringKind};
 use crate::shaders::file;
 
 /// A compute pass. The declaration order is the execution order within a frame.
@@ -65,7 +65,12 @@ pub enum PassKind {
     /// solved again. GPU only: the CPU backends' `contact_solve` arm applies, so theirs are
     /// no-ops.
     ContactApply,
-    /// Velocities and positions, the floor.
+    /// Split contact's velocity solve ends: the floor's and the colliders' final solve and
+    /// symplectic Euler with friction as in `integrate`, the new velocity kept aside (its
+    /// positions are dropped), the forces reset for the full solve. Only with `contact =
+    /// "split"`, whose step runs the solve twice ([`crate::schedule::Schedule::step`]).
+    SplitVelocity,
+    /// Velocities and positions, the floor (split contact: the velocity solve's velocities).
     Integrate,
     /// Divergence flags and the first bad node.
     Check,
@@ -75,7 +80,7 @@ pub enum PassKind {
 
 impl PassKind {
     /// Every pass, in execution order.
-    pub const ALL: [PassKind; 20] = [
+    pub const ALL: [PassKind; 21] = [
         PassKind::ClampDrive,
         PassKind::SpringScatter,
         PassKind::SpringGather,
@@ -93,6 +98,7 @@ impl PassKind {
         PassKind::GlobalVolume,
         PassKind::ContactSolve,
         PassKind::ContactApply,
+        PassKind::SplitVelocity,
         PassKind::Integrate,
         PassKind::Check,
         PassKind::VolumeSum,
@@ -118,6 +124,7 @@ impl PassKind {
             PassKind::GlobalVolume => "global_volume",
             PassKind::ContactSolve => "contact_solve",
             PassKind::ContactApply => "contact_apply",
+            PassKind::SplitVelocity => "split_velocity",
             PassKind::Integrate => "integrate",
             PassKind::Check => "check",
             PassKind::VolumeSum => "volume_sum",
@@ -144,6 +151,7 @@ impl PassKind {
             PassKind::GlobalVolume => file::PASSES_GLOBAL_VOLUME_COMP,
             PassKind::ContactSolve => file::PASSES_CONTACT_SOLVE_COMP,
             PassKind::ContactApply => file::PASSES_CONTACT_APPLY_COMP,
+            PassKind::SplitVelocity => file::PASSES_SPLIT_VELOCITY_COMP,
             PassKind::Integrate => file::PASSES_INTEGRATE_COMP,
             PassKind::Check => file::PASSES_CHECK_COMP,
             PassKind::VolumeSum => file::PASSES_VOLUME_SUM_COMP,
@@ -161,6 +169,7 @@ impl PassKind {
         matches!(
             self,
             PassKind::Integrate
+                | PassKind::SplitVelocity
                 | PassKind::ConstraintApply
                 | PassKind::GlobalVolume
                 | PassKind::ContactApply
@@ -335,15 +344,33 @@ impl Schedule {
                 ));
             }
         }
+        let split = params.contact == ContactMode::Split;
+        if split {
+            stages.push(stage(
+                PassKind::SplitVelocity,
+                Repeat::Substep,
+                Domain::Nodes,
+                vec![
+                    (Positions, Read),
+                    (Velocities, Read),
+                    (Forces, ReadWrite),
+                    (SplitVelocities, Write),
+                ],
+            ));
+        }
+        let mut bindings = vec![
+            (Positions, ReadWrite),
+            (Velocities, ReadWrite),
+            (Forces, ReadWrite),
+        ];
+        if split {
+            bindings.push((SplitVelocities, Read));
+        }
         stages.push(stage(
             PassKind::Integrate,
             Repeat::Substep,
             Domain::Nodes,
-            vec![
-                (Positions, ReadWrite),
-                (Velocities, ReadWrite),
-                (Forces, ReadWrite),
-            ],
+            bindings,
         ));
         stages.push(stage(
             PassKind::Check,
@@ -365,6 +392,7 @@ impl Schedule {
             floor: params.floor,
             colliders: 0,
             grabs: false,
+            split,
         }
     }
 

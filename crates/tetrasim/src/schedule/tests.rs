@@ -1,7 +1,8 @@
 //! The schedule's unit tests: the order of a step's dispatches and what each stage touches.
 
 use super::*;
-use crate::params::{Method, SimParams, Solver, SpringKind};
+use crate::params::{ContactMode, Method, SimParams, Solver, SpringKind};
+use crate::physics::Solve;
 
 fn sweeps() -> Vec<SweepPlan> {
     vec![
@@ -117,4 +118,35 @@ fn what_a_scene_does_not_use_is_not_scheduled() {
         .iter()
         .find(|s| s.kind == PassKind::ConstraintApply);
     assert!(apply.is_some_and(|s| s.writes().any(|b| b == BufferId::ChebyshevBefore)));
+}
+
+#[test]
+fn split_contact_solves_twice_velocity_first() {
+    let combined = SimParams {
+        springs: SpringKind::Implicit,
+        ..SimParams::default()
+    };
+    let split = SimParams {
+        contact: ContactMode::Split,
+        ..combined.clone()
+    };
+    let one = Schedule::new(&combined, sweeps(), true, false);
+    let two = Schedule::new(&split, sweeps(), true, false);
+    assert!(!one.runs(PassKind::SplitVelocity));
+    let (once, twice) = (one.step(), two.step());
+    let solve = once.len() - 1; // all but integrate
+    assert_eq!(
+        twice.len(),
+        2 * solve + 2,
+        "the solve twice, split_velocity, integrate"
+    );
+    let velocity = &twice[..solve + 1];
+    assert!(velocity.iter().all(|d| d.solve == Solve::Velocity));
+    assert!(twice[solve + 1..].iter().all(|d| d.solve == Solve::Full));
+    assert_eq!(names(&two, &velocity[..solve]), names(&one, &once[..solve]));
+    assert_eq!(names(&two, &velocity[solve..]), ["split_velocity"]);
+    assert_eq!(names(&two, &twice[solve + 1..]), names(&one, &once));
+    assert_eq!(two.solves_running(PassKind::Volume), 2);
+    assert_eq!(two.solves_running(PassKind::Integrate), 1);
+    assert_eq!(one.solves_running(PassKind::Volume), 1);
 }

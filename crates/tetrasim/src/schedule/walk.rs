@@ -1,6 +1,7 @@
 //! One time step unrolled into its dispatches, in the order every backend runs them.
 
-use super::{Repeat, Schedule};
+use super::{PassKind, Repeat, Schedule};
+use crate::physics::Solve;
 
 /// Where a constraint group lies, for the dispatches that run per group.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -26,6 +27,9 @@ pub struct Dispatch {
     pub iteration: Option<u32>,
     /// The constraint group, for the stages that run per group.
     pub group: Option<GroupAt>,
+    /// Which of the step's solves it belongs to (split contact's velocity solve, or the
+    /// full one: every dispatch without split contact).
+    pub solve: Solve,
 }
 
 impl Schedule {
@@ -33,15 +37,53 @@ impl Schedule {
     /// per-iteration block (the first [`Repeat::Iteration`] stage to the last
     /// [`Repeat::IterationEnd`] one after it) unrolled `iterations` times, each time sweep
     /// after sweep and group after group (the sweep's own stage, then the stages of no
-    /// sweep), then the stages that end an iteration.
+    /// sweep), then the stages that end an iteration. With split contact
+    /// ([`Schedule::split`]) the step's dispatches up to `integrate` run twice: first as the
+    /// velocity solve ([`Solve::Velocity`]), ended by `split_velocity`, then as the full
+    /// solve.
     pub fn step(&self) -> Vec<Dispatch> {
+        let full = self.solve();
+        if !self.split {
+            return full;
+        }
+        let stage_of = |kind| {
+            (self.stages.iter())
+                .position(|s| s.kind == kind)
+                .expect("a split schedule has both ends")
+        };
+        let split_velocity = stage_of(PassKind::SplitVelocity);
+        let integrate = stage_of(PassKind::Integrate);
+        let solve_end = (full.iter())
+            .position(|d| d.stage == integrate)
+            .unwrap_or(full.len());
+        let end = Dispatch {
+            stage: split_velocity,
+            iteration: None,
+            group: None,
+            solve: Solve::Full,
+        };
+        let velocity = (full[..solve_end].iter())
+            .chain(std::iter::once(&end))
+            .map(|d| Dispatch {
+                solve: Solve::Velocity,
+                ..*d
+            });
+        velocity.chain(full.iter().copied()).collect()
+    }
+
+    /// One solve's dispatches (every stage of the step but `split_velocity`).
+    fn solve(&self) -> Vec<Dispatch> {
         let step: Vec<usize> = (0..self.stages.len())
-            .filter(|&i| self.stages[i].repeat != Repeat::Frame)
+            .filter(|&i| {
+                let stage = &self.stages[i];
+                stage.repeat != Repeat::Frame && stage.kind != PassKind::SplitVelocity
+            })
             .collect();
         let once = |stage| Dispatch {
             stage,
             iteration: None,
             group: None,
+            solve: Solve::Full,
         };
         let repeat = |k: usize| self.stages[step[k]].repeat;
         let mut out = Vec::new();
@@ -82,6 +124,7 @@ impl Schedule {
                                 stage,
                                 iteration: Some(iteration),
                                 group: Some(group),
+                                solve: Solve::Full,
                             });
                         }
                         first += count;

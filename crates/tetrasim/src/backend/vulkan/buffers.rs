@@ -168,6 +168,7 @@ impl SimBuffers {
         optional.data(BufferId::NodeSpringItems, bytes(&model.node_springs.items))?;
         optional.zeroed(BufferId::ConstraintSum, (n * 16) as u64)?;
         optional.zeroed(BufferId::ChebyshevBefore, (n * 16) as u64)?;
+        optional.zeroed(BufferId::SplitVelocities, (n * 16) as u64)?;
         // The multipliers need no initial values (iteration 0 writes before any read), but
         // for warm-started implicit springs, whose first step starts from 0: zeroed.
         optional.zeroed(
@@ -433,7 +434,7 @@ impl Optional<'_> {
 }
 
 /// Every buffer kind.
-const ALL_BUFFERS: [BufferId; 40] = [
+const ALL_BUFFERS: [BufferId; 41] = [
     BufferId::Positions,
     BufferId::Velocities,
     BufferId::Forces,
@@ -474,4 +475,5 @@ const ALL_BUFFERS: [BufferId; 40] = [
     BufferId::ClampPoses,
     BufferId::GrabNodes,
     BufferId::GrabTargets,
+    BufferId::SplitVelocities,
 ];

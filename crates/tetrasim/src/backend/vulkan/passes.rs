@@ -36,7 +36,7 @@ use ash::vk;
 use super::buffers::SimBuffers;
 use super::plan::{volume_sum_pass, EnginePlan, PassPlan};
 use crate::gpu::commands::{barrier, memory_barrier, Access};
-use crate::gpu::layout::PushConstants;
+use crate::gpu::layout::{phase, PushConstants};
 use crate::gpu::{AtomicsPath, BindingLayout, Buffer, Context, Kernel, Timer};
 use crate::{Error, Result};
 
@@ -186,6 +186,10 @@ impl Recorder<'_> {
         let schedule = &plan.schedule;
         for dispatch in schedule.step() {
             let pass = &p.frame[dispatch.stage];
+            let step_push = &PushConstants {
+                phase: phase::of(dispatch.solve),
+                ..*step_push
+            };
             let Some(at) = dispatch.group else {
                 self.dispatch(pass, b, step_push, pass.plan.elements)?;
                 continue;

@@ -211,6 +211,7 @@ unsafe fn contact_sweep(
             contacts,
             &problem.model,
             &problem.params,
+            inputs.k.solve,
             |i| x[i].to_dvec3(),
             |i| v[i].to_dvec3(),
             |i| f[i].to_dvec3(),
@@ -259,7 +260,7 @@ fn reach(inputs: &Inputs<'_>, nodes: std::ops::Range<usize>) -> Option<Vec<f32>>
     let (x, v, w, dt) = (inputs.x, inputs.v, inputs.inv_mass, inputs.k.dt);
     (inputs.floor).then(|| {
         nodes
-            .map(|i| floor_reach(x[i].y, v[i].y, w[i], dt))
+            .map(|i| floor_reach(x[i].y + inputs.k.solve.slack(x[i].y), v[i].y, w[i], dt))
             .collect()
     })
 }
@@ -409,6 +410,7 @@ unsafe fn global_apply(
     for (o, (first, chunks)) in global_chunks(global).into_iter().enumerate() {
         let b: f32 = partial[first..first + chunks].iter().sum();
         let (c, a) = global.c_and_a[o];
+        let c = inputs.k.solve.hard(c);
         let lambda = implicit_multiplier(c, a, b, dt, inputs.k.epsilon).unwrap_or(0.0);
         for &k in &mine[o] {
             let (i, g) = (
@@ -418,7 +420,8 @@ unsafe fn global_apply(
             let (f, n) = (&mut f[i - nodes.start], &mut floor_force[i - nodes.start]);
             *f -= g * lambda;
             if inputs.floor {
-                (*f, *n) = floor_solve(*f, *n, inputs.x[i].y, v[i].y, w[i], dt);
+                let y = inputs.x[i].y + inputs.k.solve.slack(inputs.x[i].y);
+                (*f, *n) = floor_solve(*f, *n, y, v[i].y, w[i], dt);
             }
             if let Some(colliders) = &inputs.colliders {
                 colliders.solve(i, f, &mut contact[i - nodes.start]);

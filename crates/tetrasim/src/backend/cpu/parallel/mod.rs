@@ -22,10 +22,11 @@ use crate::backend::{Backend, State, VolumeSample};
 use crate::collider::{self, Attachment, ColliderAt, NodeContact};
 use crate::error::Result;
 use crate::model::{ConstraintKind, Csr, GlobalVolume, Model};
-use crate::params::{chebyshev_weights, Method, SimParams, Solver, SpringKind};
+use crate::params::{chebyshev_weights, ContactMode, Method, SimParams, Solver, SpringKind};
 use crate::physics::{
     compliant_multiplier, end_position, face_volume, floor_solve, implicit_accumulate,
-    implicit_multiplier, integrate_node, spring_constraint, spring_force, tet_volume, Vector,
+    implicit_multiplier, integrate_node, spring_constraint, spring_force, tet_volume, Solve,
+    Vector,
 };
 use crate::problem::Problem;
 use crate::schedule::family::{ConstraintFamily, Family};
@@ -52,6 +53,8 @@ struct Coefficients {
     friction: f32,
     epsilon: f32,
     gravity: Vec3A,
+    /// Which of the step's solves runs (split contact's velocity solve, or the full one).
+    solve: Solve,
 }
 
 /// One constraint sweep of an iteration ([`Model::constraint_sweeps`]): its constraints in
@@ -215,6 +218,8 @@ pub(super) struct Colliders<'a> {
     pub clear: &'a [f64],
     /// Each node's attachment to a grab in this step (empty without grabs).
     pub attached: &'a [Option<Attachment>],
+    /// Which of the step's solves runs.
+    pub solve: Solve,
 }
 
 impl Colliders<'_> {
@@ -232,7 +237,7 @@ impl Colliders<'_> {
             }
         }
         let attached = self.attached.get(i).copied().flatten();
-        collide(self.at, clear, attached, f, c, x, v, w, self.dt)
+        collide(self.at, clear, attached, self.solve, f, c, x, v, w, self.dt)
     }
 }
 
@@ -246,6 +251,7 @@ pub(super) fn collide(
     at: &[ColliderAt<'_>],
     clear: f64,
     attached: Option<Attachment>,
+    solve: Solve,
     f: &mut Vec3A,
     c: &mut Vec3A,
     x: Vec3A,
@@ -264,6 +270,7 @@ pub(super) fn collide(
     let (f1, contact) = collider::solve_node_attached(
         at,
         attached,
+        solve,
         f.to_dvec3(),
         c.to_dvec3(),
         x.to_dvec3(),
@@ -418,6 +425,10 @@ fn solve_block<const K: usize, R: NodeForces<K>, F: ConstraintFamily<f32, K>>(
         let e = e as usize;
         let ids = elements[e].map(|a| a as usize);
         let (c, grad, softness, damping) = family.evaluate(e, ids.map(|i| x[i]));
+        let c = match softness > 0.0 {
+            true => c,
+            false => k.solve.hard(c),
+        };
         let (mut a, mut b) = (0.0, 0.0);
         for (&i, &g) in ids.iter().zip(&grad) {
             implicit_accumulate(&mut a, &mut b, g, w[i], a_scale[i], v[i], f[i], k.dt);

@@ -9,10 +9,10 @@ use crate::collider::{self, NodeContact};
 use crate::contact::{deepest, Contact};
 use crate::error::Result;
 use crate::model::Model;
-use crate::params::SimParams;
+use crate::params::{ContactMode, SimParams};
 use crate::physics::{
     compliant_multiplier, implicit_accumulate, integrate_node, spring_constraint, spring_force,
-    tet_volume,
+    tet_volume, Solve,
 };
 use crate::problem::Problem;
 use crate::schedule::family::{ConstraintFamily, Family};
@@ -152,9 +152,17 @@ impl ReferenceBackend {
     /// iteration's forces) and each group followed by the floor's solve, then the global
     /// volume constraints (when solved) and the floor again.
     pub fn forces(&self) -> Forces {
-        let mut step = StepForces::new(self);
-        for dispatch in &self.dispatches {
-            if self.schedule.stages[dispatch.stage].kind == PassKind::Integrate {
+        self.forces_of(Solve::Full)
+    }
+
+    /// [`Self::forces`] of one of the step's solves: the full one, or split contact's
+    /// velocity solve ([`Solve::Velocity`]: hard constraints asked for no change of their
+    /// value, contacts for no deeper penetration).
+    pub fn forces_of(&self, solve: Solve) -> Forces {
+        let mut step = StepForces::new(self, solve);
+        for dispatch in self.dispatches.iter().filter(|d| d.solve == solve) {
+            let kind = self.schedule.stages[dispatch.stage].kind;
+            if matches!(kind, PassKind::Integrate | PassKind::SplitVelocity) {
                 break;
             }
             self.run(dispatch, &mut step);
@@ -240,12 +248,12 @@ impl ReferenceBackend {
             .map(|f| f.0)
             .collect();
         let members = sweep.groups.group(at.group);
-        let total = &step.total;
+        let (total, solve) = (&step.total, step.solve);
         let (springs, volumes) = (&mut step.spring_lambda, &mut step.volume_lambda);
         match &self.families[at.sweep] {
-            Family::Springs(family) => self.sweep(members, family, total, &a_scale, springs),
-            Family::Distances(family) => self.sweep(members, family, total, &a_scale, springs),
-            Family::Volumes(family) => self.sweep(members, family, total, &a_scale, volumes),
+            Family::Springs(f) => self.sweep(members, f, solve, total, &a_scale, springs),
+            Family::Distances(f) => self.sweep(members, f, solve, total, &a_scale, springs),
+            Family::Volumes(f) => self.sweep(members, f, solve, total, &a_scale, volumes),
         }
     }
 
@@ -338,11 +346,14 @@ impl ReferenceBackend {
     /// damping); returns the per-node sums of `-delta grad C`, `delta` the
     /// compliant multiplier's increment ([`Self::lambda`]). A compliant constraint
     /// (softness > 0) carries its multiplier so far in `lambda[e]`, which grows by
-    /// `omega delta`; a hard one neither reads nor changes it.
+    /// `omega delta`; a hard one neither reads nor changes it, and is asked for no change of
+    /// its value in split contact's velocity solve (`solve`).
+    #[allow(clippy::too_many_arguments)]
     fn sweep<const K: usize, F: ConstraintFamily<f64, K>>(
         &self,
         members: &[u32],
         family: &F,
+        solve: Solve,
         f: &[DVec3],
         a_scale: &[f64],
         lambda: &mut [f64],
@@ -353,10 +364,9 @@ impl ReferenceBackend {
             let e = e as usize;
             let ids = elements[e].map(|i| i as usize);
             let (c, grad, softness, damping) = family.evaluate(e, ids.map(|i| self.x[i]));
-            let so_far = if softness > 0.0 {
-                softness * lambda[e]
-            } else {
-                0.0
+            let (c, so_far) = match softness > 0.0 {
+                true => (c, softness * lambda[e]),
+                false => (solve.hard(c), 0.0),
             };
             if let Some(delta) = self.lambda(c, &grad, ids, f, a_scale, so_far, softness, damping) {
                 if softness > 0.0 {
@@ -420,6 +430,10 @@ impl ReferenceBackend {
             |i, u| v[i] = u,
         );
         let mut forces = self.forces();
+        let velocity = (self.problem.params.contact == ContactMode::Split).then(|| {
+            let split = self.forces_of(Solve::Velocity);
+            (split.total(), split)
+        });
         let pushed = forces
             .contacts
             .iter()
@@ -440,11 +454,20 @@ impl ReferenceBackend {
             .zip(f.iter().zip(&self.problem.model.inv_mass));
         for (i, ((x, v), (&f, &w))) in nodes.enumerate() {
             let contact = forces.floor[i] > 0.0;
-            let x0 = *x;
-            (*x, *v) = integrate_node(x0, *v, f, w, p.dt, contact, p.friction);
+            let (x0, v0) = (*x, *v);
+            (*x, *v) = integrate_node(x0, v0, f, w, p.dt, contact, p.friction);
             if forces.contacts[i].touching.is_some() {
                 *v = collider::friction_of(&at, &forces.contacts[i], x0, *v, p.dt);
                 *x = x0 + *v * p.dt;
+            }
+            // Split contact: the positions are the full solve's, the velocities the
+            // velocity solve's (with its own contacts' friction).
+            if let Some((f_v, split)) = &velocity {
+                let contact = split.floor[i] > 0.0;
+                *v = integrate_node(x0, v0, f_v[i], w, p.dt, contact, p.friction).1;
+                if split.contacts[i].touching.is_some() {
+                    *v = collider::friction_of(&at, &split.contacts[i], x0, *v, p.dt);
+                }
             }
             if bad.is_none() {
                 if !(x.is_finite() && v.is_finite()) {

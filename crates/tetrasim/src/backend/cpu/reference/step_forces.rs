@@ -5,9 +5,12 @@ use glam::DVec3;
 use super::ReferenceBackend;
 use crate::collider::{self, NodeContact};
 use crate::contact::Contact;
+use crate::physics::Solve;
 
 /// The forces of a time step while its dispatches run.
 pub(super) struct StepForces {
+    /// Which solve of the step these forces are (split contact solves twice).
+    pub(super) solve: Solve,
     pub(super) gravity: Vec<DVec3>,
     /// Explicit spring forces, or the warm start's (zeros without a spring force stage).
     pub(super) springs: Vec<DVec3>,
@@ -37,13 +40,14 @@ pub(super) struct StepForces {
 }
 
 impl StepForces {
-    /// Gravity alone, at the start of a step of `backend`.
-    pub(super) fn new(backend: &ReferenceBackend) -> Self {
+    /// Gravity alone, at the start of solve `solve` of a step of `backend`.
+    pub(super) fn new(backend: &ReferenceBackend, solve: Solve) -> Self {
         let problem = &backend.problem;
         let n = problem.model.node_count();
         let down = DVec3::new(0.0, -problem.params.gravity, 0.0);
         let gravity: Vec<DVec3> = problem.model.mass.iter().map(|&m| down * m).collect();
         let mut step = StepForces {
+            solve,
             springs: vec![DVec3::ZERO; n],
             total: Vec::new(),
             floor: vec![0.0; n],

@@ -67,7 +67,8 @@ impl ReferenceBackend {
                 let w = self.problem.model.inv_mass[i];
                 implicit_accumulate(&mut a, &mut b, g, w, 1.0, self.v[i], step.total[i], p.dt);
             }
-            *lambda = implicit_multiplier(*c, a, b, p.dt, p.constraint_epsilon).unwrap_or(0.0);
+            let c = step.solve.hard(*c);
+            *lambda = implicit_multiplier(c, a, b, p.dt, p.constraint_epsilon).unwrap_or(0.0);
         }
     }
 
@@ -84,6 +85,7 @@ impl ReferenceBackend {
             &mut step.bodies,
             model,
             params,
+            step.solve,
             |i| self.x[i],
             |i| self.v[i],
             |i| total[i],
@@ -101,7 +103,8 @@ impl ReferenceBackend {
         let (model, dt) = (&self.problem.model, self.problem.params.dt);
         if self.problem.params.floor {
             for (i, (f, n)) in step.total.iter_mut().zip(step.floor.iter_mut()).enumerate() {
-                (*f, *n) = floor_solve(*f, *n, self.x[i].y, self.v[i].y, model.inv_mass[i], dt);
+                let y = self.x[i].y + step.solve.slack(self.x[i].y);
+                (*f, *n) = floor_solve(*f, *n, y, self.v[i].y, model.inv_mass[i], dt);
             }
         }
         if model.colliders.is_empty() && model.grabs.is_empty() {
@@ -120,9 +123,12 @@ impl ReferenceBackend {
         let nodes = step.total.iter_mut().zip(step.contacts.iter_mut());
         for (i, (f, c)) in nodes.enumerate() {
             let (x, v, w, clear) = (self.x[i], self.v[i], model.inv_mass[i], step.clearance[i]);
+            let solve = step.solve;
             (*f, *c) = match step.attached[i] {
-                Some(a) => collider::solve_node_attached(&at, Some(a), *f, c.force, x, v, w, dt),
-                None => collider::solve_node_clear(&at, clear, *f, c.force, x, v, w, dt),
+                Some(a) => {
+                    collider::solve_node_attached(&at, Some(a), solve, *f, c.force, x, v, w, dt)
+                }
+                None => collider::solve_node_clear(&at, clear, solve, *f, c.force, x, v, w, dt),
             };
         }
     }

@@ -288,6 +288,9 @@ fn buffers(
         let chunks = u64::from(g.chunks(workgroup_size.min(GLOBAL_WORKGROUP)));
         buffers.push((GlobalState, 16 * objects * chunks, 0));
     }
+    if schedule.split {
+        buffers.push((SplitVelocities, 16 * n, 0));
+    }
     if schedule
         .stages
         .iter()
@@ -373,7 +376,13 @@ impl PassPlan {
         let variant = match (stage.kind, schedule.gather) {
             (PassKind::ConstraintApply, true) if solve => Variant::Named("gather_colliders"),
             (PassKind::ConstraintApply, false) if solve => Variant::Named("sums_colliders"),
-            (PassKind::Integrate | PassKind::GlobalVolume, _) if solve => {
+            (PassKind::Integrate, _) if schedule.split && solve => {
+                Variant::Named("colliders_split")
+            }
+            (PassKind::Integrate, _) if schedule.split => Variant::Named("split"),
+            (PassKind::Integrate | PassKind::GlobalVolume | PassKind::SplitVelocity, _)
+                if solve =>
+            {
                 Variant::Named("colliders")
             }
             (PassKind::SpringScatter, _) => Variant::Atomics,

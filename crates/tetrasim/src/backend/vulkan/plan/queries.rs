@@ -23,14 +23,16 @@ impl EnginePlan {
         self.passes.iter().any(|p| p.stage.kind == pass)
     }
 
-    /// How many times `pass` runs in a frame.
+    /// How many times `pass` runs in a frame (twice per step for the solve's passes with
+    /// split contact).
     pub fn runs_per_frame(&self, pass: &PassPlan) -> u32 {
+        let solves = self.schedule.solves_running(pass.stage.kind);
         match pass.stage.repeat {
-            Repeat::Substep => self.schedule.substeps,
+            Repeat::Substep => solves * self.schedule.substeps,
             Repeat::Iteration => {
-                self.schedule.substeps * self.schedule.iterations * self.groups_of(pass)
+                solves * self.schedule.substeps * self.schedule.iterations * self.groups_of(pass)
             }
-            Repeat::IterationEnd => self.schedule.substeps * self.schedule.iterations,
+            Repeat::IterationEnd => solves * self.schedule.substeps * self.schedule.iterations,
             Repeat::Frame => 1,
         }
     }

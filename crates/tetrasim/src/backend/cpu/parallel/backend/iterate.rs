@@ -107,6 +107,7 @@ impl ParallelBackend {
                 dt: k.dt,
                 clear: clearance,
                 attached,
+                solve: k.solve,
             }),
             bodies: bodies
                 .as_ref()

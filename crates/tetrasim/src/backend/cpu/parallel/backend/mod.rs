@@ -75,6 +75,9 @@ pub struct ParallelBackend {
     v: Vec<Vec3A>,
     /// Total force of the current step [N].
     f: Vec<Vec3A>,
+    /// Split contact: each node's velocity from the step's velocity solve, which the step
+    /// keeps instead of the full solve's (empty without split contact).
+    split_v: Vec<Vec3A>,
     /// Per explicit spring: force on the spring's end 0 (end 1 gets its negation); for
     /// warm-started implicit springs, the warm start's force.
     spring_out: Vec<Vec3A>,
@@ -142,6 +145,7 @@ impl ParallelBackend {
                 friction: params.friction as f32,
                 epsilon: params.constraint_epsilon as f32,
                 gravity,
+                solve: Solve::Full,
             },
             mass: to32(&model.mass),
             inv_mass: to32(&model.inv_mass),
@@ -193,6 +197,10 @@ impl ParallelBackend {
             // F starts as m g, which `integrate` leaves: with implicit springs and no warm
             // start, no stage adds to it before the iterations.
             f: model.mass.iter().map(|&m| gravity * m as f32).collect(),
+            split_v: match params.contact {
+                ContactMode::Split => vec![Vec3A::ZERO; n],
+                ContactMode::Combined => Vec::new(),
+            },
             spring_out: if (explicit_springs || params.warm_start)
                 && params.method != Method::MssNode
             {
@@ -304,15 +312,20 @@ impl ParallelBackend {
             });
     }
 
-    /// Stage `integrate`: the floor's and the colliders' final solve, symplectic Euler with
-    /// floor and collider friction, then `F = m g` for the next step. Returns the first node
-    /// that is non-finite or faster than the speed limit.
-    fn integrate_pass(&mut self, at: &[ColliderAt<'_>]) -> Option<(usize, Bad)> {
+    /// Stage `integrate` (`solve` full) or `split_velocity` (split contact's velocity
+    /// solve): the floor's and the colliders' final solve, symplectic Euler with floor and
+    /// collider friction, then `F = m g` for the next solve. `integrate` moves the nodes
+    /// (with split contact, to the velocity solve's velocities), `split_velocity` keeps the
+    /// new velocities aside. Returns the first node that is non-finite or faster than the
+    /// speed limit.
+    fn integrate_pass(&mut self, at: &[ColliderAt<'_>], solve: Solve) -> Option<(usize, Bad)> {
         let (w, k, mass) = (&self.inv_mass, self.k, &self.mass);
         let limit2 = self.speed_limit * self.speed_limit;
         let (on, dt) = (self.floor, self.k.dt);
         let (clearance, attached) = (&self.clearance, &self.attached);
         let pushed = std::sync::atomic::AtomicU32::new(0);
+        let split = !self.split_v.is_empty();
+        let split_v = SharedSlice::new(&mut self.split_v);
         let bad = self
             .x
             .par_iter_mut()
@@ -323,13 +336,13 @@ impl ParallelBackend {
             .zip(self.contact.par_iter_mut())
             .filter_map(|((i, ((x, v), (f, n))), c)| {
                 if on {
-                    (*f, *n) = floor_solve(*f, *n, x.y, v.y, w[i], dt);
+                    (*f, *n) = floor_solve(*f, *n, x.y + solve.slack(x.y), v.y, w[i], dt);
                 }
                 let touch = match at.is_empty() && attached.is_empty() {
                     true => None,
                     false => {
                         let held = attached.get(i).copied().flatten();
-                        let touch = collide(at, clearance[i], held, f, c, *x, *v, w[i], dt);
+                        let touch = collide(at, clearance[i], held, solve, f, c, *x, *v, w[i], dt);
                         *c = Vec3A::ZERO;
                         if touch.touching.is_some() {
                             pushed.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
@@ -349,9 +362,22 @@ impl ParallelBackend {
                     v1 = Vec3A::from_dvec3(v2);
                     x1 = *x + v1 * dt;
                 }
-                (*x, *v) = (x1, v1);
                 *n = 0.0;
                 *f = k.gravity * mass[i];
+                if split {
+                    // SAFETY: each node's entry is written or read by its own iteration only.
+                    let kept = unsafe { &mut split_v.part(i..i + 1)[0] };
+                    match solve {
+                        Solve::Velocity => {
+                            *kept = v1;
+                            x1 = *x;
+                        }
+                        Solve::Full => v1 = *kept,
+                    }
+                }
+                if solve == Solve::Full {
+                    (*x, *v) = (x1, v1);
+                }
                 if !(x1.is_finite() && v1.is_finite()) {
                     Some((i, Bad::NonFinite))
                 } else if v1.length_squared() > limit2 {
@@ -361,7 +387,9 @@ impl ParallelBackend {
                 }
             })
             .min_by_key(|(i, _)| *i);
-        self.pushed = pushed.into_inner();
+        if solve == Solve::Full {
+            self.pushed = pushed.into_inner();
+        }
         bad
     }
 
@@ -401,6 +429,7 @@ impl ParallelBackend {
                 let end = (k..self.dispatches.len())
                     .find(|&e| self.dispatches[e].iteration.is_none())
                     .unwrap_or(self.dispatches.len());
+                self.k.solve = dispatch.solve;
                 self.iterations(team, k..end, &at);
                 k = end;
                 continue;
@@ -428,7 +457,12 @@ impl ParallelBackend {
                         global.prepare(&self.x);
                     }
                 }
-                PassKind::Integrate => return self.integrate_pass(&at),
+                PassKind::SplitVelocity => {
+                    if let Some(bad) = self.integrate_pass(&at, Solve::Velocity) {
+                        return Some(bad);
+                    }
+                }
+                PassKind::Integrate => return self.integrate_pass(&at, Solve::Full),
                 _ => {}
             }
             k += 1;

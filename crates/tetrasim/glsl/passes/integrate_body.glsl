@@ -1,0 +1,79 @@
+// The body of the passes that end a solve, `integrate` and `split_velocity`
+// (passes/integrate.comp, passes/split_velocity.comp): per node the floor's final solve,
+// then, with COLLIDERS_ON, the kinematic colliders'; symplectic Euler with floor friction
+// and the touched collider's friction; the force (and the colliders' force) reset for the
+// next solve. Defines:
+//   SPLIT_VELOCITY_PASS: split contact's velocity solve ends here; the new velocity goes to
+//     SplitVelocities, positions and velocities stay;
+//   SPLIT_ON (integrate only): the new positions are this solve's, the new velocities the
+//     velocity solve's, from SplitVelocities.
+// The floor and the colliders read pc.phase (physics/solve.glsl): full in `integrate`,
+// velocity in `split_velocity`.
+#include "common/version.glsl"
+#include "common/bindings.glsl"
+#include "physics/solve.glsl"
+#include "physics/integrate.glsl"
+
+// 1 when the scene has a floor; 0 compiles the contact solve away (specialisation constant 1,
+// set by the engine plan).
+layout(constant_id = 1) const uint FLOOR = 1u;
+// The kinematic colliders (specialisation constant 2, set by the engine plan).
+layout(constant_id = 2) const uint COLLIDERS = 0u;
+// The nodes grabs hold (specialisation constant 3): the rows of one step's GrabTargets.
+layout(constant_id = 3) const uint GRABBED = 0u;
+#include "physics/contact.glsl"
+
+layout(std430, set = 0, binding = B_POSITIONS) restrict buffer Positions { vec4 positions[]; };
+layout(std430, set = 0, binding = B_VELOCITIES) restrict buffer Velocities { vec4 velocities[]; };
+layout(std430, set = 0, binding = B_FORCES) restrict buffer Forces { vec4 forces[]; };
+#ifdef COLLIDERS_ON
+layout(std430, set = 0, binding = B_COLLIDER_CONTACTS) restrict buffer ColliderContacts { vec4 contacts[]; };
+#endif
+#if defined(SPLIT_VELOCITY_PASS) || defined(SPLIT_ON)
+layout(std430, set = 0, binding = B_SPLIT_VELOCITIES) restrict buffer SplitVelocities { vec4 split_velocities[]; };
+#endif
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= pc.node_count) {
+        return;
+    }
+    vec4 p = positions[i];
+    vec4 v = velocities[i];
+    float w = p.w;
+    vec4 f = forces[i];
+    bool contact = false;
+    if (FLOOR != 0u && pc.floor_on != 0u) {
+        f = floor_solve(f, p.y + solve_slack(pc.phase, p.y), v.y, w, pc.dt);
+        contact = f.w > 0.0;
+    }
+    vec3 xn = p.xyz;
+#ifdef COLLIDERS_ON
+    int touching = -1;
+    vec3 normal = vec3(0.0);
+    {
+        vec3 c = contacts[i].xyz;
+        f.xyz = colliders_solve(i, f.xyz, c, xn, v.xyz, w, pc.dt, touching, normal);
+        contacts[i] = vec4(0.0);
+    }
+    // integrate_node with the collider's friction before the position update.
+    vec3 vn = v.xyz + pc.dt * w * f.xyz;
+    if (contact) {
+        vn = floor_friction(vn, pc.friction);
+    }
+    vn = friction_of(touching, normal, xn, vn, pc.dt);
+    xn += pc.dt * vn;
+#else
+    vec3 vn = integrate_node(xn, v.xyz, f.xyz, w, pc.dt, contact, pc.friction);
+#endif
+    forces[i] = vec4(0.0, -pc.gravity * v.w, 0.0, 0.0);
+#ifdef SPLIT_VELOCITY_PASS
+    split_velocities[i] = vec4(vn, 0.0);
+#else
+#ifdef SPLIT_ON
+    vn = split_velocities[i].xyz;
+#endif
+    positions[i] = vec4(xn, w);
+    velocities[i] = vec4(vn, v.w);
+#endif
+}
