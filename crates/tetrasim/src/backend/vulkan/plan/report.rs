@@ -27,6 +27,13 @@ impl EnginePlan {
             self.workgroup_size
         );
         let _ = writeln!(out, "per time step: {}", self.step_list().join(" -> "));
+        if self.schedule.split {
+            let _ = writeln!(
+                out,
+                "split contact: the passes before split_velocity run twice per time step, the \
+                 velocity solve then the full solve"
+            );
+        }
         let sized: Vec<String> = self
             .passes
             .iter()
