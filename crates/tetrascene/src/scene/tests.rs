@@ -26,6 +26,7 @@ fn full_scene_maps_onto_params() {
         dt = 0.0005
         substeps = 2
         iterations = 5
+        contact = "split"
         [[object]]
         mesh = "a"
         method = "distance"
@@ -42,6 +43,7 @@ fn full_scene_maps_onto_params() {
         (0.0005, 2, 5, 100.0, 1.0)
     );
     assert_eq!(p.method, Method::Distance);
+    assert_eq!(p.contact, tetrasim::params::ContactMode::Split);
     assert_eq!(p.mass, MassMode::Density { density: 1000.0 });
     assert!(p.floor);
     assert_eq!(p.friction, 0.5);
@@ -67,6 +69,10 @@ fn out_of_range_values_name_their_key() {
         (
             "[solver]\ndt = -1.0\n[[object]]\nmesh = \"a\"\n",
             "solver.dt",
+        ),
+        (
+            "[solver]\ncontact = \"split\"\nwarm_start = true\nsprings = \"implicit\"\n[[object]]\nmesh = \"a\"\n",
+            "solver.contact",
         ),
         (
             "[[object]]\nmesh = \"a\"\nmaterial = { ks = -5.0 }\n",
