@@ -7,7 +7,8 @@
 //   `friction` of its tangential velocity;  x += dt * v;
 // finally F = m g for the next step. Variant `colliders`: after the floor's solve the
 // kinematic colliders' (physics/contact.glsl), and after the floor's friction the friction
-// of the collider the node touches; the colliders' force is reset to 0 for the next step.
+// of the collider the node touches; the colliders' force is reset to 0 for the next step (w:
+// whether one pushed the node).
 // @variant plain:
 // @variant colliders: COLLIDERS_ON
 #include "common/version.glsl"
@@ -51,7 +52,9 @@ void main() {
     {
         vec3 c = contacts[i].xyz;
         f.xyz = colliders_solve(i, f.xyz, c, xn, v.xyz, w, pc.dt, touching, normal);
-        contacts[i] = vec4(0.0);
+        // Reset for the next step; w keeps whether a collider pushed the node in this, the
+        // step's last solve (contact_measure counts it after the frame's last step).
+        contacts[i] = vec4(0.0, 0.0, 0.0, touching >= 0 ? 1.0 : 0.0);
     }
     // integrate_node with the collider's friction before the position update.
     vec3 vn = v.xyz + pc.dt * w * f.xyz;

@@ -211,8 +211,8 @@ mod tests {
         // spring_constraint, distance, volume: gather; constraint_apply: sums, gather,
         // chebyshev, gather_chebyshev, sums_colliders, gather_colliders; global_volume,
         // integrate and contact_apply: colliders (their `plain` variants keep the shader's
-        // own key).
-        assert_eq!(variants, 22);
+        // own key); contact_measure: colliders, bodies, colliders_bodies.
+        assert_eq!(variants, 25);
     }
 
     #[test]

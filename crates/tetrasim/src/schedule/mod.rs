@@ -182,6 +182,7 @@ impl Schedule {
                     .map(|c| c.nodes.len() as u32)
                     .sum(),
             )
+            .with_contact_measure(metrics)
     }
 
     /// The same schedule with the body contact stages when `on` ([`crate::contact`]): once
