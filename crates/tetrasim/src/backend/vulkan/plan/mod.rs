@@ -16,7 +16,9 @@
 //! nor collider solve (the `colliders` variants, their count a specialisation constant)
 //! without kinematic colliders, and no `volume_sum` pass or partials copy in the frame
 //! without per-frame metrics. The `check` pass (divergence) and its 16-byte status copy are
-//! always there, and so are the rest volumes (the local volume error needs them).
+//! always there (32 bytes, with the `contact_measure` pass, when per-frame metrics measure
+//! contact: colliders or body contact; grabs alone get the words without the pass), and so
+//! are the rest volumes (the local volume error needs them).
 
 mod buffer;
 mod cost;
