@@ -243,7 +243,7 @@ impl Recorder<'_> {
     /// Zeroes the status's contact words (after its divergence words), which
     /// `contact_measure` adds into, once the copies of earlier frames have read them.
     fn zero_contact_words(&mut self, status: &Buffer) {
-        let words = STATUS_BYTES;
+        let start = STATUS_BYTES;
         memory_barrier(
             self.ctx,
             self.cmd,
@@ -256,8 +256,8 @@ impl Recorder<'_> {
             self.ctx.device().cmd_fill_buffer(
                 self.cmd,
                 status.raw,
-                words,
-                CONTACT_STATUS_BYTES - words,
+                start,
+                CONTACT_STATUS_BYTES - start,
                 0,
             )
         };
