@@ -6,14 +6,18 @@
 //! body (winding numbers). The spheres are held to `cpu`'s tolerance against `cpu-ref`
 //! (crates/tetrasim/tests/body_contact.rs); the bar, whose self-contact in f32 departs from
 //! the f64 reference by about a centimetre once its arm lands, as `cpu`'s does, to twice
-//! `cpu`'s own difference. Without the GPU's contact passes the spheres pass through each
-//! other and the bar's arms cross, so these fail when the feature is off.
+//! `cpu`'s own difference. The run record's contact series (pushing contacts and deepest
+//! penetration per frame, measured on the device) match `cpu-ref`'s on both and on two
+//! spheres pushed apart from an overlapping start. Without the GPU's contact passes the
+//! spheres pass through each other and the bar's arms cross, and without its contact
+//! measures the samples have none or no contacts, so these fail when the feature is off.
 
 mod common;
 mod gpu_support;
 
 use glam::DVec3;
 use tetrasim::backend::cpu::{ParallelBackend, ReferenceBackend};
+use tetrasim::backend::ContactSample;
 use tetrasim::params::{ContactMode, Placement, SimParams};
 use tetrasim::sim::bundled::bundled;
 use tetrasim::{Backend, Model, ModelBuilder};
@@ -25,6 +29,40 @@ const VOLUME_POINTS: f64 = 1e-3;
 /// crates/tetrasim/tests/body_contact.rs (a contact that starts a step earlier or later in
 /// f32 than in f64 moves the bodies by more than the colliders' 1e-5 of the diagonal).
 const POSITION: f64 = 5e-3;
+
+/// Largest allowed per-frame difference of the pushing body contacts of the two spheres
+/// (and the least allowed anywhere): a contact whose multiplier is within f32 rounding of 0,
+/// or found a step earlier or later as the positions depart, may push on one backend only
+/// (1 of 18 measured).
+const BODY_COUNT_SLACK: u32 = 2;
+
+/// Asserts that `got`'s contact series (vulkan) matches `want`'s (cpu-ref): per frame the
+/// pushing body contacts within `counts`, no collider nodes, the deepest penetration within
+/// `deepest` [m]; and that some frame had at least 10 pushing contacts on both.
+fn assert_contact_series(name: &str, got: &Run, want: &Run, counts: u32, deepest: f64) {
+    let diff = gpu_support::contact_difference(&got.contacts, &want.contacts);
+    let (gpu_peaks, peaks) = (
+        gpu_support::contact_peaks(&got.contacts),
+        gpu_support::contact_peaks(&want.contacts),
+    );
+    println!("{name}: contact series vulkan vs cpu-ref {diff:?}; cpu-ref's peaks {peaks:?}");
+    assert!(
+        diff.body_contacts <= counts && diff.collider_nodes == 0,
+        "{name}: pushing contacts differ by {} in a frame (allowed {counts})",
+        diff.body_contacts
+    );
+    assert!(
+        diff.deepest_m <= deepest,
+        "{name}: deepest penetration differs by {} m (allowed {deepest} m)",
+        diff.deepest_m
+    );
+    assert!(
+        peaks.body_contacts >= 10 && gpu_peaks.body_contacts >= 10,
+        "{name}: at most {} pushing contacts on vulkan, {} on cpu-ref",
+        gpu_peaks.body_contacts,
+        peaks.body_contacts
+    );
+}
 
 /// The bundled sphere (1 m across) centred at `centre`, moving at `velocity`.
 fn sphere(centre: DVec3, velocity: DVec3) -> Model {
@@ -113,34 +151,51 @@ fn crossed(model: &Model, x: &[DVec3]) -> usize {
         .count()
 }
 
-/// Per-frame volumes [% of rest] and the final state of `backend` over `frames`, each
-/// frame's state passed to `check`.
+/// What a run gives: per-frame volumes [% of rest], the final state, per-frame contact
+/// measures.
+struct Run {
+    volumes: Vec<f64>,
+    state: tetrasim::State,
+    contacts: Vec<ContactSample>,
+}
+
+/// The run of `backend` over `frames`, each frame's state passed to `check`.
 fn run(
     backend: &mut dyn Backend,
     rest: f64,
     frames: u32,
     mut check: impl FnMut(u32, &tetrasim::State),
-) -> (Vec<f64>, tetrasim::State) {
+) -> Run {
     let mut volumes = Vec::new();
+    let mut contacts = Vec::new();
     for frame in 0..frames {
         backend.step_frame().unwrap();
-        volumes.push(100.0 * backend.volume().unwrap().volume / rest);
+        let sample = backend.volume().unwrap();
+        volumes.push(100.0 * sample.volume / rest);
+        contacts.push(gpu_support::contact_of(&sample, backend.name()));
         check(frame, &backend.state().unwrap());
     }
-    (volumes, backend.state().unwrap())
+    Run {
+        volumes,
+        state: backend.state().unwrap(),
+        contacts,
+    }
 }
 
 /// The worst per-frame volume difference [points] and final position difference [m] of
 /// a run against another.
-fn differences(a: &(Vec<f64>, tetrasim::State), b: &(Vec<f64>, tetrasim::State)) -> (f64, f64) {
-    let volume = (a.0.iter().zip(&b.0))
+fn differences(a: &Run, b: &Run) -> (f64, f64) {
+    let volume = (a.volumes.iter().zip(&b.volumes))
         .map(|(x, y)| (x - y).abs())
         .fold(0.0, f64::max);
-    (volume, common::max_distance(&a.1.positions, &b.1.positions))
+    (
+        volume,
+        common::max_distance(&a.state.positions, &b.state.positions),
+    )
 }
 
 /// Runs `model` under `params` for `frames` on vulkan (validated; every frame's state
-/// passed to `check`) and on cpu-ref; returns the GPU's run and its worst volume and
+/// passed to `check`) and on cpu-ref; returns both runs and the GPU's worst volume and
 /// final position differences from the reference.
 fn against_reference(
     name: &str,
@@ -148,7 +203,7 @@ fn against_reference(
     params: &SimParams,
     frames: u32,
     check: impl FnMut(u32, &tetrasim::State),
-) -> ((Vec<f64>, tetrasim::State), (f64, f64)) {
+) -> ((Run, Run), (f64, f64)) {
     let rest = model.total_rest_volume();
     let mut gpu = gpu_support::validated(model, params);
     assert!(gpu.plan().has_pass("contact_find") && gpu.plan().has_pass("contact_apply"));
@@ -162,7 +217,7 @@ fn against_reference(
          position difference {position:.2e} m ({:.2e} of the diagonal)",
         position / model.bounds_diagonal()
     );
-    (got, (volume, position))
+    ((got, want), (volume, position))
 }
 
 #[test]
@@ -192,7 +247,7 @@ fn two_spheres_collide(model: &Model, contact: ContactMode) {
     let model = model.clone();
     let p0 = momentum(&model, &model.velocities);
     let mut worst_inside = 0;
-    let ((_, state), (volume, position)) =
+    let ((got, want), (volume, position)) =
         against_reference(contact.name(), &model, &params, 60, |frame, state| {
             let p = momentum(&model, &state.velocities);
             assert!(
@@ -215,6 +270,8 @@ fn two_spheres_collide(model: &Model, contact: ContactMode) {
         position <= POSITION,
         "final positions differ by {position:.2e} m"
     );
+    assert_contact_series("two spheres", &got, &want, BODY_COUNT_SLACK, POSITION);
+    let state = got.state;
     let left = momentum(&model, &state.velocities[..model.objects[1] as usize]).x;
     let before = momentum(&model, &model.velocities[..model.objects[1] as usize]).x;
     assert!(left < 0.8 * before, "no collision ({left} of {before})");
@@ -231,9 +288,10 @@ fn a_folded_bar_lands_on_itself_on_the_gpu_as_on_the_reference() {
         ..SimParams::default()
     };
     let mut worst = 0;
-    let (_, (volume, position)) = against_reference("folded bar", &model, &params, 60, |_, s| {
-        worst = worst.max(crossed(&model, &s.positions));
-    });
+    let ((got, want), (volume, position)) =
+        against_reference("folded bar", &model, &params, 60, |_, s| {
+            worst = worst.max(crossed(&model, &s.positions));
+        });
     assert_eq!(worst, 0, "the bar's arms crossed");
     // Self-contact in f32 departs from the f64 reference once the arm lands (a contact
     // found a step earlier or later): `cpu` (f32) does as much. The GPU must stay as close
@@ -254,6 +312,16 @@ fn a_folded_bar_lands_on_itself_on_the_gpu_as_on_the_reference() {
     );
     let (cpu_volume, cpu_position) = differences(&cpu, &reference);
     println!("folded bar: cpu vs cpu-ref: {cpu_volume:.2e} points, {cpu_position:.2e} m");
+    // Its pushing contacts, like its positions, to within twice cpu's own departure (3 of
+    // 33 measured against cpu's 6).
+    let cpu_counts = gpu_support::contact_difference(&cpu.contacts, &reference.contacts);
+    assert_contact_series(
+        "folded bar",
+        &got,
+        &want,
+        BODY_COUNT_SLACK.max(2 * cpu_counts.body_contacts),
+        POSITION.max(4.0 * cpu_position),
+    );
     assert!(
         volume <= VOLUME_POINTS.max(4.0 * cpu_volume),
         "volume differs by {volume:.2e} points (cpu: {cpu_volume:.2e})"
@@ -261,5 +329,58 @@ fn a_folded_bar_lands_on_itself_on_the_gpu_as_on_the_reference() {
     assert!(
         position <= POSITION.max(4.0 * cpu_position),
         "final positions differ by {position:.2e} m (cpu: {cpu_position:.2e} m)"
+    );
+}
+
+/// Two spheres overlapping by 10 cm at rest: contact pushes them apart over a few frames,
+/// with nodes behind the other sphere's triangles on the way (the only scene here whose
+/// `deepest_m` is not 0: contact keeps the colliding spheres and the bar out). The
+/// separation is violent, so f32 departs from f64 as much as on the bar: the GPU's series
+/// must stay within 4 times `cpu`'s own departure from `cpu-ref` (at least 2 contacts and
+/// 1 mm; measured: 3 contacts and 2.9 mm against cpu's 1 and 2.1 mm, of peaks of 28 and
+/// 9.9 mm), and see at least half of the reference's deepest penetration.
+#[test]
+fn overlapping_spheres_measure_their_penetration_as_the_reference_does() {
+    if !gpu_support::vulkan_available() {
+        return;
+    }
+    let model = Model::concat(&[
+        sphere(DVec3::new(-0.45, 0.0, 0.0), DVec3::ZERO),
+        sphere(DVec3::new(0.45, 0.0, 0.0), DVec3::ZERO),
+    ])
+    .expect("two spheres");
+    let params = SimParams {
+        gravity: 0.0,
+        floor: false,
+        ..SimParams::default()
+    };
+    let frames = 8;
+    let ((got, want), _) =
+        against_reference("overlapping spheres", &model, &params, frames, |_, _| {});
+    let rest = model.total_rest_volume();
+    let cpu = run(
+        &mut ParallelBackend::new(&model, &params).unwrap(),
+        rest,
+        frames,
+        |_, _| {},
+    );
+    let cpu_diff = gpu_support::contact_difference(&cpu.contacts, &want.contacts);
+    println!("overlapping spheres: cpu vs cpu-ref contact series {cpu_diff:?}");
+    assert_contact_series(
+        "overlapping spheres",
+        &got,
+        &want,
+        BODY_COUNT_SLACK.max(4 * cpu_diff.body_contacts),
+        (4.0 * cpu_diff.deepest_m).max(1e-3),
+    );
+    let (gpu_peaks, peaks) = (
+        gpu_support::contact_peaks(&got.contacts),
+        gpu_support::contact_peaks(&want.contacts),
+    );
+    assert!(
+        peaks.deepest_m > 1e-3 && gpu_peaks.deepest_m > 0.5 * peaks.deepest_m,
+        "deepest penetration {} m on vulkan, {} m on cpu-ref",
+        gpu_peaks.deepest_m,
+        peaks.deepest_m
     );
 }

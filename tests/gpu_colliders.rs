@@ -2,11 +2,13 @@
 //! ball (Jacobi: atomic sums), (b) a turning box swept by a keyframed capsule (two substeps
 //! a frame; again with split contact, whose velocity solve lets each collider keep a node's
 //! starting penetration), (c) a mesh collider (a torus's sampled distance) over a tilted
-//! plane (no floor), every one with friction, matches `cpu-ref` per frame (volume) and at the end
-//! (positions), and no node ever ends a frame more than 1 mm inside a collider. Frames in
-//! flight read their own slot's poses. Without the colliders' solve the sphere would fall
-//! through them (each scene checks that it touched every collider), so these fail when the
-//! feature is off.
+//! plane (no floor), every one with friction, matches `cpu-ref` per frame (volume) and at the
+//! end (positions), and no node ever ends a frame more than 1 mm inside a collider. The run
+//! record's contact series (each frame's pushed nodes and deepest penetration, measured on
+//! the device) match `cpu-ref`'s too. Frames in flight read their own slot's poses. Without
+//! the colliders' solve the sphere would fall through them (each scene checks that it
+//! touched every collider), so these fail when the feature is off; without the GPU's contact
+//! measures the samples have none, or no pushed nodes and no depth.
 //!
 //! Tolerances are those of tests/gpu_matches_cpu.rs (the GPU works in f32, the reference
 //! in f64).
@@ -26,6 +28,10 @@ const VOLUME_POINTS: f64 = 1e-3;
 const POSITION_FRACTION: f64 = 1e-5;
 /// How far a node may end a frame inside a collider [m].
 const PENETRATION: f64 = 1e-3;
+/// Largest allowed per-frame difference of the nodes a collider pushed in the frame's last
+/// step: one node whose push is within f32 rounding of zero may count on one backend only
+/// (none did on lavapipe).
+const COUNT_SLACK: u32 = 1;
 
 /// The bundled sphere per the `seed` placement (1 m across, its lowest node 0.1 m up).
 fn sphere_with(colliders: Vec<Collider>) -> Model {
@@ -157,6 +163,8 @@ fn colliders_match_the_reference_and_keep_every_node_out() {
     if !gpu_support::vulkan_available() {
         return;
     }
+    // The largest deepest penetration of any scene's reference, in position tolerances.
+    let mut deepest = 0.0f64;
     for (name, model, params, frames) in scenes() {
         let rest = model.total_rest_volume();
         let diag = model.bounds_diagonal();
@@ -166,10 +174,13 @@ fn colliders_match_the_reference_and_keep_every_node_out() {
         let mut gpu = gpu_support::validated(&model, &params);
         assert!(gpu.plan().has_pass("integrate") && gpu.plan().schedule.colliders > 0);
         let mut volumes = Vec::new();
+        let mut contacts = Vec::new();
         let mut closest = vec![f64::INFINITY; model.colliders.len()];
         for frame in 0..frames {
             gpu.step_frame().unwrap();
-            volumes.push(100.0 * gpu.volume().unwrap().volume / rest);
+            let sample = gpu.volume().unwrap();
+            volumes.push(100.0 * sample.volume / rest);
+            contacts.push(gpu_support::contact_of(&sample, "vulkan"));
             let state = gpu.state().unwrap();
             let t = f64::from(frame + 1) * frame_time;
             for (k, (phi, i)) in least_distances(&model, &state.positions, t)
@@ -193,9 +204,12 @@ fn colliders_match_the_reference_and_keep_every_node_out() {
         // The reference, frame by frame.
         let mut reference = ReferenceBackend::new(&model, &params).unwrap();
         let mut worst_volume = 0.0f64;
+        let mut reference_contacts = Vec::new();
         for (frame, got) in volumes.iter().enumerate() {
             reference.step_frame().unwrap();
-            let want = 100.0 * reference.volume().unwrap().volume / rest;
+            let sample = reference.volume().unwrap();
+            reference_contacts.push(gpu_support::contact_of(&sample, "cpu-ref"));
+            let want = 100.0 * sample.volume / rest;
             worst_volume = worst_volume.max((got - want).abs());
             assert!(
                 (got - want).abs() <= VOLUME_POINTS,
@@ -213,11 +227,41 @@ fn colliders_match_the_reference_and_keep_every_node_out() {
             worst <= POSITION_FRACTION * diag,
             "{name}: a node is {worst} m from the reference (diagonal {diag} m)"
         );
+        // The contact series: the same pushed nodes every frame (a node whose push is within
+        // f32 rounding of zero may flip: COUNT_SLACK), the deepest penetration within the
+        // position tolerance (a distance moves no more than the point does).
+        let diff = gpu_support::contact_difference(&contacts, &reference_contacts);
+        let peaks = gpu_support::contact_peaks(&reference_contacts);
+        println!("{name}: contact series vulkan vs cpu-ref {diff:?}; cpu-ref's peaks {peaks:?}");
+        assert!(
+            diff.collider_nodes <= COUNT_SLACK && diff.body_contacts == 0,
+            "{name}: pushed nodes differ by {} in a frame",
+            diff.collider_nodes
+        );
+        assert!(
+            diff.deepest_m <= POSITION_FRACTION * diag,
+            "{name}: deepest penetration differs by {} m",
+            diff.deepest_m
+        );
+        // Not vacuous: many nodes were pushed in some frame.
+        assert!(
+            peaks.collider_nodes >= 5,
+            "{name}: at most {} nodes pushed",
+            peaks.collider_nodes
+        );
+        deepest = deepest.max(peaks.deepest_m / (POSITION_FRACTION * diag));
     }
+    // Not vacuous either: a node ended some frame inside a collider (the torus's sampled
+    // distance) by more than twice the tolerance of the deepest penetration.
+    assert!(
+        deepest > 2.0,
+        "deepest penetration {deepest} position tolerances"
+    );
 }
 
 /// Two frames in flight, each with its own slot's poses written before its submit, give
-/// bit for bit the frames waited for one by one (the gather path has no atomics).
+/// bit for bit the frames waited for one by one (the gather path has no atomics), and the
+/// same contact series.
 #[test]
 fn frames_in_flight_read_their_own_poses() {
     if !gpu_support::vulkan_available() {
@@ -226,19 +270,33 @@ fn frames_in_flight_read_their_own_poses() {
     let (name, model, params, _) = scenes().swap_remove(1);
     let frames = 220;
     let mut stepped = gpu_support::validated(&model, &params);
+    let mut stepped_contacts = Vec::new();
     for _ in 0..frames {
         stepped.step_frame().unwrap();
+        let sample = stepped.volume().unwrap();
+        stepped_contacts.push(gpu_support::contact_of(&sample, "stepped"));
     }
     let mut pipelined = gpu_support::validated(&model, &params);
+    let mut pipelined_contacts = Vec::new();
+    let mut collect = |gpu: &mut tetrasim::backend::vulkan::VulkanBackend| {
+        let sample = gpu.collect_frame(true).unwrap().expect("a sample");
+        pipelined_contacts.push(gpu_support::contact_of(&sample, "pipelined"));
+    };
     pipelined.submit_frame().unwrap();
     for _ in 1..frames {
         pipelined.submit_frame().unwrap();
-        pipelined.collect_frame(false).unwrap();
+        collect(&mut pipelined);
     }
-    pipelined.collect_frame(false).unwrap();
+    collect(&mut pipelined);
     assert_eq!(pipelined.max_frames_in_flight(), 2);
     let (a, b) = (stepped.state().unwrap(), pipelined.state().unwrap());
     assert_eq!(a, b, "{name}: same final state, bit for bit");
+    // Each frame's contact measures come from its own slot's copy of the status.
+    assert_eq!(
+        stepped_contacts, pipelined_contacts,
+        "{name}: contact series"
+    );
+    assert!(stepped_contacts.iter().any(|c| c.collider_nodes > 0));
     // Not vacuous: by then the capsule has hit the sphere and pushed it along +X.
     let mean_x = |p: &[DVec3]| p.iter().map(|x| x.x).sum::<f64>() / p.len() as f64;
     let pushed = mean_x(&a.positions) - mean_x(&model.positions);

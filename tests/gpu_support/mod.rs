@@ -9,6 +9,7 @@ mod skip;
 
 use glam::DVec3;
 use tetrasim::backend::vulkan::{EngineOptions, VulkanBackend};
+use tetrasim::backend::ContactSample;
 use tetrasim::mesh::grid::box_tets;
 use tetrasim::params::{Placement, SimParams};
 use tetrasim::{Model, ModelBuilder};
@@ -147,4 +148,57 @@ pub fn shared_meshes() -> Option<std::path::PathBuf> {
         skip::skipped(&format!("{} is missing (the scans)", dir.display()));
         None
     }
+}
+
+/// The contact measures of a frame's sample (panics when there are none: every backend
+/// measures contact on a scene with colliders, grabs or body contact).
+pub fn contact_of(sample: &tetrasim::backend::VolumeSample, backend: &str) -> ContactSample {
+    sample
+        .contact
+        .unwrap_or_else(|| panic!("{backend}: no contact measures in the frame's sample"))
+}
+
+/// The worst per-frame differences of two runs' contact series: pushed collider nodes,
+/// pushing body contacts, deepest penetration [m].
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ContactDifference {
+    /// Largest |a - b| of `collider_nodes`.
+    pub collider_nodes: u32,
+    /// Largest |a - b| of `body_contacts`.
+    pub body_contacts: u32,
+    /// Largest |a - b| of `deepest_m` [m].
+    pub deepest_m: f64,
+}
+
+/// [`ContactDifference`] of series `a` and `b` (one sample per frame, as long).
+pub fn contact_difference(a: &[ContactSample], b: &[ContactSample]) -> ContactDifference {
+    assert_eq!(a.len(), b.len(), "one contact sample per frame");
+    let mut worst = ContactDifference::default();
+    for (a, b) in a.iter().zip(b) {
+        worst.collider_nodes = worst
+            .collider_nodes
+            .max(a.collider_nodes.abs_diff(b.collider_nodes));
+        worst.body_contacts = worst
+            .body_contacts
+            .max(a.body_contacts.abs_diff(b.body_contacts));
+        worst.deepest_m = worst.deepest_m.max((a.deepest_m - b.deepest_m).abs());
+    }
+    worst
+}
+
+/// The most pushed collider nodes, pushing body contacts and deepest penetration [m] of any
+/// frame of `series`.
+pub fn contact_peaks(series: &[ContactSample]) -> ContactSample {
+    series.iter().fold(
+        ContactSample {
+            collider_nodes: 0,
+            body_contacts: 0,
+            deepest_m: 0.0,
+        },
+        |a, b| ContactSample {
+            collider_nodes: a.collider_nodes.max(b.collider_nodes),
+            body_contacts: a.body_contacts.max(b.body_contacts),
+            deepest_m: a.deepest_m.max(b.deepest_m),
+        },
+    )
 }

@@ -113,7 +113,7 @@ pub struct RunRecord {
     #[serde(default)]
     pub local_error_pct: Vec<f64>,
     /// Per completed frame, the nodes a kinematic collider pushed in its last step (runs
-    /// with colliders, grabs or body contact on `cpu-ref` and `cpu`; empty otherwise).
+    /// with colliders, grabs or body contact on every backend; empty otherwise).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub collider_nodes: Vec<u32>,
     /// Per completed frame, the contacts between bodies pushing in its last step (as

@@ -37,8 +37,8 @@ void main() {
     vec3 n = rec.normal.xyz;
     vec3 b = rec.bary_lambda.xyz;
     vec3 grad[4] = vec3[4](n, -n * b.x, -n * b.y, -n * b.z);
-    vec3 on_triangle = positions[ids[1]].xyz * b.x + positions[ids[2]].xyz * b.y + positions[ids[3]].xyz * b.z;
-    float c = dot(n, positions[ids[0]].xyz - on_triangle) - THICKNESS;
+    float c = contact_separation(rec, positions[ids[0]].xyz, positions[ids[1]].xyz,
+                                 positions[ids[2]].xyz, positions[ids[3]].xyz) - THICKNESS;
     c += solve_slack(pc.phase, c);
     float a_sum = 0.0, b_sum = 0.0;
     for (uint k = 0u; k < 4u; ++k) {

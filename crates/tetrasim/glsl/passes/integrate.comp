@@ -7,7 +7,8 @@
 //   `friction` of its tangential velocity;  x += dt * v;
 // finally F = m g for the next step. Variant `colliders`: after the floor's solve the
 // kinematic colliders' (physics/contact.glsl), and after the floor's friction the friction
-// of the collider the node touches; the colliders' force is reset to 0 for the next step.
+// of the collider the node touches; the colliders' force is reset to 0 for the next step (w:
+// whether one pushed the node).
 // Variants `split`: split contact keeps the velocity solve's velocities (split_velocity).
 // The body is passes/integrate_body.glsl.
 // @variant plain:

@@ -54,7 +54,10 @@ void main() {
     {
         vec3 c = contacts[i].xyz;
         f.xyz = colliders_solve(i, f.xyz, c, xn, v.xyz, w, pc.dt, touching, normal);
-        contacts[i] = vec4(0.0);
+        // Reset for the next solve; w keeps whether a collider pushed the node in this
+        // solve (contact_measure counts it after the frame's last step, whose last solve is
+        // `integrate`'s).
+        contacts[i] = vec4(0.0, 0.0, 0.0, touching >= 0 ? 1.0 : 0.0);
     }
     // integrate_node with the collider's friction before the position update.
     vec3 vn = v.xyz + pc.dt * w * f.xyz;

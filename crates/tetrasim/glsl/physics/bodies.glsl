@@ -9,6 +9,8 @@
 #ifndef PHYSICS_BODIES_GLSL
 #define PHYSICS_BODIES_GLSL
 
+#include "physics/body_record.glsl"
+
 // Surface nodes of body contact (BodyContact::nodes).
 layout(constant_id = 1) const uint BODY_NODE_COUNT = 0u;
 // Surface triangles (BodyContact::triangles).
@@ -22,21 +24,12 @@ layout(constant_id = 5) const float THICKNESS = 0.0;
 // Detection margin [m] (BodyContact::margin).
 layout(constant_id = 6) const float MARGIN = 0.0;
 
-// A record's node when the surface node has no contact this step.
-#define NO_CONTACT 0xFFFFFFFFu
 // Bit 31 of an object number: the object collides with itself.
 #define SELF_CONTACT_BIT 0x80000000u
 // Status flag of a broad phase that did not fit its arrays (the frame fails).
 #define FLAG_CONTACT_OVERFLOW 4u
 // The most hash cells one triangle may cover (more: a blown-up mesh; flag 4).
 #define MAX_TRIANGLE_CELLS 4096.0
-
-// One surface node's contact of the step (48 bytes per surface node, BufferId::Contacts).
-struct BodyContactRecord {
-    uvec4 nodes;      // the node, then the triangle's three (outward order); NO_CONTACT: none
-    vec4 bary_lambda; // the closest point's barycentric weights; w the multiplier so far (<= 0)
-    vec4 normal;      // the triangle's outward unit normal (w unused)
-};
 
 layout(std430, set = 0, binding = B_BODY_SURFACE) readonly restrict buffer BodySurface { uvec4 body_surface[]; };
 

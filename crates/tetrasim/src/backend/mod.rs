@@ -24,8 +24,9 @@ pub struct VolumeSample {
     pub inverted: u32,
     /// Sum over tets of `|V_t - V0_t|` [m^3] (physics.md, "Local volume error").
     pub local_error: f64,
-    /// Contact measures, for a model with kinematic colliders, grabs or body contact, from
-    /// the backends that take them (`cpu-ref`, `cpu`); `None` otherwise.
+    /// Contact measures, for a model with kinematic colliders, grabs or body contact (every
+    /// backend; `vulkan` measures them on the device with per-frame metrics, and has none
+    /// for an on-demand measurement); `None` otherwise.
     pub contact: Option<ContactSample>,
 }
 

@@ -30,7 +30,9 @@ bindings! {
     VOLUME_PARTIALS = 10,
     /// Divergence status (16 bytes, check.comp): flags (1 non-finite, 2 too fast), first bad
     /// node (u32::MAX when none), speed limit [m/s], the fastest too-fast node's speed [m/s]
-    /// (f32 bits).
+    /// (f32 bits); when the frame measures contact 16 bytes more (contact_measure.comp,
+    /// zeroed at each frame's start): the nodes a collider pushed in the last step, the
+    /// pushing body contacts, the deepest penetration [m] (f32 bits), a pad word.
     STATUS = 11,
     /// u32 per constraint: the constraints in group order (gather path: Gauss-Seidel by
     /// colour groups, no atomics; groups are contiguous ranges; with several sweeps per
@@ -85,8 +87,9 @@ bindings! {
     /// barycentric weights and the accumulated multiplier, the normal (contact_find.comp
     /// writes it, contact_solve.comp updates the multiplier).
     CONTACTS = 28,
-    /// vec4 per node: the kinematic colliders' contact force so far in the step [N] (w
-    /// unused), re-solved with the floor's and reset to 0 by `integrate`
+    /// vec4 per node: the kinematic colliders' contact force so far in the step [N],
+    /// re-solved with the floor's and reset to 0 by `integrate`, which leaves in w whether a
+    /// collider pushed the node in its solve (1) or not (0) for `contact_measure`
     /// (glsl/physics/contact.glsl; only with colliders).
     COLLIDER_CONTACTS = 29,
     /// [`super::GpuCollider`] per collider: shape code, friction, thickness, sizes and

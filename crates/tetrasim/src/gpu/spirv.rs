@@ -211,8 +211,9 @@ mod tests {
         // spring_constraint, distance, volume: gather; constraint_apply: sums, gather,
         // chebyshev, gather_chebyshev, sums_colliders, gather_colliders; global_volume,
         // integrate and contact_apply: colliders (their `plain` variants keep the shader's
-        // own key); integrate: split, colliders_split; split_velocity: colliders.
-        assert_eq!(variants, 25);
+        // own key); integrate: split, colliders_split; split_velocity: colliders;
+        // contact_measure: colliders, bodies, colliders_bodies.
+        assert_eq!(variants, 28);
     }
 
     #[test]

@@ -14,7 +14,8 @@
 //! What a scene does not need is not scheduled: no constraint stages without constraint
 //! iterations, no spring force stage with implicit springs (but `spring_warm_start` when they
 //! are warm-started), no global volume stages unless the parameters solve them, no
-//! `volume_sum` without per-frame metrics. Which variant of a stage a backend runs
+//! `volume_sum` without per-frame metrics, no `contact_measure` without them or without
+//! colliders or body contact. Which variant of a stage a backend runs
 //! (per-node gather or atomics) follows from [`Schedule::gather`].
 //!
 //! A new pass is a [`PassKind`] and its stage in [`Schedule::new`] (both in stages.rs), its
@@ -186,6 +187,7 @@ impl Schedule {
                     .map(|c| c.nodes.len() as u32)
                     .sum(),
             )
+            .with_contact_measure(metrics)
     }
 
     /// The same schedule with the body contact stages when `on` ([`crate::contact`]): once

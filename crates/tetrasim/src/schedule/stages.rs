@@ -74,13 +74,18 @@ pub enum PassKind {
     Integrate,
     /// Divergence flags and the first bad node.
     Check,
+    /// The frame's contact measures (with per-frame metrics, when the frame has colliders
+    /// or body contact): the nodes a collider pushed in the last step, the pushing body
+    /// contacts and the deepest penetration, counted into the status's contact words with
+    /// integer atomics. GPU only: the CPU backends measure in `volume()` (no-op arms).
+    ContactMeasure,
     /// The frame's volume metrics.
     VolumeSum,
 }
 
 impl PassKind {
     /// Every pass, in execution order.
-    pub const ALL: [PassKind; 21] = [
+    pub const ALL: [PassKind; 22] = [
         PassKind::ClampDrive,
         PassKind::SpringScatter,
         PassKind::SpringGather,
@@ -101,6 +106,7 @@ impl PassKind {
         PassKind::SplitVelocity,
         PassKind::Integrate,
         PassKind::Check,
+        PassKind::ContactMeasure,
         PassKind::VolumeSum,
     ];
 
@@ -127,6 +133,7 @@ impl PassKind {
             PassKind::SplitVelocity => "split_velocity",
             PassKind::Integrate => "integrate",
             PassKind::Check => "check",
+            PassKind::ContactMeasure => "contact_measure",
             PassKind::VolumeSum => "volume_sum",
         }
     }
@@ -154,6 +161,7 @@ impl PassKind {
             PassKind::SplitVelocity => file::PASSES_SPLIT_VELOCITY_COMP,
             PassKind::Integrate => file::PASSES_INTEGRATE_COMP,
             PassKind::Check => file::PASSES_CHECK_COMP,
+            PassKind::ContactMeasure => file::PASSES_CONTACT_MEASURE_COMP,
             PassKind::VolumeSum => file::PASSES_VOLUME_SUM_COMP,
         }
     }
@@ -459,6 +467,45 @@ pub fn volume_sum() -> Stage {
             (Partials, Write),
         ],
     )
+}
+
+impl Schedule {
+    /// The same schedule with the `contact_measure` stage when `metrics` are taken per frame
+    /// and the frame has kinematic colliders ([`Self::with_colliders`]) or body contact
+    /// ([`Self::with_body_contact`]): once per frame after `check`, it reads the end-of-frame
+    /// positions, the colliders' touching flags and poses and the body contacts, and adds
+    /// into the status's contact words.
+    pub fn with_contact_measure(mut self, metrics: bool) -> Self {
+        use Access::{Read, ReadWrite};
+        use BufferId::*;
+        let colliders = self.colliders > 0;
+        let bodies = self.runs(PassKind::ContactFind);
+        if !metrics || !(colliders || bodies) {
+            return self;
+        }
+        let mut bindings = vec![(Positions, Read)];
+        if colliders {
+            bindings.extend([
+                (ColliderContacts, Read),
+                (Colliders, Read),
+                (ColliderGrids, Read),
+                (ColliderPoses, Read),
+            ]);
+        }
+        if bodies {
+            bindings.push((Contacts, Read));
+        }
+        bindings.push((Status, ReadWrite));
+        let measure = stage(
+            PassKind::ContactMeasure,
+            Repeat::Frame,
+            Domain::Nodes,
+            bindings,
+        );
+        let at = super::before(&self.stages, PassKind::ContactMeasure);
+        self.stages.insert(at, measure);
+        self
+    }
 }
 
 #[cfg(test)]

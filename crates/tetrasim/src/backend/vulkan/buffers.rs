@@ -42,7 +42,8 @@ pub(crate) struct SimBuffers {
     /// copies belong to the frames that write them: `super::FrameSlot`).
     pub partials: Buffer,
     /// Divergence status: `[flags, first bad node, speed limit (f32 bits), fastest speed of
-    /// a too-fast node (f32 bits)]`.
+    /// a too-fast node (f32 bits)]`, then, when the frame measures contact, its contact
+    /// words ([`super::plan::CONTACT_STATUS_BYTES`]).
     pub status: Buffer,
 }
 
@@ -147,7 +148,12 @@ impl SimBuffers {
         )?;
         let tets_buffer = upload(BufferId::Tets, bytes(&model.tets))?;
         let rest_volumes = upload(BufferId::RestVolumes, bytes(&floats(&model.rest_volume)))?;
-        let status_buffer = upload(BufferId::Status, bytes(&initial_status(speed_limit)))?;
+        // With contact measures, the contact words follow (0: each frame zeroes them again).
+        let mut status = initial_status(speed_limit).to_vec();
+        if plan.measures_contact() {
+            status.extend([0; 4]);
+        }
+        let status_buffer = upload(BufferId::Status, bytes(&status))?;
         let mut optional = Optional {
             ctx,
             up,

@@ -65,7 +65,7 @@ impl Backend for VulkanBackend {
             return Ok(None);
         }
         match &self.slots[k].partials_readback {
-            Some(readback) => self.read_partials(readback).map(Some),
+            Some(readback) => self.read_partials(readback, Some(k)).map(Some),
             None if self.queued.is_empty() => self.volume().map(Some),
             None => Err(Error::Gpu(
                 "collect_frame: the volume is measured on demand, which needs every frame \
@@ -79,7 +79,7 @@ impl Backend for VulkanBackend {
         self.settle()?;
         if let Some(k) = self.fresh_slot {
             if let Some(readback) = &self.slots[k].partials_readback {
-                return self.read_partials(readback);
+                return self.read_partials(readback, Some(k));
             }
         }
         if !self.measure_fresh {
@@ -87,7 +87,7 @@ impl Backend for VulkanBackend {
             self.measure.wait()?;
             self.measure_fresh = true;
         }
-        self.read_partials(&self.measure_readback)
+        self.read_partials(&self.measure_readback, None)
     }
 
     fn state(&mut self) -> Result<State> {

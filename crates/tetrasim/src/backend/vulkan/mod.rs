@@ -23,7 +23,7 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use crate::backend::{Backend, Divergence, GpuReport, State, VolumeSample};
+use crate::backend::{Backend, ContactSample, Divergence, GpuReport, State, VolumeSample};
 use crate::error::{Error, Result};
 use crate::gpu::commands::{self, Access, Recorded};
 use crate::gpu::layout::{PushConstants, VolumePartial};
@@ -211,8 +211,12 @@ impl VulkanBackend {
                     true => None,
                     false => Timer::new(&ctx, plan.dispatches_per_frame())?,
                 };
-                let status_readback =
-                    Buffer::readback(&ctx, &format!("divergence status (readback {k})"), 16)?;
+                let status_readback = Buffer::readback(
+                    &ctx,
+                    &format!("divergence status (readback {k})"),
+                    plan.buffer(plan::BufferId::Status)
+                        .map_or(16, |b| b.readback_bytes),
+                )?;
                 let partials_readback = match plan.metrics {
                     true => Some(Buffer::readback(
                         &ctx,
@@ -426,8 +430,10 @@ impl VulkanBackend {
         Ok(())
     }
 
-    /// The volume measures of the partials a frame or a measurement copied to `readback`.
-    fn read_partials(&self, readback: &Buffer) -> Result<VolumeSample> {
+    /// The volume measures of the partials a frame or a measurement copied to `readback`,
+    /// with the contact measures frame slot `slot` copied with its status (`None`: a
+    /// measurement, which has none).
+    fn read_partials(&self, readback: &Buffer, slot: Option<usize>) -> Result<VolumeSample> {
         let bytes = readback.mapped()?;
         let groups = self.counts.tets.div_ceil(self.workgroup_size) as usize;
         let partials: &[VolumePartial] = bytes
@@ -443,8 +449,29 @@ impl VulkanBackend {
             volume: partials.iter().map(|p| f64::from(p.volume)).sum(),
             inverted: partials.iter().map(|p| p.inverted).sum(),
             local_error: partials.iter().map(|p| f64::from(p.local_error)).sum(),
-            contact: None,
+            contact: match slot {
+                Some(k) => self.read_contact(k)?,
+                None => None,
+            },
         })
+    }
+
+    /// The contact measures frame slot `k` copied to the host after its status words
+    /// (contact_measure.comp), when the frame measures contact.
+    fn read_contact(&self, k: usize) -> Result<Option<ContactSample>> {
+        if !self.plan.measures_contact() {
+            return Ok(None);
+        }
+        let bytes = self.slots[k].status_readback.mapped()?;
+        let words: [u32; 4] = bytes
+            .get(plan::STATUS_BYTES as usize..plan::CONTACT_STATUS_BYTES as usize)
+            .map(bytemuck::pod_read_unaligned)
+            .ok_or_else(|| Error::Gpu("the contact words' readback is short".into()))?;
+        Ok(Some(ContactSample {
+            collider_nodes: words[0],
+            body_contacts: words[1],
+            deepest_m: f64::from(f32::from_bits(words[2])),
+        }))
     }
 
     /// Reads the divergence status frame slot `k` copied to the host; on flags, names the

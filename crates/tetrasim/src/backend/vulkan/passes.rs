@@ -22,6 +22,10 @@
 //!                                           reading the substep's row of the poses the
 //!                                           host wrote before the submit)
 //! check                                     divergence flags + first bad node -> status
+//! (contact_measure)                         with colliders or body contact and per-frame
+//!                                           metrics: the frame's contact counts and
+//!                                           deepest penetration -> the status's contact
+//!                                           words (zeroed at the frame's start)
 //! volume_sum (with per-frame metrics)       the frame's volume metric
 //! copy status (+ partials) to the host      into the frame slot's own host-visible
 //!                                           buffers, read after the slot's fence
@@ -34,7 +38,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::buffers::SimBuffers;
-use super::plan::{volume_sum_pass, EnginePlan, PassPlan};
+use super::plan::{volume_sum_pass, EnginePlan, PassPlan, CONTACT_STATUS_BYTES, STATUS_BYTES};
 use crate::gpu::commands::{barrier, memory_barrier, Access};
 use crate::gpu::layout::{phase, PushConstants};
 use crate::gpu::{AtomicsPath, BindingLayout, Buffer, Context, Kernel, Timer};
@@ -240,6 +244,36 @@ impl Recorder<'_> {
         );
     }
 
+    /// Zeroes the status's contact words (after its divergence words), which
+    /// `contact_measure` adds into, once the copies of earlier frames have read them.
+    fn zero_contact_words(&mut self, status: &Buffer) {
+        let start = STATUS_BYTES;
+        memory_barrier(
+            self.ctx,
+            self.cmd,
+            Access::TRANSFER_READ,
+            Access::TRANSFER_WRITE,
+        );
+        // SAFETY: `cmd` is recording outside a render pass; `status` is alive, a transfer
+        // destination and `CONTACT_STATUS_BYTES` long; offset and size are multiples of 4.
+        unsafe {
+            self.ctx.device().cmd_fill_buffer(
+                self.cmd,
+                status.raw,
+                start,
+                CONTACT_STATUS_BYTES - start,
+                0,
+            )
+        };
+        barrier(
+            self.ctx,
+            self.cmd,
+            &[status],
+            Access::TRANSFER_WRITE,
+            Access::COMPUTE,
+        );
+    }
+
     /// `volume_sum` alone and the copy of its partials into `readback`.
     pub fn record_volume_sum(
         &mut self,
@@ -268,12 +302,16 @@ impl Recorder<'_> {
         partials_readback: Option<&Buffer>,
     ) -> Result<()> {
         memory_barrier(self.ctx, self.cmd, Access::TRANSFER_READ, Access::COMPUTE);
+        if plan.measures_contact() {
+            self.zero_contact_words(&b.status);
+        }
         if let Some(timer) = self.timer.as_deref_mut() {
             timer.record_start(self.cmd);
         }
         let substeps = plan.schedule.substeps;
+        let mut push = *self.push;
         for substep in 0..substeps {
-            let push = PushConstants {
+            push = PushConstants {
                 collider_first: (slot * substeps + substep) * plan.counts.colliders,
                 step_row: slot * substeps + substep,
                 grab_first: (slot * substeps + substep) * plan.counts.grabbed,
@@ -281,8 +319,11 @@ impl Recorder<'_> {
             };
             self.record_step(plan, p, b, &push)?;
         }
+        // The frame's passes read the last step's rows (contact_measure: the colliders'
+        // poses at the frame's end).
         for stage in plan.schedule.frame_end() {
-            self.pass(&p.frame[stage], b)?;
+            let pass = &p.frame[stage];
+            self.dispatch(pass, b, &push, pass.plan.elements)?;
         }
         self.copy_to_host(&b.status, status_readback);
         if let Some(readback) = partials_readback {

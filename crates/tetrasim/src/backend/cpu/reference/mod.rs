@@ -233,6 +233,8 @@ impl ReferenceBackend {
                 }
                 self.contact_solve(step);
             }
+            // The GPU's frame measure of contact: `volume()` takes it from the last step.
+            (PassKind::ContactMeasure, _) => {}
             // Integration ends the step (`step`); the frame's check and volume are the
             // GPU's readbacks (this backend checks each node as it integrates it).
             _ => {}

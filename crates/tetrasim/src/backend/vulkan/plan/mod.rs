@@ -16,7 +16,9 @@
 //! nor collider solve (the `colliders` variants, their count a specialisation constant)
 //! without kinematic colliders, and no `volume_sum` pass or partials copy in the frame
 //! without per-frame metrics. The `check` pass (divergence) and its 16-byte status copy are
-//! always there, and so are the rest volumes (the local volume error needs them).
+//! always there (32 bytes, with the `contact_measure` pass, when per-frame metrics measure
+//! contact: colliders or body contact; grabs alone get the words without the pass), and so
+//! are the rest volumes (the local volume error needs them).
 
 mod buffer;
 mod cost;
@@ -140,8 +142,21 @@ impl EnginePlan {
         let schedule = Schedule::new(params, sweeps.to_vec(), global.is_some(), metrics)
             .with_body_contact(body.is_some())
             .with_colliders(counts.colliders, counts.grabbed > 0)
-            .with_clamps(counts.clamped);
-        let mut buffers = buffers(counts, params, &schedule, global, workgroup_size, metrics);
+            .with_clamps(counts.clamped)
+            .with_contact_measure(metrics);
+        let status = match measures_contact(counts, metrics, body.is_some()) {
+            true => CONTACT_STATUS_BYTES,
+            false => STATUS_BYTES,
+        };
+        let mut buffers = buffers(
+            counts,
+            params,
+            &schedule,
+            global,
+            workgroup_size,
+            metrics,
+            status,
+        );
         if counts.clamped > 0 {
             let poses = CLAMP_POSE_BYTES * u64::from(counts.clamps * schedule.substeps);
             for (id, bytes, upload_bytes) in [
@@ -207,13 +222,29 @@ fn body_buffers(counts: PlanCounts, body: BodyCounts) -> Vec<BufferPlan> {
     .collect()
 }
 
+/// Bytes of the divergence status (check.comp).
+pub const STATUS_BYTES: u64 = 16;
+
+/// Bytes of the status when the frame measures contact ([`EnginePlan::measures_contact`]):
+/// the divergence status, then the frame's contact words (contact_measure.comp): the nodes
+/// a collider pushed in the last step, the pushing body contacts, the deepest penetration
+/// [m] (f32 bits) and a pad word.
+pub const CONTACT_STATUS_BYTES: u64 = 32;
+
+/// Whether a frame of a model of `counts` (with body contact when `bodies`) measures
+/// contact: with per-frame `metrics`, when it has kinematic colliders, grabs or body contact
+/// ([`crate::problem::Problem::measures_contact`]).
+pub fn measures_contact(counts: PlanCounts, metrics: bool, bodies: bool) -> bool {
+    metrics && (counts.colliders > 0 || counts.grabbed > 0 || bodies)
+}
+
 /// Bytes of one surface node's body contact record (`BodyContactRecord`,
 /// glsl/physics/bodies.glsl).
 pub const CONTACT_BYTES: u64 = 48;
 
 /// The buffers of a plan in creation order: every array a stage of `schedule` touches, the
-/// rest volumes (the local volume error needs them) and the divergence status, with their
-/// sizes for a model of `counts`.
+/// rest volumes (the local volume error needs them) and the status of `status_bytes`
+/// (divergence, and contact when measured), with their sizes for a model of `counts`.
 fn buffers(
     counts: PlanCounts,
     params: &SimParams,
@@ -221,6 +252,7 @@ fn buffers(
     global: Option<GlobalCounts>,
     workgroup_size: u32,
     metrics: bool,
+    status_bytes: u64,
 ) -> Vec<BufferPlan> {
     use BufferId::*;
     let (n, s, t) = (
@@ -307,7 +339,7 @@ fn buffers(
         partial_bytes,
         if metrics { alloc(partial_bytes) } else { 0 },
     ));
-    buffers.push((Status, 16, 16));
+    buffers.push((Status, status_bytes, status_bytes));
     let mut buffers: Vec<BufferPlan> = buffers
         .into_iter()
         .map(|(id, bytes, readback_bytes)| BufferPlan {
@@ -396,6 +428,13 @@ impl PassPlan {
             (PassKind::ConstraintApply, true) => Variant::Named("gather"),
             (PassKind::ConstraintApply, false) if chebyshev => Variant::Named("chebyshev"),
             (PassKind::ConstraintApply, false) => Variant::Named("sums"),
+            (PassKind::ContactMeasure, _) => {
+                match (colliders > 0, stage.touches(BufferId::Contacts)) {
+                    (true, true) => Variant::Named("colliders_bodies"),
+                    (true, false) => Variant::Named("colliders"),
+                    _ => Variant::Named("bodies"),
+                }
+            }
             _ => Variant::Plain,
         };
         // The global passes reduce in shared memory per chunk of an object's surface: one
@@ -415,6 +454,9 @@ impl PassPlan {
         // Then the grabbed nodes' count (the rows of one step's grab targets).
         if solve && stage.kind.has_floor_constant() {
             constants.extend([colliders, counts.grabbed]);
+        }
+        if stage.kind == PassKind::ContactMeasure && colliders > 0 {
+            constants = vec![colliders];
         }
         let constraints = |sweep: Option<usize>| match sweep.map(|s| schedule.sweeps[s].kind) {
             Some(ConstraintKind::Volume) => counts.tets,

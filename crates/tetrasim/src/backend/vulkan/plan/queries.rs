@@ -13,6 +13,13 @@ impl EnginePlan {
         self.buffers.iter().find(|b| b.id == id)
     }
 
+    /// Whether every frame measures contact into the status's contact words (per-frame
+    /// metrics with colliders, grabs or body contact; `contact_measure` runs when there are
+    /// colliders or body contact, the words stay 0 with grabs alone).
+    pub fn measures_contact(&self) -> bool {
+        super::measures_contact(self.counts, self.metrics, self.body.is_some())
+    }
+
     /// Whether pass `name` is part of the frame.
     pub fn has_pass(&self, name: &str) -> bool {
         PassKind::from_name(name).is_some_and(|k| self.runs(k))

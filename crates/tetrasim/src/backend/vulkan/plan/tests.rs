@@ -272,3 +272,94 @@ fn colliders_add_their_buffers_variants_and_count_only_when_there_are_some() {
         .iter()
         .any(|p| p.contains("constraint_apply#sums_colliders[floor]")));
 }
+
+#[test]
+fn contact_is_measured_per_frame_only_with_metrics_and_something_to_measure() {
+    let params = SimParams::default();
+    let sweeps = [SweepPlan {
+        kind: ConstraintKind::Volume,
+        groups: vec![7, 5],
+    }];
+    let body = BodyCounts {
+        nodes: 8,
+        triangles: 12,
+        buckets: 1024,
+        capacity: 1024,
+        thickness: 0.01,
+        margin: 0.1,
+    };
+    let colliders = PlanCounts {
+        colliders: 2,
+        ..COUNTS
+    };
+    let grabs = PlanCounts {
+        grabbed: 3,
+        ..COUNTS
+    };
+    let plan = |counts, metrics, body| {
+        EnginePlan::with_bodies(counts, &params, 64, metrics, &sweeps, None, body)
+    };
+    let status = |p: &EnginePlan| {
+        p.buffer(BufferId::Status)
+            .map(|b| (b.bytes, b.readback_bytes))
+    };
+    // Nothing to measure, or no per-frame metrics: the plan of before (16-byte status, no
+    // pass).
+    for p in [
+        plan(COUNTS, true, None),
+        plan(colliders, false, None),
+        plan(COUNTS, false, Some(body)),
+    ] {
+        assert!(!p.measures_contact() && !p.runs(PassKind::ContactMeasure));
+        assert_eq!(status(&p), Some((STATUS_BYTES, STATUS_BYTES)));
+    }
+    let without = plan(COUNTS, true, None);
+    for (p, label, bindings, constants) in [
+        (
+            plan(colliders, true, None),
+            "contact_measure#colliders",
+            6,
+            vec![2],
+        ),
+        (
+            plan(COUNTS, true, Some(body)),
+            "contact_measure#bodies",
+            3,
+            vec![],
+        ),
+        (
+            plan(colliders, true, Some(body)),
+            "contact_measure#colliders_bodies",
+            7,
+            vec![2],
+        ),
+    ] {
+        assert!(p.measures_contact());
+        assert_eq!(
+            status(&p),
+            Some((CONTACT_STATUS_BYTES, CONTACT_STATUS_BYTES))
+        );
+        let measure = (p.passes.iter())
+            .find(|pass| pass.stage.kind == PassKind::ContactMeasure)
+            .unwrap_or_else(|| panic!("{label}"));
+        assert_eq!(measure.label(), label);
+        assert_eq!(measure.stage.repeat, Repeat::Frame);
+        assert_eq!(measure.stage.bindings.len(), bindings, "{label}");
+        assert_eq!(measure.constants, constants, "{label}");
+        assert_eq!(measure.elements, COUNTS.nodes);
+        // After `check`, before `volume_sum`: one dispatch per frame, whose bytes count.
+        let frame: Vec<String> = p.pass_list().into_iter().rev().take(3).collect();
+        assert_eq!(frame, ["volume_sum", label, "check"]);
+        assert_eq!(p.runs_per_frame(measure), 1);
+        assert!(p.pass_bytes(measure) > 16 * u64::from(COUNTS.nodes));
+        assert_eq!(p.readback_bytes(), without.readback_bytes() + 16);
+    }
+    // Grabs alone push no collider node and have no body contact: the contact words stay 0
+    // without a pass.
+    let p = plan(grabs, true, None);
+    assert!(p.measures_contact() && !p.runs(PassKind::ContactMeasure));
+    assert_eq!(
+        status(&p),
+        Some((CONTACT_STATUS_BYTES, CONTACT_STATUS_BYTES))
+    );
+}

@@ -452,6 +452,8 @@ impl ParallelBackend {
                 | PassKind::ContactCount
                 | PassKind::ContactScan
                 | PassKind::ContactFill => {}
+                // The GPU's frame measure of contact (`contact_sample` takes it).
+                PassKind::ContactMeasure => {}
                 PassKind::GlobalVolumePrepare => {
                     if let Some(global) = &mut self.global {
                         global.prepare(&self.x);
