@@ -2,8 +2,9 @@
 //! summation, substeps on a deformed body, friction, pinned nodes (with the Jacobi solver, so
 //! that the held ball sags onto the floor), density masses, Gauss-Seidel with 3 and with
 //! all colour groups, the global volume constraint with either solver (on two objects,
-//! one constraint each), Chebyshev with and without it, implicit springs (mss with Jacobi,
-//! volume with Gauss-Seidel, warm-started), materials from a Young's modulus (compliant
+//! one constraint each), Chebyshev with and without it (also with too few iterations for its
+//! rho, which the weights lower), implicit springs (mss with Jacobi, volume with
+//! Gauss-Seidel, warm-started), materials from a Young's modulus (compliant
 //! volumes, explicit springs) and two objects with different materials, each on a small ball
 //! dropped from 1 cm so that the floor is part of every run (60 frames).
 //!
@@ -146,6 +147,18 @@ fn cases() -> Vec<(&'static str, Model, SimParams)> {
             SimParams {
                 solver: Solver::Chebyshev,
                 global_volume: Some(true),
+                ..base(Method::Volume)
+            },
+        ),
+        (
+            "chebyshev + global volume, 5 iterations x 2 substeps (rho lowered)",
+            gpu_support::jittered(&plain, 0.01, 0.3, 29),
+            SimParams {
+                solver: Solver::Chebyshev,
+                global_volume: Some(true),
+                iterations: 5,
+                substeps: 2,
+                dt: 5e-4,
                 ..base(Method::Volume)
             },
         ),
