@@ -130,11 +130,11 @@ class Simulation:
     start apart). ``pins``: node indices that never move (unless
     ``set_state`` moves them); ``pin_boxes``: ``((x0, y0, z0), (x1, y1, z1))`` boxes [m,
     after placement] whose nodes are pinned. ``self_contact``: the surface collides with
-    itself (``cpu`` and ``cpu-ref`` for now; the scene key ``self_contact``). ``params``: any run parameter by its name
+    itself (the scene key ``self_contact``). ``params``: any run parameter by its name
     (``default_params()`` lists them, e.g. ``method="distance"`` (default ``"volume"``),
-    ``dt=1e-3``,
-    ``iterations=10``, ``solver="gauss-seidel"``, ``youngs_modulus=1e5``,
-    ``poisson_ratio=0.45``), plus ``density`` [kg/m^3] or ``node_mass`` [kg].
+    ``dt=1e-3``, ``iterations=10``, ``solver="gauss-seidel"``, ``youngs_modulus=1e5``,
+    ``poisson_ratio=0.45``, ``contact="split"`` (no rebound, at twice the solve)), plus
+    ``density`` [kg/m^3] or ``node_mass`` [kg].
 
     Raises ``TypeError`` for an unknown parameter name, ``ValueError`` for a bad value (the
     engine's message names it), ``OSError`` for mesh files, ``RuntimeError`` for the GPU.

@@ -284,7 +284,13 @@ fn solver_label(params: &SimParams) -> String {
     let mut out = match params.solver {
         SolverKind::Jacobi => "jacobi".to_string(),
         SolverKind::GaussSeidel => format!("gauss-seidel ({} groups)", params.groups),
-        SolverKind::Chebyshev => format!("chebyshev (rho {})", params.rho),
+        SolverKind::Chebyshev => match params.chebyshev_rho() {
+            used if used < params.rho => format!(
+                "chebyshev (rho {}, lowered to {used:.4} for {} iterations)",
+                params.rho, params.iterations
+            ),
+            _ => format!("chebyshev (rho {})", params.rho),
+        },
     };
     if params.global_volume_on() {
         out += " + global volume";

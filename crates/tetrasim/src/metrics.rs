@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use crate::backend::VolumeSample;
 use crate::error::{Error, Result};
 use crate::gpu::PassTime;
-use crate::params::SimParams;
+use crate::params::{SimParams, Solver};
 use crate::problem::Problem;
 
 /// The paper's average volume percentages over all its models, for comparison:
@@ -50,6 +50,11 @@ pub struct RecordFacts {
     /// (the parameters' `damping`, or its default).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub damping: Option<f64>,
+    /// The spectral radius estimate the Chebyshev weights used, when it is lower than the
+    /// parameters' `rho`: too few iterations for that `rho`
+    /// ([`crate::params::chebyshev_rho_limit`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub chebyshev_rho: Option<f64>,
 }
 
 impl RecordFacts {
@@ -63,6 +68,9 @@ impl RecordFacts {
                 params
                     .damping
                     .unwrap_or(crate::params::DEFAULT_DAMPING_TIME)
+            }),
+            chebyshev_rho: Some(params.chebyshev_rho()).filter(|&used| {
+                params.solver == Solver::Chebyshev && params.has_constraints() && used != params.rho
             }),
         }
     }
@@ -366,6 +374,7 @@ mod tests {
                 groups: 8,
                 global_volume: false,
                 damping: None,
+                chebyshev_rho: None,
             },
             local_error_pct: pct.iter().map(|p| (100.0 - p) / 2.0).collect(),
             collider_nodes: Vec::new(),

@@ -9,6 +9,7 @@ mod contact;
 pub use contact::ContactMode;
 
 use crate::error::{Error, Result};
+pub use crate::physics::{chebyshev_rho, chebyshev_rho_limit, chebyshev_weights};
 
 /// The simulation method (physics.md, "Methods").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -125,7 +126,8 @@ pub enum Solver {
     GaussSeidel,
     /// Jacobi sweeps with Chebyshev semi-iteration (Wang 2015): iteration `k`'s forces are
     /// `F_k = w_k (Fhat_k - F_(k-2)) + F_(k-2)`, `Fhat_k` the plain Jacobi update, with
-    /// weights from the spectral radius estimate `rho` (see `chebyshev_weights`).
+    /// weights from the spectral radius estimate `rho` (see `chebyshev_weights`), lowered to
+    /// what the iteration count can take (`chebyshev_rho`).
     Chebyshev,
 }
 
@@ -244,7 +246,9 @@ pub struct SimParams {
     /// method).
     #[serde(default)]
     pub global_volume: Option<bool>,
-    /// Spectral radius estimate of the Chebyshev solver, in `(0, 1)` (ignored by the others).
+    /// Spectral radius estimate of the Chebyshev solver, in `(0, 1)` (ignored by the others);
+    /// the weights use at most [`chebyshev_rho_limit`] of `iterations`
+    /// ([`SimParams::chebyshev_rho`]).
     #[serde(default = "default_rho")]
     pub rho: f64,
     /// How position corrections reach the velocity: one combined solve (default) or split
@@ -313,6 +317,13 @@ impl SimParams {
     pub fn global_volume_on(&self) -> bool {
         self.global_volume
             .unwrap_or(self.solver == Solver::GaussSeidel)
+    }
+
+    /// The spectral radius estimate the Chebyshev weights use: `rho`, lowered to
+    /// [`chebyshev_rho_limit`] when `iterations` are too few for it (physics.md's Chebyshev
+    /// section in docs/PHYSICS.md).
+    pub fn chebyshev_rho(&self) -> f64 {
+        chebyshev_rho(self.rho, self.iterations)
     }
 
     /// Checks every value's range; the error names the offending key.
@@ -474,40 +485,9 @@ pub fn default_rho() -> f64 {
     0.95
 }
 
-/// The Chebyshev weights of iterations `1..=iterations` for spectral radius `rho`
-/// (physics.md, Wang 2015): `w_1 = 1`, `w_2 = 2 / (2 - rho^2)`,
-/// `w_(k+1) = 4 / (4 - rho^2 w_k)`. Every backend uses this function.
-pub fn chebyshev_weights(rho: f64, iterations: u32) -> Vec<f64> {
-    let r2 = rho * rho;
-    let mut out: Vec<f64> = Vec::with_capacity(iterations as usize);
-    for k in 0..iterations as usize {
-        let w = match k {
-            0 => 1.0,
-            1 => 2.0 / (2.0 - r2),
-            _ => 4.0 / (4.0 - r2 * out[k - 1]),
-        };
-        out.push(w);
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn chebyshev_weights_follow_the_recurrence_down_to_the_optimal_limit() {
-        let rho: f64 = 0.95;
-        let w = chebyshev_weights(rho, 60);
-        assert_eq!(w[0], 1.0);
-        assert!((w[1] - 2.0 / (2.0 - rho * rho)).abs() < 1e-15);
-        assert!((w[2] - 4.0 / (4.0 - rho * rho * w[1])).abs() < 1e-15);
-        // From w_2 on the weights fall to the optimal SOR-like limit
-        // 2 / (1 + sqrt(1 - rho^2)), staying above it.
-        let limit = 2.0 / (1.0 + (1.0 - rho * rho).sqrt());
-        assert!(w[1..].windows(2).all(|p| p[1] <= p[0] && p[1] >= limit));
-        assert!((w[59] - limit).abs() < 1e-9, "{} vs {limit}", w[59]);
-    }
 
     #[test]
     fn split_contact_refuses_warm_start_and_chebyshev() {

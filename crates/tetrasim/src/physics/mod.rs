@@ -23,11 +23,15 @@
 //! - the floor never moves a node: it pushes (never pulls) just enough that the node ends the
 //!   step on `y = 0` or above; a node with a positive floor force is in contact.
 
+mod chebyshev;
 mod constraint;
 mod contact;
 mod integrate;
 mod spring;
 
+pub use chebyshev::{
+    chebyshev_rho, chebyshev_rho_limit, chebyshev_weights, CHEBYSHEV_MAX_REVERSAL,
+};
 pub use constraint::{
     compliant_multiplier, distance_constraint, face_volume, implicit_accumulate, implicit_lambda,
     implicit_multiplier, spring_constraint, spring_softness, volume_constraint, volume_softness,
