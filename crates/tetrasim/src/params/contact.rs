@@ -31,11 +31,6 @@ impl ContactMode {
             ContactMode::Split => "split",
         }
     }
-
-    /// Whether it is the default (left out of records, which then read as before).
-    pub fn is_combined(&self) -> bool {
-        *self == ContactMode::Combined
-    }
 }
 
 impl std::fmt::Display for ContactMode {

@@ -253,7 +253,7 @@ pub struct SimParams {
     pub rho: f64,
     /// How position corrections reach the velocity: one combined solve (default) or split
     /// impulses (`split`: no rebound, twice the solve).
-    #[serde(default, skip_serializing_if = "ContactMode::is_combined")]
+    #[serde(default)]
     pub contact: ContactMode,
     /// A constraint is skipped when its `A = sum_k w_k |grad_k C|^2` is at or below this
     /// (units of `A`: 1/kg m^2 for distance, 1/kg m^4 for volume constraints); guards
