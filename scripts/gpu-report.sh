@@ -103,9 +103,11 @@ for step in $steps; do
       done
     done ;;
   tradeoff)
-    timeout 150 "$B/tetrasim" tradeoff --mesh "$M/bunny20k" --backend vulkan --methods volume \
+    # the reference on the threaded cpu backend, as docs/BENCHMARKS.md's front on 2 cores
+    timeout 200 "$B/tetrasim" tradeoff --mesh "$M/bunny20k" --backend vulkan --methods volume \
       --solvers gauss-seidel:1+global,gauss-seidel:2+global,gauss-seidel:4+global,gauss-seidel:8+global,chebyshev+global,jacobi+global \
-      --iterations 5,10,20 --substeps 1,2 --out-dir "$R/tradeoff" > "$R/tradeoff.txt" 2>&1
+      --iterations 5,10,20 --substeps 1,2 --frames 200 --ref-backend cpu --ref-iterations 50 --ref-substeps 4 \
+      --out-dir "$R/tradeoff" > "$R/tradeoff.txt" 2>&1
     tail -25 "$R/tradeoff.txt" ;;
   scaling)
     timeout 120 "$B/tetrasim" scaling --sizes 16000,64000,256000,1000000,4000000 --out-dir "$R/scaling" > "$R/scaling.txt" 2>&1

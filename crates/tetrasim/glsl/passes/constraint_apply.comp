@@ -49,6 +49,7 @@ layout(std430, set = 0, binding = B_COLLIDER_CONTACTS) restrict buffer ColliderC
 #ifdef CHEBYSHEV
 layout(std430, set = 0, binding = B_CHEBYSHEV_BEFORE) restrict buffer ChebyshevBefore { vec4 before[]; };
 #endif
+#include "passes/node_contacts.glsl"
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
@@ -79,19 +80,5 @@ void main() {
     }
     before[i] = f0;
 #endif
-    if (FLOOR != 0u && pc.floor_on != 0u) {
-        vec4 p = positions[i];
-        f = floor_solve(f, p.y + solve_slack(pc.phase, p.y), velocities[i].y, p.w, pc.dt);
-    }
-#ifdef COLLIDERS_ON
-    {
-        vec4 p = positions[i];
-        vec3 contact = contacts[i].xyz;
-        int touching;
-        vec3 normal;
-        f.xyz = colliders_solve(i, f.xyz, contact, p.xyz, velocities[i].xyz, p.w, pc.dt, touching, normal);
-        contacts[i] = vec4(contact, 0.0);
-    }
-#endif
-    forces[i] = f;
+    forces[i] = node_contacts(i, f);
 }

@@ -27,6 +27,7 @@ layout(std430, set = 0, binding = B_CONTACT_SUMS) restrict buffer ContactSums { 
 #ifdef COLLIDERS_ON
 layout(std430, set = 0, binding = B_COLLIDER_CONTACTS) restrict buffer ColliderContacts { vec4 contacts[]; };
 #endif
+#include "passes/node_contacts.glsl"
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
@@ -41,19 +42,5 @@ void main() {
         sums[i].xyz = vec3(0.0);
         f.xyz += sum * (combine_apply_weight(pc.combine, float(d)) * pc.omega);
     }
-    if (FLOOR != 0u && pc.floor_on != 0u) {
-        vec4 p = positions[i];
-        f = floor_solve(f, p.y + solve_slack(pc.phase, p.y), velocities[i].y, p.w, pc.dt);
-    }
-#ifdef COLLIDERS_ON
-    {
-        vec4 p = positions[i];
-        vec3 contact = contacts[i].xyz;
-        int touching;
-        vec3 normal;
-        f.xyz = colliders_solve(i, f.xyz, contact, p.xyz, velocities[i].xyz, p.w, pc.dt, touching, normal);
-        contacts[i] = vec4(contact, 0.0);
-    }
-#endif
-    forces[i] = f;
+    forces[i] = node_contacts(i, f);
 }

@@ -33,6 +33,7 @@ layout(std430, set = 0, binding = B_GLOBAL_STATE) readonly restrict buffer Globa
 #ifdef COLLIDERS_ON
 layout(std430, set = 0, binding = B_COLLIDER_CONTACTS) restrict buffer ColliderContacts { vec4 contacts[]; };
 #endif
+#include "passes/node_contacts.glsl"
 
 void main() {
     uint index = global_object_index();
@@ -53,19 +54,5 @@ void main() {
     uint node = surface_nodes[object.node_first + k];
     vec4 f = forces[node];
     f.xyz -= lambda * surface_gradients[object.node_first + k].xyz;
-    if (FLOOR != 0u && pc.floor_on != 0u) {
-        vec4 p = positions[node];
-        f = floor_solve(f, p.y + solve_slack(pc.phase, p.y), velocities[node].y, p.w, pc.dt);
-    }
-#ifdef COLLIDERS_ON
-    {
-        vec4 p = positions[node];
-        vec3 contact = contacts[node].xyz;
-        int touching;
-        vec3 normal;
-        f.xyz = colliders_solve(node, f.xyz, contact, p.xyz, velocities[node].xyz, p.w, pc.dt, touching, normal);
-        contacts[node] = vec4(contact, 0.0);
-    }
-#endif
-    forces[node] = f;
+    forces[node] = node_contacts(node, f);
 }
