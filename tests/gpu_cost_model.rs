@@ -93,15 +93,21 @@ fn the_h200_cost_model_predicts_the_measured_frames_within_30_percent() {
     let (Some(bunny), Some(horse)) = (bunny, horse) else {
         return;
     };
+    // The first call's files, then the third session's (2026-11-26-fused/: fewer groups,
+    // each unfused, as the engine runs them).
+    let third = "2026-11-26-fused/bench_new_gauss-seidel";
     let solvers = [
-        ("gauss-seidel-8-global", Solver::GaussSeidel, None),
-        ("jacobi", Solver::Jacobi, None),
-        ("chebyshev-global", Solver::Chebyshev, Some(true)),
+        ("bench_new_gauss-seidel-8-global", Solver::GaussSeidel, 8, None),
+        ("bench_new_jacobi", Solver::Jacobi, 8, None),
+        ("bench_new_chebyshev-global", Solver::Chebyshev, 8, Some(true)),
+        (&format!("{third}-8-global_fuse-off"), Solver::GaussSeidel, 8, None),
+        (&format!("{third}-4-global_fuse-off"), Solver::GaussSeidel, 4, None),
+        (&format!("{third}-2-global_fuse-off"), Solver::GaussSeidel, 2, None),
     ];
     let mut failures = Vec::new();
     for (name, mesh) in [("bunny20k", &bunny), ("horse86m", &horse)] {
-        for (file, solver, global_volume) in solvers {
-            let (ms, nodes, tets) = measured(&format!("bench_new_{file}.json"), name);
+        for &(file, solver, groups, global_volume) in &solvers {
+            let (ms, nodes, tets) = measured(&format!("{file}.json"), name);
             assert_eq!(
                 (mesh.nodes.len(), mesh.tets.len()),
                 (nodes, tets),
@@ -110,6 +116,7 @@ fn the_h200_cost_model_predicts_the_measured_frames_within_30_percent() {
             let params = SimParams {
                 method: Method::Volume,
                 solver,
+                groups,
                 global_volume,
                 ..SimParams::default()
             };
