@@ -22,8 +22,6 @@ pub(super) struct Inputs<'a> {
     pub colliders: Option<Colliders<'a>>,
     /// Body contact and the problem it belongs to, when two surfaces can meet.
     pub bodies: Option<(&'a BodyContact, &'a Problem)>,
-    pub springs: &'a [[u32; 2]],
-    pub tets: &'a [[u32; 4]],
     /// The sweeps of an iteration, in order.
     pub sweeps: &'a [Sweep],
     /// The global volume constraints, prepared for this step.
@@ -166,23 +164,24 @@ unsafe fn solve(
         k: inputs.k,
     };
     let members = &sweep.members.items[block.clone()];
+    let (pairs, tets) = (&sweep.pair_nodes, &sweep.tet_nodes);
     // SAFETY: `block` is this thread's alone (the caller's promise).
     let so_far = unsafe { outputs.multipliers[s].part(block.clone()) };
     match &sweep.family {
         Family::Springs(family) => {
             // SAFETY: `block` of the results is this thread's alone, as `so_far`.
-            let out = unsafe { outputs.pair_out.part(block) };
-            solve_block(out, so_far, members, inputs.springs, on, family);
+            let out = unsafe { outputs.pair_out.part(block.clone()) };
+            solve_block(out, so_far, members, &pairs[block], on, family);
         }
         Family::Distances(family) => {
             // SAFETY: as above.
-            let out = unsafe { outputs.pair_out.part(block) };
-            solve_block(out, so_far, members, inputs.springs, on, family);
+            let out = unsafe { outputs.pair_out.part(block.clone()) };
+            solve_block(out, so_far, members, &pairs[block], on, family);
         }
         Family::Volumes(family) => {
             // SAFETY: as above.
-            let out = unsafe { outputs.tet_out.part(block) };
-            solve_block(out, so_far, members, inputs.tets, on, family);
+            let out = unsafe { outputs.tet_out.part(block.clone()) };
+            solve_block(out, so_far, members, &tets[block], on, family);
         }
     }
 }

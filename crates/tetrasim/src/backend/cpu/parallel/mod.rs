@@ -80,6 +80,12 @@ struct Sweep {
     multipliers: Vec<f32>,
     /// The constraints' family and its data.
     family: Family<f32>,
+    /// Per constraint (position in `members.items`): a spring's or distance constraint's
+    /// two nodes, in group order, so that a group's solve reads them in one run instead of
+    /// one cache miss per constraint (empty for tets).
+    pair_nodes: Vec<[u32; 2]>,
+    /// Per constraint, in group order: a tet's four nodes (empty for springs).
+    tet_nodes: Vec<[u32; 4]>,
 }
 
 impl Sweep {
@@ -97,10 +103,28 @@ impl Sweep {
             .iter()
             .map(|&d| params.combine.node_factors(d))
             .collect();
+        let in_order = |elements: &[[u32; 2]]| -> Vec<[u32; 2]> {
+            (groups.members.items.iter())
+                .map(|&e| elements[e as usize])
+                .collect()
+        };
+        let (pair_nodes, tet_nodes) = match kind {
+            ConstraintKind::Volume => (
+                Vec::new(),
+                (groups.members.items.iter())
+                    .map(|&e| model.tets[e as usize])
+                    .collect(),
+            ),
+            ConstraintKind::Spring | ConstraintKind::Distance => {
+                (in_order(&model.springs), Vec::new())
+            }
+        };
         Sweep {
             kind,
             family,
             nodes: n,
+            pair_nodes,
+            tet_nodes,
             multipliers: vec![0.0; groups.members.items.len()],
             members: groups.members,
             slots,
@@ -409,7 +433,7 @@ fn solve_block<const K: usize, R: NodeForces<K>, F: ConstraintFamily<f32, K>>(
     out: &mut [R],
     so_far: &mut [f32],
     members: &[u32],
-    elements: &[[u32; K]],
+    nodes: &[[u32; K]],
     on: Nodes<'_>,
     family: &F,
 ) {
@@ -421,9 +445,10 @@ fn solve_block<const K: usize, R: NodeForces<K>, F: ConstraintFamily<f32, K>>(
         a_scale,
         k,
     } = on;
-    for ((out, so_far), &e) in out.iter_mut().zip(so_far.iter_mut()).zip(members) {
+    let constraints = members.iter().zip(nodes);
+    for ((out, so_far), (&e, ids)) in out.iter_mut().zip(so_far.iter_mut()).zip(constraints) {
         let e = e as usize;
-        let ids = elements[e].map(|a| a as usize);
+        let ids = ids.map(|a| a as usize);
         let (c, grad, softness, damping) = family.evaluate(e, ids.map(|i| x[i]));
         let c = match softness > 0.0 {
             true => c,

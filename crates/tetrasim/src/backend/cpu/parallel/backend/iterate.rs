@@ -66,8 +66,6 @@ impl ParallelBackend {
             inv_mass,
             k,
             floor,
-            springs,
-            tets,
             chebyshev,
             stages,
             dispatches,
@@ -112,8 +110,6 @@ impl ParallelBackend {
             bodies: bodies
                 .as_ref()
                 .and_then(|p| p.bodies.as_ref().map(|b| (b, p))),
-            springs,
-            tets,
             sweeps,
             global,
             chebyshev_weights,
