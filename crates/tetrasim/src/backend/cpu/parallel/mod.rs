@@ -103,20 +103,11 @@ impl Sweep {
             .iter()
             .map(|&d| params.combine.node_factors(d))
             .collect();
-        let in_order = |elements: &[[u32; 2]]| -> Vec<[u32; 2]> {
-            (groups.members.items.iter())
-                .map(|&e| elements[e as usize])
-                .collect()
-        };
+        let members = &groups.members.items;
         let (pair_nodes, tet_nodes) = match kind {
-            ConstraintKind::Volume => (
-                Vec::new(),
-                (groups.members.items.iter())
-                    .map(|&e| model.tets[e as usize])
-                    .collect(),
-            ),
+            ConstraintKind::Volume => (Vec::new(), in_group_order(members, &model.tets)),
             ConstraintKind::Spring | ConstraintKind::Distance => {
-                (in_order(&model.springs), Vec::new())
+                (in_group_order(members, &model.springs), Vec::new())
             }
         };
         Sweep {
@@ -384,6 +375,11 @@ struct Nodes<'a> {
     w: &'a [f32],
     a_scale: &'a [f32],
     k: Coefficients,
+}
+
+/// `elements` in the order of `members` (their indices).
+fn in_group_order<const K: usize>(members: &[u32], elements: &[[u32; K]]) -> Vec<[u32; K]> {
+    members.iter().map(|&e| elements[e as usize]).collect()
 }
 
 /// One constraint's forces on its `K` nodes as a per-constraint result array holds them:
