@@ -3,8 +3,8 @@
 //! (`docs/data/gpu-nvidia-h200/`, made by `scripts/gpu-report.sh` on 2026-11-26): the default
 //! solver, Jacobi and Chebyshev with the global constraint on bunny20k and horse86m, the
 //! real-size horse with implicit springs, and (measured after the fit, in the third session's
-//! call: `2026-11-26-fused/`) the default, 4 and 2 colour groups again. So a change to the step can be judged where no GPU
-//! is lent. (`--workgroup-size 1024` on the horse is outside it: predicted 63 % too slow, the
+//! call: `2026-11-26-fused/`) the default, 4 and 2 colour groups again. So a change to the
+//! step can be judged where no GPU is lent. (`--workgroup-size 1024` on the horse is outside it: predicted 63 % too slow, the
 //! model counts a 1024-wide workgroup's gathers as serial on its multiprocessor.)
 //!
 //! Needs `../shared/meshes` (the scans, meshed here as the bundle meshed them); without it
