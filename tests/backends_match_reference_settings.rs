@@ -6,12 +6,15 @@
 //! rho, which the weights lower), implicit springs (mss with Jacobi, volume with
 //! Gauss-Seidel, warm-started), materials from a Young's modulus (compliant volumes,
 //! explicit springs), two objects with different materials and split contact (hard distance
-//! constraints with friction; compliant springs and volumes with Jacobi), each on a small
+//! constraints with friction; compliant springs and volumes with Jacobi), Anderson
+//! acceleration (with Gauss-Seidel and with Jacobi), each on a small
 //! ball dropped from 1 cm so that the floor is part of every run (60 frames).
 //!
-//! Tolerances: every node within 1e-5 of the bounding-box diagonal and every frame's volume
-//! within 1e-3 percentage points (f32 against f64; the default settings measure about 1e-7
-//! diagonals and 3e-5 points, `tests/cpu_matches_reference.rs`, `tests/gpu_matches_cpu.rs`).
+//! Tolerances: every node within 1e-5 of the bounding-box diagonal (1e-4 with Anderson
+//! acceleration, [`position_tolerance`]) and every frame's volume within 1e-3 percentage
+//! points (5e-3 with it, [`volume_tolerance`]) (f32 against f64; the default settings
+//! measure about 1e-7 diagonals and 3e-5 points, `tests/cpu_matches_reference.rs`,
+//! `tests/gpu_matches_cpu.rs`).
 
 mod gpu_support;
 
@@ -243,6 +246,25 @@ fn cases() -> Vec<(&'static str, Model, SimParams)> {
                 ..elastic(Method::Volume, 0.45)
             },
         ),
+        (
+            "anderson 5, implicit springs, density masses, deformed",
+            gpu_support::jittered(&dense, 0.01, 0.3, 61),
+            SimParams {
+                anderson: 5,
+                springs: SpringKind::Implicit,
+                ..real(Method::Volume)
+            },
+        ),
+        (
+            "anderson 3, jacobi, distance, friction 0.3",
+            gpu_support::jittered(&plain, 0.01, 0.3, 67),
+            SimParams {
+                anderson: 3,
+                solver: Solver::Jacobi,
+                friction: 0.3,
+                ..base(Method::Distance)
+            },
+        ),
         ("two objects, two materials", two_materials(&mesh), {
             SimParams {
                 springs: SpringKind::Implicit,
@@ -250,6 +272,27 @@ fn cases() -> Vec<(&'static str, Model, SimParams)> {
             }
         }),
     ]
+}
+
+/// Every node within this many bounding-box diagonals of `cpu-ref`: 1e-5, and 1e-4 with
+/// Anderson acceleration, whose weights (a least-squares fit to the iterations' history)
+/// amplify f32 rounding where contacts start: 1e-5 diagonals after 60 frames of its cases
+/// on `cpu`, where the runs without it stay near 1e-7 (switching it off on one side moves
+/// nodes by about 1e-3 diagonals).
+fn position_tolerance(params: &SimParams) -> f64 {
+    match params.anderson {
+        0 => 1e-5,
+        _ => 1e-4,
+    }
+}
+
+/// Every frame's volume within this many percentage points of `cpu-ref`'s: 1e-3, and 5e-3
+/// with Anderson acceleration (1.3e-3 measured on `cpu` for its Jacobi case with friction).
+fn volume_tolerance(params: &SimParams) -> f64 {
+    match params.anderson {
+        0 => 1e-3,
+        _ => 5e-3,
+    }
 }
 
 /// Density masses (1000 kg/m^3) with the paper's springs.
@@ -324,11 +367,11 @@ fn every_backend_follows_the_reference_away_from_the_defaults() {
                 worst / diag
             );
             assert!(
-                worst < 1e-5 * diag,
+                worst < position_tolerance(&params) * diag,
                 "{name} {backend_name}: a node is {worst} m off"
             );
             assert!(
-                worst_volume < 1e-3,
+                worst_volume < volume_tolerance(&params),
                 "{name} {backend_name}: volume off by {worst_volume} points"
             );
         });

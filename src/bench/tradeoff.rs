@@ -16,7 +16,8 @@ use tetrasim::model::Model;
 use tetrasim::params::{Method, SimParams, Solver};
 
 /// A solver with its settings: `jacobi`, `chebyshev`, `gauss-seidel:8`,
-/// `gauss-seidel:8+global`, ... (Chebyshev with the default `rho`).
+/// `gauss-seidel:8+global`, `gauss-seidel:8+global+anderson5`, ... (Chebyshev with the
+/// default `rho`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SolverSetting {
     /// The solver.
@@ -25,24 +26,37 @@ pub struct SolverSetting {
     pub groups: u32,
     /// Whether the global volume constraint is solved too.
     pub global_volume: bool,
+    /// Anderson acceleration's memory (0: off).
+    pub anderson: u32,
 }
 
 impl SolverSetting {
     /// The settings compared by default: Jacobi (the paper's), Jacobi with the global volume
-    /// constraint, Gauss-Seidel with 8 groups, and with the global constraint (the default).
-    pub const DEFAULTS: [SolverSetting; 4] = [
+    /// constraint, Gauss-Seidel with 8 groups, with the global constraint (the default), and
+    /// that with Anderson acceleration of memory 5.
+    pub const DEFAULTS: [SolverSetting; 5] = [
         SolverSetting::new(Solver::Jacobi, 1, false),
         SolverSetting::new(Solver::Jacobi, 1, true),
         SolverSetting::new(Solver::GaussSeidel, 8, false),
         SolverSetting::new(Solver::GaussSeidel, 8, true),
+        SolverSetting::new(Solver::GaussSeidel, 8, true).with_anderson(5),
     ];
 
-    /// A setting.
+    /// A setting without Anderson acceleration.
     pub const fn new(solver: Solver, groups: u32, global_volume: bool) -> Self {
         SolverSetting {
             solver,
             groups,
             global_volume,
+            anderson: 0,
+        }
+    }
+
+    /// The same setting with Anderson acceleration of memory `memory`.
+    pub const fn with_anderson(self, memory: u32) -> Self {
+        SolverSetting {
+            anderson: memory,
+            ..self
         }
     }
 
@@ -55,6 +69,9 @@ impl SolverSetting {
         if self.global_volume {
             out += "+global";
         }
+        if self.anderson > 0 {
+            out += &format!("+anderson{}", self.anderson);
+        }
         out
     }
 
@@ -64,6 +81,7 @@ impl SolverSetting {
             solver: self.solver,
             groups: self.groups,
             global_volume: Some(self.global_volume),
+            anderson: self.anderson,
             ..base.clone()
         }
     }
@@ -72,12 +90,27 @@ impl SolverSetting {
 impl std::str::FromStr for SolverSetting {
     type Err = Error;
 
-    /// `NAME[:GROUPS][+global]`, NAME `jacobi`, `chebyshev` or `gauss-seidel` (groups, for
-    /// Gauss-Seidel only, default 8).
+    /// `NAME[:GROUPS][+global][+andersonM]`, NAME `jacobi`, `chebyshev` or `gauss-seidel`
+    /// (groups, for Gauss-Seidel only, default 8), M Anderson acceleration's memory (1 to 8).
     fn from_str(text: &str) -> Result<Self> {
-        let (rest, global_volume) = match text.strip_suffix("+global") {
+        let (rest, anderson) = match text.rsplit_once("+anderson") {
+            Some((rest, memory)) => {
+                let limit = tetrasim::params::ANDERSON_MAX_MEMORY;
+                let memory = (memory.parse::<u32>().ok())
+                    .filter(|m| (1..=limit).contains(m))
+                    .ok_or_else(|| {
+                        Error::param(
+                            "solvers",
+                            format!("`{text}`: +andersonM needs a memory M from 1 to {limit}"),
+                        )
+                    })?;
+                (rest, memory)
+            }
+            None => (text, 0),
+        };
+        let (rest, global_volume) = match rest.strip_suffix("+global") {
             Some(rest) => (rest, true),
-            None => (text, false),
+            None => (rest, false),
         };
         let (name, groups) = match rest.split_once(':') {
             Some((name, g)) => {
@@ -96,7 +129,7 @@ impl std::str::FromStr for SolverSetting {
                     "solvers",
                     format!(
                         "`{text}`: expected jacobi, chebyshev or gauss-seidel, optionally \
-                         with :GROUPS (gauss-seidel) and +global"
+                         with :GROUPS (gauss-seidel), +global and +andersonM"
                     ),
                 )
             })?;
@@ -110,7 +143,13 @@ impl std::str::FromStr for SolverSetting {
             (Solver::Jacobi | Solver::Chebyshev, None) => 1,
             (Solver::GaussSeidel, g) => g.unwrap_or(tetrasim::params::default_groups()),
         };
-        Ok(SolverSetting::new(solver, groups, global_volume))
+        if anderson > 0 && solver == Solver::Chebyshev {
+            return Err(Error::param(
+                "solvers",
+                format!("`{text}`: anderson does not combine with chebyshev"),
+            ));
+        }
+        Ok(SolverSetting::new(solver, groups, global_volume).with_anderson(anderson))
     }
 }
 
@@ -470,8 +509,8 @@ mod tests {
     #[test]
     fn default_sweep_has_the_grid_and_the_omega_points() {
         let points = SweepSpec::default().points();
-        // mss: 3 substep counts; distance and volume: 4 solvers x 6 x 3 grid + 2 omegas each.
-        assert_eq!(points.len(), 3 + 2 * (4 * 18 + 2));
+        // mss: 3 substep counts; distance and volume: 5 solvers x 6 x 3 grid + 2 omegas each.
+        assert_eq!(points.len(), 3 + 2 * (5 * 18 + 2));
         let volume: Vec<_> = points
             .iter()
             .filter(|p| p.method == Method::Volume)
@@ -487,7 +526,8 @@ mod tests {
                 "jacobi",
                 "jacobi+global",
                 "gauss-seidel:8",
-                "gauss-seidel:8+global"
+                "gauss-seidel:8+global",
+                "gauss-seidel:8+global+anderson5"
             ]
         );
         for label in &labels {
@@ -497,7 +537,19 @@ mod tests {
             "gauss-seidel".parse::<SolverSetting>().unwrap(),
             SolverSetting::new(Solver::GaussSeidel, 8, false)
         );
-        for bad in ["gs", "jacobi:4", "gauss-seidel:0", "gauss-seidel:x+global"] {
+        assert_eq!(
+            "jacobi+anderson3".parse::<SolverSetting>().unwrap(),
+            SolverSetting::new(Solver::Jacobi, 1, false).with_anderson(3)
+        );
+        for bad in [
+            "gs",
+            "jacobi:4",
+            "gauss-seidel:0",
+            "gauss-seidel:x+global",
+            "jacobi+anderson0",
+            "jacobi+anderson9",
+            "chebyshev+anderson5",
+        ] {
             let err = bad.parse::<SolverSetting>().unwrap_err().to_string();
             assert!(err.contains(bad), "{err}");
         }

@@ -83,7 +83,8 @@ pub struct BenchArgs {
     #[arg(long)]
     pub substeps: Option<u32>,
     /// Solver of the constraint methods, `jacobi`, `chebyshev` or `gauss-seidel[:GROUPS]`,
-    /// optionally with `+global` (default: the engine's, gauss-seidel:8+global).
+    /// optionally with `+global` and `+andersonM` (default: the engine's,
+    /// gauss-seidel:8+global).
     #[arg(long)]
     pub solver: Option<crate::bench::tradeoff::SolverSetting>,
     /// Also measure the position error against a converged cpu-ref run (slow).
@@ -159,7 +160,7 @@ pub fn execute(args: BenchArgs) -> anyhow::Result<()> {
         }),
     };
     eprintln!(
-        "bench: {} meshes x {} methods x backends {}; {} warm-up + {} timed frames; dt {} s x {} substeps, {} iterations, solver {}{}",
+        "bench: {} meshes x {} methods x backends {}; {} warm-up + {} timed frames; dt {} s x {} substeps, {} iterations, solver {}{}{}",
         meshes.len(),
         options.methods.len(),
         options.backends.join(", "),
@@ -173,6 +174,10 @@ pub fn execute(args: BenchArgs) -> anyhow::Result<()> {
             " + global volume"
         } else {
             ""
+        },
+        match params.anderson {
+            0 => String::new(),
+            m => format!(" + anderson {m}"),
         }
     );
     let mut backends = Backends::new(args.gpu.engine_options());

@@ -279,7 +279,8 @@ pub struct BadScene(pub tetrasim::Error);
 #[error("{0}")]
 pub struct DivergedRun(pub String);
 
-/// `jacobi`, or `gauss-seidel (8 groups)`, with ` + global volume` when it is solved.
+/// `jacobi`, or `gauss-seidel (8 groups)`, with ` + global volume` when it is solved and
+/// ` + anderson M` with Anderson acceleration.
 fn solver_label(params: &SimParams) -> String {
     let mut out = match params.solver {
         SolverKind::Jacobi => "jacobi".to_string(),
@@ -294,6 +295,9 @@ fn solver_label(params: &SimParams) -> String {
     };
     if params.global_volume_on() {
         out += " + global volume";
+    }
+    if params.anderson > 0 {
+        out += &format!(" + anderson {}", params.anderson);
     }
     out
 }

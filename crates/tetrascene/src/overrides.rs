@@ -60,6 +60,11 @@ pub struct SolverOverrides {
     /// at 3; 0.95 is kept from 6 on), which the run record's `chebyshev_rho` reports.
     #[cfg_attr(feature = "clap", arg(long))]
     pub rho: Option<f64>,
+    /// Anderson acceleration of the constraint iterations: the history columns kept, 0 (off,
+    /// default) to 8; each iteration's forces are mixed with the last ones' to converge the
+    /// slow modes of a stiff body (about 5 % more per iteration on cpu; docs/PHYSICS.md).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "MEMORY"))]
+    pub anderson: Option<u32>,
     /// How contact and hard constraints turn position corrections into velocity:
     /// `combined` (one solve, default) or `split` (split impulses: a nearly rigid body does
     /// not bounce; about twice the solve, a higher local volume error; docs/PHYSICS.md).
@@ -88,6 +93,7 @@ impl SolverOverrides {
         set(&mut params.groups, self.groups);
         set(&mut params.global_volume, self.global_volume.map(Some));
         set(&mut params.rho, self.rho);
+        set(&mut params.anderson, self.anderson);
         set(&mut params.springs, self.springs);
         set(&mut params.warm_start, self.warm_start);
         set(&mut params.contact, self.contact);
@@ -96,7 +102,7 @@ impl SolverOverrides {
     }
 
     /// Every key (a `[solver]` key, a flag's id).
-    pub const KEYS: [&'static str; 15] = [
+    pub const KEYS: [&'static str; 16] = [
         "dt",
         "substeps",
         "iterations",
@@ -108,6 +114,7 @@ impl SolverOverrides {
         "springs",
         "warm_start",
         "rho",
+        "anderson",
         "contact",
         "epsilon",
         "gravity",

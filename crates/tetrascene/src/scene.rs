@@ -17,6 +17,7 @@
 //! groups = 8          # colour groups of gauss-seidel
 //! rho = 0.95          # spectral radius estimate of chebyshev (lowered below 6
 //!                     # iterations: 0.934 at 5, 0.899 at 4)
+//! anderson = 0        # anderson acceleration's memory (0 off, up to 8; 5 for stiff bodies)
 //! global_volume = true  # one global volume constraint per object (default: on for
 //!                       # gauss-seidel, off for jacobi and chebyshev)
 //! springs = "explicit"  # the paper's forces, or "implicit" (compliant constraints)

@@ -137,4 +137,14 @@ bindings! {
     /// velocity solve (`split_velocity`), which `integrate` keeps instead of the full
     /// solve's (only with `contact = "split"`).
     SPLIT_VELOCITIES = 40,
+    /// Anderson acceleration's history (`anderson > 0`), planes of a vec4 per node: the
+    /// next input `x`, the residual `f` and the iteration's forces `g`, then the `m` columns
+    /// of `df`, then the `m` of `dg` (physics/anderson.rs; w unused).
+    ANDERSON_HISTORY = 41,
+    /// float per Anderson chunk (a workgroup of anderson_sum) and Gram term: the chunk's
+    /// share of each product of the normal equations (`gram_terms(m)` per chunk).
+    ANDERSON_SUMS = 42,
+    /// float per mixed multiplier (the springs', then the tets'; `anderson > 0`): the last
+    /// iteration's values, then `m` planes of their differences.
+    ANDERSON_MULTIPLIERS = 43,
 }

@@ -500,6 +500,9 @@ mod tests {
             ("GrabNodes", binding::GRAB_NODES),
             ("GrabTargets", binding::GRAB_TARGETS),
             ("SplitVelocities", binding::SPLIT_VELOCITIES),
+            ("AndersonHistory", binding::ANDERSON_HISTORY),
+            ("AndersonSums", binding::ANDERSON_SUMS),
+            ("AndersonMultipliers", binding::ANDERSON_MULTIPLIERS),
         ]
         .into_iter()
         .collect();

@@ -210,10 +210,10 @@ mod tests {
         // spring_scatter, spring_constraint, distance, volume, contact_solve: ext + cas each;
         // spring_constraint, distance, volume: gather; constraint_apply: sums, gather,
         // chebyshev, gather_chebyshev, sums_colliders, gather_colliders; global_volume,
-        // integrate and contact_apply: colliders (their `plain` variants keep the shader's
-        // own key); integrate: split, colliders_split; split_velocity: colliders;
-        // contact_measure: colliders, bodies, colliders_bodies.
-        assert_eq!(variants, 28);
+        // integrate, contact_apply and anderson_mix: colliders (their `plain` variants keep
+        // the shader's own key); integrate: split, colliders_split; split_velocity:
+        // colliders; contact_measure: colliders, bodies, colliders_bodies.
+        assert_eq!(variants, 29);
     }
 
     #[test]

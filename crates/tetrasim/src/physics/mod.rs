@@ -23,12 +23,17 @@
 //! - the floor never moves a node: it pushes (never pulls) just enough that the node ends the
 //!   step on `y = 0` or above; a node with a positive floor force is in contact.
 
+mod anderson;
 mod chebyshev;
 mod constraint;
 mod contact;
 mod integrate;
 mod spring;
 
+pub use anderson::{
+    anderson_weights, gram_index, gram_terms, AndersonIteration, ANDERSON_MAX_MEMORY,
+    ANDERSON_REGULARIZATION,
+};
 pub use chebyshev::{
     chebyshev_rho, chebyshev_rho_limit, chebyshev_weights, CHEBYSHEV_MAX_REVERSAL,
 };

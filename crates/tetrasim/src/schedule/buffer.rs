@@ -96,6 +96,12 @@ pub enum BufferId {
     GrabTargets,
     /// vec4 per node: the velocity solve's new velocity (split contact).
     SplitVelocities,
+    /// `3 + 2 m` vec4 per node: Anderson acceleration's history (`anderson = m`).
+    AndersonHistory,
+    /// float per chunk of nodes and Gram term (`anderson`).
+    AndersonSums,
+    /// `1 + m` floats per spring and tet multiplier (`anderson`).
+    AndersonMultipliers,
 }
 
 impl BufferId {
@@ -143,6 +149,9 @@ impl BufferId {
             BufferId::GrabNodes => "grab nodes",
             BufferId::GrabTargets => "grab targets",
             BufferId::SplitVelocities => "split velocities",
+            BufferId::AndersonHistory => "anderson history",
+            BufferId::AndersonSums => "anderson sums",
+            BufferId::AndersonMultipliers => "anderson multipliers",
         }
     }
 
@@ -190,6 +199,9 @@ impl BufferId {
             BufferId::GrabNodes => binding::GRAB_NODES,
             BufferId::GrabTargets => binding::GRAB_TARGETS,
             BufferId::SplitVelocities => binding::SPLIT_VELOCITIES,
+            BufferId::AndersonHistory => binding::ANDERSON_HISTORY,
+            BufferId::AndersonSums => binding::ANDERSON_SUMS,
+            BufferId::AndersonMultipliers => binding::ANDERSON_MULTIPLIERS,
         }
     }
 }

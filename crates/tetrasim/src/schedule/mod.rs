@@ -153,6 +153,9 @@ pub struct Schedule {
     pub warm_start: bool,
     /// The Chebyshev weight of each iteration (solver `chebyshev`; empty otherwise).
     pub chebyshev: Vec<f64>,
+    /// Anderson acceleration's memory (0: off; `anderson_sum` and `anderson_mix` end every
+    /// iteration).
+    pub anderson: u32,
     /// Whether the step has a floor.
     pub floor: bool,
     /// Kinematic colliders, solved with the floor (0: none).

@@ -65,6 +65,14 @@ pub enum PassKind {
     /// solved again. GPU only: the CPU backends' `contact_solve` arm applies, so theirs are
     /// no-ops.
     ContactApply,
+    /// Anderson acceleration's first half (`anderson > 0`), after each iteration's other
+    /// stages: each node's residual and history column stored, the products of the normal
+    /// equations summed per chunk of nodes (physics/anderson.rs).
+    AndersonSum,
+    /// Anderson acceleration's second half: the chunks' sums added, the weights solved,
+    /// every node's forces and the compliant multipliers mixed with their history, then
+    /// each node's floor and colliders solved again.
+    AndersonMix,
     /// Split contact's velocity solve ends: the floor's and the colliders' final solve and
     /// symplectic Euler with friction as in `integrate`, the new velocity kept aside (its
     /// positions are dropped), the forces reset for the full solve. Only with `contact =
@@ -85,7 +93,7 @@ pub enum PassKind {
 
 impl PassKind {
     /// Every pass, in execution order.
-    pub const ALL: [PassKind; 22] = [
+    pub const ALL: [PassKind; 24] = [
         PassKind::ClampDrive,
         PassKind::SpringScatter,
         PassKind::SpringGather,
@@ -103,6 +111,8 @@ impl PassKind {
         PassKind::GlobalVolume,
         PassKind::ContactSolve,
         PassKind::ContactApply,
+        PassKind::AndersonSum,
+        PassKind::AndersonMix,
         PassKind::SplitVelocity,
         PassKind::Integrate,
         PassKind::Check,
@@ -130,6 +140,8 @@ impl PassKind {
             PassKind::GlobalVolume => "global_volume",
             PassKind::ContactSolve => "contact_solve",
             PassKind::ContactApply => "contact_apply",
+            PassKind::AndersonSum => "anderson_sum",
+            PassKind::AndersonMix => "anderson_mix",
             PassKind::SplitVelocity => "split_velocity",
             PassKind::Integrate => "integrate",
             PassKind::Check => "check",
@@ -158,6 +170,8 @@ impl PassKind {
             PassKind::GlobalVolume => file::PASSES_GLOBAL_VOLUME_COMP,
             PassKind::ContactSolve => file::PASSES_CONTACT_SOLVE_COMP,
             PassKind::ContactApply => file::PASSES_CONTACT_APPLY_COMP,
+            PassKind::AndersonSum => file::PASSES_ANDERSON_SUM_COMP,
+            PassKind::AndersonMix => file::PASSES_ANDERSON_MIX_COMP,
             PassKind::SplitVelocity => file::PASSES_SPLIT_VELOCITY_COMP,
             PassKind::Integrate => file::PASSES_INTEGRATE_COMP,
             PassKind::Check => file::PASSES_CHECK_COMP,
@@ -181,6 +195,7 @@ impl PassKind {
                 | PassKind::ConstraintApply
                 | PassKind::GlobalVolume
                 | PassKind::ContactApply
+                | PassKind::AndersonMix
         )
     }
 }
@@ -351,6 +366,36 @@ impl Schedule {
                     ],
                 ));
             }
+            if params.anderson > 0 {
+                stages.push(stage(
+                    PassKind::AndersonSum,
+                    Repeat::IterationEnd,
+                    Domain::Nodes,
+                    vec![
+                        (Forces, Read),
+                        (SpringMultipliers, Read),
+                        (VolumeMultipliers, Read),
+                        (AndersonHistory, ReadWrite),
+                        (AndersonSums, Write),
+                        (AndersonMultipliers, ReadWrite),
+                    ],
+                ));
+                stages.push(stage(
+                    PassKind::AndersonMix,
+                    Repeat::IterationEnd,
+                    Domain::Nodes,
+                    vec![
+                        (Positions, Read),
+                        (Velocities, Read),
+                        (Forces, ReadWrite),
+                        (SpringMultipliers, ReadWrite),
+                        (VolumeMultipliers, ReadWrite),
+                        (AndersonHistory, ReadWrite),
+                        (AndersonSums, Read),
+                        (AndersonMultipliers, Read),
+                    ],
+                ));
+            }
         }
         let split = params.contact == ContactMode::Split;
         if split {
@@ -397,6 +442,7 @@ impl Schedule {
             gather,
             warm_start,
             chebyshev,
+            anderson: if constrained { params.anderson } else { 0 },
             floor: params.floor,
             colliders: 0,
             grabs: false,

@@ -150,3 +150,43 @@ fn split_contact_solves_twice_velocity_first() {
     assert_eq!(two.solves_running(PassKind::Integrate), 1);
     assert_eq!(one.solves_running(PassKind::Volume), 1);
 }
+
+#[test]
+fn anderson_ends_every_iteration_after_the_global_volume_and_body_contact() {
+    let params = SimParams {
+        springs: SpringKind::Implicit,
+        iterations: 2,
+        anderson: 5,
+        ..SimParams::default()
+    };
+    let schedule = Schedule::new(&params, sweeps(), true, false).with_body_contact(true);
+    assert_eq!(schedule.anderson, 5);
+    let step = schedule.step();
+    let ends: Vec<(&str, Option<u32>)> = (step.iter())
+        .filter(|d| d.group.is_none() && d.iteration.is_some())
+        .map(|d| (schedule.stages[d.stage].kind.name(), d.iteration))
+        .collect();
+    let end = |i| {
+        [
+            ("global_volume_sum", Some(i)),
+            ("global_volume", Some(i)),
+            ("contact_solve", Some(i)),
+            ("contact_apply", Some(i)),
+            ("anderson_sum", Some(i)),
+            ("anderson_mix", Some(i)),
+        ]
+    };
+    assert_eq!(ends, [end(0), end(1)].concat());
+    let sum = schedule.stages.iter().find(|s| s.kind == PassKind::AndersonSum);
+    assert!(sum.is_some_and(|s| s.writes().any(|b| b == BufferId::AndersonSums)));
+    // Off by default, and nothing to accelerate without constraint iterations.
+    let plain = Schedule::new(&SimParams::default(), sweeps(), true, false);
+    assert!(!plain.runs(PassKind::AndersonSum) && plain.anderson == 0);
+    let mss = SimParams {
+        method: Method::Mss,
+        anderson: 5,
+        ..SimParams::default()
+    };
+    let mss = Schedule::new(&mss, Vec::new(), false, false);
+    assert!(!mss.runs(PassKind::AndersonMix) && mss.anderson == 0);
+}

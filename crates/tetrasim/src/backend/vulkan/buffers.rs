@@ -175,6 +175,16 @@ impl SimBuffers {
         optional.zeroed(BufferId::ConstraintSum, (n * 16) as u64)?;
         optional.zeroed(BufferId::ChebyshevBefore, (n * 16) as u64)?;
         optional.zeroed(BufferId::SplitVelocities, (n * 16) as u64)?;
+        // Anderson's history and sums: iteration 0 writes x, iteration 1 f and g, before any
+        // read; zeroed all the same, at the plan's sizes.
+        for id in [
+            BufferId::AndersonHistory,
+            BufferId::AndersonSums,
+            BufferId::AndersonMultipliers,
+        ] {
+            let bytes = plan.buffer(id).map_or(0, |b| b.bytes);
+            optional.zeroed(id, bytes)?;
+        }
         // The multipliers need no initial values (iteration 0 writes before any read), but
         // for warm-started implicit springs, whose first step starts from 0: zeroed.
         optional.zeroed(
@@ -440,7 +450,7 @@ impl Optional<'_> {
 }
 
 /// Every buffer kind.
-const ALL_BUFFERS: [BufferId; 41] = [
+const ALL_BUFFERS: [BufferId; 44] = [
     BufferId::Positions,
     BufferId::Velocities,
     BufferId::Forces,
@@ -482,4 +492,7 @@ const ALL_BUFFERS: [BufferId; 41] = [
     BufferId::GrabNodes,
     BufferId::GrabTargets,
     BufferId::SplitVelocities,
+    BufferId::AndersonHistory,
+    BufferId::AndersonSums,
+    BufferId::AndersonMultipliers,
 ];

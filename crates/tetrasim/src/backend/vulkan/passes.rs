@@ -195,7 +195,12 @@ impl Recorder<'_> {
                 ..*step_push
             };
             let Some(at) = dispatch.group else {
-                self.dispatch(pass, b, step_push, pass.plan.elements)?;
+                // The stages that end an iteration (Anderson's) read its index.
+                let push = PushConstants {
+                    iteration: dispatch.iteration.unwrap_or(0),
+                    ..*step_push
+                };
+                self.dispatch(pass, b, &push, pass.plan.elements)?;
                 continue;
             };
             let iteration = dispatch.iteration.unwrap_or(0);

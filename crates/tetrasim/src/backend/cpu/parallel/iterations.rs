@@ -28,6 +28,8 @@ pub(super) struct Inputs<'a> {
     pub global: Option<&'a Global>,
     /// The Chebyshev weights, one per iteration (solver `chebyshev`).
     pub chebyshev_weights: Option<&'a [f32]>,
+    /// Anderson acceleration's memory (0: off).
+    pub anderson: u32,
     /// The pass of each stage of the schedule.
     pub stages: &'a [PassKind],
     /// The step's per-iteration dispatches, in order.
@@ -55,6 +57,13 @@ pub(super) struct Outputs<'a> {
     /// One partial sum per chunk of every object's surface nodes, object after object
     /// (global constraints).
     pub partial: SharedSlice<'a, f32>,
+    /// Anderson acceleration's history planes, per-chunk sums and multipliers' history
+    /// (`anderson > 0`).
+    pub anderson: Option<(
+        SharedSlice<'a, Vec3A>,
+        SharedSlice<'a, f64>,
+        SharedSlice<'a, f32>,
+    )>,
 }
 
 /// Runs all iterations as `member`. Every member must run it, with the same inputs.
@@ -109,6 +118,18 @@ pub(super) fn run(member: Member<'_>, inputs: &Inputs<'_>, outputs: &Outputs<'_>
                     // SAFETY: apply phase: each member writes only its own block of nodes.
                     unsafe { resolve_contacts(inputs, outputs, &nodes, reach.as_deref()) };
                 }
+            }
+            (PassKind::AndersonSum, _) => {
+                let iteration = iteration as u32;
+                // SAFETY: sum phase: nobody writes the forces; the members write their own
+                // chunks' history and sums.
+                unsafe { super::anderson::sum(member, inputs, outputs, iteration) };
+            }
+            (PassKind::AndersonMix, _) => {
+                let iteration = iteration as u32;
+                // SAFETY: mix phase, after the sums and a wait: nobody writes the sums; the
+                // members write their own chunks' nodes.
+                unsafe { super::anderson::mix(member, inputs, outputs, iteration) };
             }
             // The GPU's application of the contact sums: `contact_solve` applies here.
             (PassKind::ContactApply, _) => continue,

@@ -32,6 +32,7 @@ use crate::problem::Problem;
 use crate::schedule::family::{ConstraintFamily, Family};
 use crate::schedule::{Dispatch, PassKind, Schedule};
 
+mod anderson;
 mod backend;
 mod barrier;
 mod iterations;

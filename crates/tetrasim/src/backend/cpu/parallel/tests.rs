@@ -80,6 +80,13 @@ fn teams_of_any_size_give_the_same_bits() {
             },
         ),
         (
+            "anderson 5",
+            SimParams {
+                anderson: 5,
+                ..params.clone()
+            },
+        ),
+        (
             "implicit springs, warm-started",
             SimParams {
                 springs: SpringKind::Implicit,
@@ -106,8 +113,31 @@ fn teams_of_any_size_give_the_same_bits() {
 
 #[test]
 fn a_team_of_four_follows_cpu_ref() {
+    follows_cpu_ref(SimParams::default());
+}
+
+/// Anderson acceleration on the team follows `cpu-ref`'s, and changes the result well
+/// beyond the tolerance (so a team that skipped it would fail).
+#[test]
+fn a_team_of_four_follows_cpu_ref_with_anderson() {
+    let on = follows_cpu_ref(SimParams {
+        anderson: 5,
+        ..SimParams::default()
+    });
+    let off = follows_cpu_ref(SimParams::default());
+    let d = (on.positions.iter().zip(&off.positions))
+        .map(|(a, b)| a.distance(*b))
+        .fold(0.0, f64::max);
+    let diag = model().bounds_diagonal();
+    assert!(
+        d > 20.0 * TOLERANCE * diag,
+        "anderson moved nodes only {d:e} m"
+    );
+}
+
+/// The 4-thread run under `params` against `cpu-ref`'s; `cpu-ref`'s state.
+fn follows_cpu_ref(params: SimParams) -> State {
     let model = model();
-    let params = SimParams::default();
     let problem = Problem::new(&model, &params).expect("a problem");
     let fast = run(&problem, 4);
     let mut reference = ReferenceBackend::new(&model, &params).expect("cpu-ref");
@@ -120,4 +150,5 @@ fn a_team_of_four_follows_cpu_ref() {
         .map(|(a, b)| a.distance(*b))
         .fold(0.0, f64::max);
     assert!(d < TOLERANCE * diag, "{d:e} m, diagonal {diag} m");
+    reference
 }

@@ -18,6 +18,7 @@ use crate::problem::Problem;
 use crate::schedule::family::{ConstraintFamily, Family};
 use crate::schedule::{Dispatch, GroupAt, PassKind, Schedule};
 
+mod anderson;
 mod step_forces;
 mod surfaces;
 
@@ -231,6 +232,12 @@ impl ReferenceBackend {
                         }
                     }
                 }
+                self.contact_solve(step);
+            }
+            // Anderson's halves run as one here.
+            (PassKind::AndersonSum, _) => {}
+            (PassKind::AndersonMix, _) => {
+                self.anderson(iteration, step);
                 self.contact_solve(step);
             }
             // The GPU's frame measure of contact: `volume()` takes it from the last step.

@@ -37,6 +37,8 @@ pub(super) struct StepForces {
     pub(super) global: Vec<(f64, Vec<DVec3>, f64)>,
     /// The step's body contacts with their multipliers so far (`<= 0`: they push).
     pub(super) bodies: Vec<(Contact, f64)>,
+    /// Anderson acceleration's history (`anderson > 0`).
+    pub(super) anderson: super::anderson::AndersonHistory,
 }
 
 impl StepForces {
@@ -61,6 +63,7 @@ impl StepForces {
             sum: Vec::new(),
             global: Vec::new(),
             bodies: Vec::new(),
+            anderson: Default::default(),
             gravity,
         };
         step.set_springs(vec![DVec3::ZERO; n]);

@@ -299,8 +299,9 @@ fn buffers(
         // young's modulus or an object's own material may make any tet compliant), and
         // 4 bytes per tet are what the compliances already take; hard tets never touch
         // their entry.
+        // Anderson's passes bind both multiplier arrays, also where no sweep uses one.
         for kind in [ConstraintKind::Spring, ConstraintKind::Volume] {
-            if sweeps.iter().any(|w| w.kind == kind) {
+            if schedule.anderson > 0 || sweeps.iter().any(|w| w.kind == kind) {
                 buffers.push(match kind {
                     ConstraintKind::Spring => (SpringMultipliers, 4 * s, 0),
                     _ => (VolumeMultipliers, 4 * t, 0),
@@ -322,6 +323,16 @@ fn buffers(
     }
     if schedule.split {
         buffers.push((SplitVelocities, 16 * n, 0));
+    }
+    if schedule.anderson > 0 {
+        let planes = 3 + 2 * u64::from(schedule.anderson);
+        buffers.push((AndersonHistory, 16 * planes * n, 0));
+        let chunks = u64::from(anderson_chunks(counts.nodes, workgroup_size));
+        buffers.push((AndersonSums, 4 * ANDERSON_TERMS * chunks, 0));
+        let (springs, tets) = mixed_multipliers(schedule, counts);
+        let mixed = u64::from(springs + tets).max(1);
+        let columns = 1 + u64::from(schedule.anderson);
+        buffers.push((AndersonMultipliers, 4 * columns * mixed, 0));
     }
     if schedule
         .stages
@@ -372,6 +383,34 @@ fn buffers(
         }
     }
     buffers
+}
+
+/// The Gram terms each Anderson chunk keeps room for (those of the largest memory).
+const ANDERSON_TERMS: u64 =
+    crate::physics::gram_terms(crate::physics::ANDERSON_MAX_MEMORY as usize) as u64;
+
+/// The chunks (workgroups) of Anderson's passes over `nodes` nodes for passes of
+/// `workgroup_size` invocations.
+pub fn anderson_chunks(nodes: u32, workgroup_size: u32) -> u32 {
+    nodes.div_ceil(workgroup_size.min(GLOBAL_WORKGROUP)).max(1)
+}
+
+/// The multipliers Anderson mixes: every spring's when a sweep solves springs, every tet's
+/// when one solves volumes (hard constraints' entries are never read).
+fn mixed_multipliers(schedule: &Schedule, counts: PlanCounts) -> (u32, u32) {
+    let has = |kind| schedule.sweeps.iter().any(|w| w.kind == kind);
+    (
+        if has(ConstraintKind::Spring) {
+            counts.springs
+        } else {
+            0
+        },
+        if has(ConstraintKind::Volume) {
+            counts.tets
+        } else {
+            0
+        },
+    )
 }
 
 /// Bytes of one collider's pose over one step ([`crate::gpu::layout::GpuColliderPose`]).
@@ -457,6 +496,26 @@ impl PassPlan {
         }
         if stage.kind == PassKind::ContactMeasure && colliders > 0 {
             constants = vec![colliders];
+        }
+        // Anderson's passes reduce per workgroup (a chunk of nodes) in shared memory, as
+        // the global passes do: the floor, the chunks, the colliders and grabs (0 without)
+        // and the memory as constants 1 to 5.
+        let mut workgroup_size = workgroup_size;
+        let mut variant = variant;
+        if matches!(stage.kind, PassKind::AndersonSum | PassKind::AndersonMix) {
+            workgroup_size = global_workgroup;
+            let chunks = anderson_chunks(counts.nodes, workgroup_size);
+            let (c, g) = if solve {
+                (colliders, counts.grabbed)
+            } else {
+                (0, 0)
+            };
+            let (springs, tets) = mixed_multipliers(schedule, counts);
+            constants = vec![floor, chunks, c, g, schedule.anderson, springs, tets];
+            variant = match solve && stage.kind == PassKind::AndersonMix {
+                true => Variant::Named("colliders"),
+                false => Variant::Plain,
+            };
         }
         let constraints = |sweep: Option<usize>| match sweep.map(|s| schedule.sweeps[s].kind) {
             Some(ConstraintKind::Volume) => counts.tets,

@@ -3,8 +3,9 @@
 //! the rest idle, so element-wise passes get the largest power of two that still gives
 //! every multiprocessor of a large GPU a workgroup ([`MIN_WORKGROUPS`]), between
 //! [`MIN_WORKGROUP_SIZE`] and the plan's size. Passes that reduce in shared memory keep
-//! theirs (`volume_sum`'s partials are sized by the plan's, the global passes have
-//! [`super::GLOBAL_WORKGROUP`]); `--workgroup-size` sets every pass and skips this.
+//! theirs (`volume_sum`'s partials are sized by the plan's, the global and Anderson passes
+//! have [`super::GLOBAL_WORKGROUP`] at most, their chunk count a specialisation constant);
+//! `--workgroup-size` sets every pass and skips this.
 
 use super::{EnginePlan, PassPlan, MIN_WORKGROUPS, MIN_WORKGROUP_SIZE};
 use crate::schedule::PassKind;
@@ -58,6 +59,8 @@ fn element_wise(kind: PassKind) -> bool {
             | PassKind::Check
             | PassKind::VolumeSum
             | PassKind::ContactScan
+            | PassKind::AndersonSum
+            | PassKind::AndersonMix
     )
 }
 

@@ -67,6 +67,7 @@ impl ParallelBackend {
             k,
             floor,
             chebyshev,
+            anderson,
             stages,
             dispatches,
             f,
@@ -113,6 +114,7 @@ impl ParallelBackend {
             sweeps,
             global,
             chebyshev_weights,
+            anderson: anderson.as_ref().map_or(0, |a| a.memory),
             stages,
             dispatches: &dispatches[range],
         };
@@ -129,6 +131,13 @@ impl ParallelBackend {
             tet_out: SharedSlice::new(tet_out),
             chebyshev,
             partial: SharedSlice::new(&mut partial),
+            anderson: anderson.as_mut().map(|a| {
+                (
+                    SharedSlice::new(&mut a.history),
+                    SharedSlice::new(&mut a.sums),
+                    SharedSlice::new(&mut a.multipliers),
+                )
+            }),
         };
         team.run(|member| iterations::run(member, &inputs, &outputs));
         drop(outputs);

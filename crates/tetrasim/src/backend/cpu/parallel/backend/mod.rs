@@ -42,6 +42,8 @@ pub struct ParallelBackend {
     global: Option<Global>,
     /// The Chebyshev semi-iteration (solver `chebyshev`).
     chebyshev: Option<Chebyshev>,
+    /// Anderson acceleration's arrays (`anderson > 0` with constraint iterations).
+    anderson: Option<super::anderson::Anderson>,
     /// The threads that run the constraint iterations.
     team: Team,
     /// The floor's normal force on each node in the current step [N] (`>= 0`).
@@ -164,6 +166,10 @@ impl ParallelBackend {
                     .collect(),
                 before_f: vec![Vec3A::ZERO; n],
                 before_n: vec![0.0; n],
+            }),
+            anderson: (params.anderson > 0 && !sweeps.is_empty()).then(|| {
+                let constraints = sweeps.iter().map(|s| s.multipliers.len()).sum();
+                super::anderson::Anderson::new(params.anderson, n, constraints)
             }),
             team: Team::for_work(n, mean_group_size(&sweeps)),
             floor_force: vec![0.0; n],

@@ -1,0 +1,67 @@
+//! The parameters' validation: the combinations refused, with the key they name.
+
+use super::*;
+
+#[test]
+fn split_contact_refuses_warm_start_and_chebyshev() {
+    let split = SimParams {
+        contact: ContactMode::Split,
+        ..SimParams::default()
+    };
+    split.validate().expect("split contact with the defaults");
+    let warm = SimParams {
+        springs: SpringKind::Implicit,
+        warm_start: true,
+        ..split.clone()
+    };
+    let chebyshev = SimParams {
+        solver: Solver::Chebyshev,
+        ..split
+    };
+    for (params, says) in [(warm, "warm_start"), (chebyshev, "chebyshev")] {
+        let message = params.validate().unwrap_err().to_string();
+        assert!(
+            message.contains("contact") && message.contains(says),
+            "{message}"
+        );
+    }
+}
+
+#[test]
+fn anderson_needs_iterations_a_small_memory_and_no_chebyshev() {
+    let on = SimParams {
+        anderson: 5,
+        ..SimParams::default()
+    };
+    on.validate().expect("anderson with the defaults");
+    let cases = [
+        (
+            SimParams {
+                anderson: ANDERSON_MAX_MEMORY + 1,
+                ..on.clone()
+            },
+            "at most 8",
+        ),
+        (
+            SimParams {
+                method: Method::Mss,
+                ..on.clone()
+            },
+            "no",
+        ),
+        (
+            SimParams {
+                solver: Solver::Chebyshev,
+                ..on.clone()
+            },
+            "chebyshev",
+        ),
+    ];
+    for (params, says) in cases {
+        let message = params.validate().unwrap_err().to_string();
+        assert!(
+            message.contains("anderson") && message.contains(says),
+            "{message}"
+        );
+    }
+}
