@@ -177,7 +177,10 @@ fn anderson_ends_every_iteration_after_the_global_volume_and_body_contact() {
         ]
     };
     assert_eq!(ends, [end(0), end(1)].concat());
-    let sum = schedule.stages.iter().find(|s| s.kind == PassKind::AndersonSum);
+    let sum = schedule
+        .stages
+        .iter()
+        .find(|s| s.kind == PassKind::AndersonSum);
     assert!(sum.is_some_and(|s| s.writes().any(|b| b == BufferId::AndersonSums)));
     // Off by default, and nothing to accelerate without constraint iterations.
     let plain = Schedule::new(&SimParams::default(), sweeps(), true, false);
