@@ -1,8 +1,8 @@
 #version 460
 // Pass `anderson_mix`: the second half of Anderson acceleration (src/physics/anderson.rs),
 // after anderson_sum, from iteration 1 on. Every workgroup adds the CHUNKS rows of
-// AndersonSums in the same fixed order (strided per invocation, then a shared-memory tree,
-// as global_volume does), so all of them solve the same weights gamma (invocation 0,
+// AndersonSums in the same fixed order (strided per invocation, then a shared-memory tree
+// of eight terms at a time, as global_volume does with two), so all of them solve the same weights gamma (invocation 0,
 // anderson_weights); then each node's next input x = g - sum_j gamma_j dg_j is kept and
 // becomes its forces, whose floor and colliders' contacts are solved again
 // (passes/node_contacts.glsl); the compliant multipliers are mixed with the
@@ -11,7 +11,7 @@
 // @variant colliders: COLLIDERS_ON
 #include "common/version.glsl"
 #include "common/bindings.glsl"
-#include "common/workgroup_sum.glsl"
+#include "common/workgroup_sum8.glsl"
 #include "physics/anderson.glsl"
 #include "physics/integrate.glsl"
 
@@ -58,11 +58,21 @@ void main() {
             }
         }
         float total[ANDERSON_MAX_TERMS];
-        for (uint t = 0u; t < count; t += 2u) {
-            vec2 s = workgroup_sum2(partial[t], t + 1u < count ? partial[t + 1u] : 0.0);
-            total[t] = s.x;
-            if (t + 1u < count) {
-                total[t + 1u] = s.y;
+        for (uint t = 0u; t < count; t += 8u) {
+            vec4 a;
+            vec4 b;
+            for (uint j = 0u; j < 4u; ++j) {
+                a[j] = t + j < count ? partial[t + j] : 0.0;
+                b[j] = t + 4u + j < count ? partial[t + 4u + j] : 0.0;
+            }
+            workgroup_sum8(a, b);
+            for (uint j = 0u; j < 4u; ++j) {
+                if (t + j < count) {
+                    total[t + j] = a[j];
+                }
+                if (t + 4u + j < count) {
+                    total[t + 4u + j] = b[j];
+                }
             }
         }
         if (l == 0u) {

@@ -5,13 +5,13 @@
 // df = f - f_last, dg = g - g_last, and f, g kept (AndersonHistory, planes of a vec4 per
 // node: x, f, g, then MEMORY columns of df, then of dg); in iteration 0 only x = g. Then
 // every workgroup (a chunk of nodes) sums the products of the normal equations,
-// df_i . df_j and df_i . f, in shared memory in a fixed order into its row of
+// df_i . df_j and df_i . f, eight at a time in shared memory in a fixed order into its row of
 // AndersonSums. The compliant multipliers (SpringMultipliers, VolumeMultipliers) keep
 // their last values and history column likewise, in AndersonMultipliers (a grid-stride
 // loop). Mirrors src/backend/cpu/parallel/anderson.rs.
 #include "common/version.glsl"
 #include "common/bindings.glsl"
-#include "common/workgroup_sum.glsl"
+#include "common/workgroup_sum8.glsl"
 #include "physics/anderson.glsl"
 
 layout(std430, set = 0, binding = B_FORCES) readonly restrict buffer Forces { vec4 forces[]; };
@@ -78,12 +78,22 @@ void main() {
     }
     uint count = gram_terms(k);
     uint row = gl_WorkGroupID.x * ANDERSON_MAX_TERMS;
-    for (uint t = 0u; t < count; t += 2u) {
-        vec2 s = workgroup_sum2(terms[t], t + 1u < count ? terms[t + 1u] : 0.0);
+    for (uint t = 0u; t < count; t += 8u) {
+        vec4 a;
+        vec4 b;
+        for (uint j = 0u; j < 4u; ++j) {
+            a[j] = t + j < count ? terms[t + j] : 0.0;
+            b[j] = t + 4u + j < count ? terms[t + 4u + j] : 0.0;
+        }
+        workgroup_sum8(a, b);
         if (gl_LocalInvocationID.x == 0u) {
-            sums[row + t] = s.x;
-            if (t + 1u < count) {
-                sums[row + t + 1u] = s.y;
+            for (uint j = 0u; j < 4u; ++j) {
+                if (t + j < count) {
+                    sums[row + t + j] = a[j];
+                }
+                if (t + 4u + j < count) {
+                    sums[row + t + 4u + j] = b[j];
+                }
             }
         }
     }

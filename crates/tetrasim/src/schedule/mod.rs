@@ -156,6 +156,10 @@ pub struct Schedule {
     /// Anderson acceleration's memory (0: off; `anderson_sum` and `anderson_mix` end every
     /// iteration).
     pub anderson: u32,
+    /// Whether Anderson acceleration mixes the volume constraints' multipliers: some are
+    /// compliant (a hard constraint never reads its multiplier). The springs' are mixed
+    /// whenever they are constraints (implicit springs are compliant).
+    pub anderson_volumes: bool,
     /// Whether the step has a floor.
     pub floor: bool,
     /// Kinematic colliders, solved with the floor (0: none).
@@ -179,7 +183,10 @@ impl Schedule {
     /// The schedule of a prepared problem, with the per-frame volume stage when `metrics`.
     pub fn of(problem: &Problem, metrics: bool) -> Self {
         let sweeps = problem.sweeps.iter().map(SweepPlan::of).collect();
-        Schedule::new(&problem.params, sweeps, problem.global.is_some(), metrics)
+        let mut schedule =
+            Schedule::new(&problem.params, sweeps, problem.global.is_some(), metrics);
+        schedule.anderson_volumes &= problem.material.has_compliant_volumes();
+        schedule
             .with_body_contact(problem.bodies.is_some())
             .with_colliders(
                 problem.model.colliders.len() as u32,

@@ -443,6 +443,7 @@ impl Schedule {
             warm_start,
             chebyshev,
             anderson: if constrained { params.anderson } else { 0 },
+            anderson_volumes: constrained && params.anderson > 0,
             floor: params.floor,
             colliders: 0,
             grabs: false,

@@ -25,37 +25,61 @@ pub(super) struct Anderson {
     pub history: Vec<Vec3A>,
     /// Per chunk of nodes, its share of each Gram term.
     pub sums: Vec<f64>,
-    /// The sweeps' multipliers (one sweep after another) mixed with the same weights:
-    /// planes of the last iteration's, then `memory` columns of their differences.
+    /// The mixed sweeps' multipliers (one sweep after another) mixed with the same
+    /// weights: planes of the last iteration's, then `memory` columns of their differences.
     pub multipliers: Vec<f32>,
+    /// Whether the volume constraints' multipliers are mixed ([`mixes`]).
+    pub volumes: bool,
 }
 
 impl Anderson {
-    /// The arrays of memory `memory` for `n` nodes and `constraints` multipliers.
-    pub(super) fn new(memory: u32, n: usize, constraints: usize) -> Self {
+    /// The arrays of memory `memory` for `n` nodes and `constraints` mixed multipliers.
+    pub(super) fn new(memory: u32, n: usize, constraints: usize, volumes: bool) -> Self {
         Anderson {
             memory,
             history: vec![Vec3A::ZERO; (3 + 2 * memory as usize) * n],
             sums: vec![0.0; n.div_ceil(CHUNK) * TERMS],
             multipliers: vec![0.0; (1 + memory as usize) * constraints],
+            volumes,
         }
     }
 }
 
-/// Each sweep's multipliers: the member's block of them, and where that block lies in a
-/// plane of [`Anderson::multipliers`].
+/// Whether Anderson mixes the multipliers of a sweep of `kind`: implicit springs' (always
+/// compliant) and, when `volumes`, the volume constraints' (some are compliant); hard
+/// constraints never read theirs.
+pub(super) fn mixes(kind: ConstraintKind, volumes: bool) -> bool {
+    match kind {
+        ConstraintKind::Spring => true,
+        ConstraintKind::Volume => volumes,
+        _ => false,
+    }
+}
+
+/// Each mixed sweep's multipliers: the member's block of them, and where that block lies
+/// in a plane of [`Anderson::multipliers`].
 fn multiplier_blocks<'o>(
     member: Member<'_>,
+    inputs: &Inputs<'_>,
     outputs: &'o Outputs<'_>,
 ) -> Vec<(&'o SharedSliceF32<'o>, std::ops::Range<usize>, usize)> {
     let mut first = 0;
-    (outputs.multipliers.iter())
-        .map(|m| {
+    (outputs.multipliers.iter().zip(inputs.sweeps))
+        .filter(|(_, sweep)| mixes(sweep.kind, inputs.anderson_volumes))
+        .map(|(m, _)| {
             let block = member.block(m.len());
             first += m.len();
             (m, block, first - m.len())
         })
         .collect()
+}
+
+/// The multipliers Anderson mixes, over every mixed sweep.
+fn mixed_count(inputs: &Inputs<'_>, outputs: &Outputs<'_>) -> usize {
+    (outputs.multipliers.iter().zip(inputs.sweeps))
+        .filter(|(_, sweep)| mixes(sweep.kind, inputs.anderson_volumes))
+        .map(|(m, _)| m.len())
+        .sum()
 }
 
 type SharedSliceF32<'a> = super::shared::SharedSlice<'a, f32>;
@@ -66,12 +90,13 @@ type SharedSliceF32<'a> = super::shared::SharedSlice<'a, f32>;
 /// As [`sum`]; nobody writes the multipliers during the call.
 unsafe fn sum_multipliers(
     member: Member<'_>,
+    inputs: &Inputs<'_>,
     outputs: &Outputs<'_>,
     lambda: &SharedSliceF32<'_>,
     at: AndersonIteration,
 ) {
-    let total: usize = outputs.multipliers.iter().map(|m| m.len()).sum();
-    for (m, block, first) in multiplier_blocks(member, outputs) {
+    let total = mixed_count(inputs, outputs);
+    for (m, block, first) in multiplier_blocks(member, inputs, outputs) {
         // SAFETY: each member's block of each sweep is its own; nobody writes them.
         let (now, last) = unsafe {
             (
@@ -115,7 +140,7 @@ pub(super) unsafe fn sum(
     let (n, m) = (inputs.x.len(), inputs.anderson as usize);
     let at = AndersonIteration::of(iteration, inputs.anderson);
     // SAFETY: the caller's promise covers the multipliers too.
-    unsafe { sum_multipliers(member, outputs, lambda, at) };
+    unsafe { sum_multipliers(member, inputs, outputs, lambda, at) };
     let (chunks, nodes) = mine(member, n);
     let plane = |p: usize| {
         // SAFETY: the members' node ranges are disjoint, so are their parts of a plane.
@@ -196,8 +221,8 @@ pub(super) unsafe fn mix(
         }
     }
     let gamma = anderson_weights(&total, columns).map(|g| g as f32);
-    let constraints: usize = outputs.multipliers.iter().map(|m| m.len()).sum();
-    for (m, block, first) in multiplier_blocks(member, outputs) {
+    let constraints = mixed_count(inputs, outputs);
+    for (m, block, first) in multiplier_blocks(member, inputs, outputs) {
         // SAFETY: each member's block of each sweep is its own.
         let now = unsafe { m.part(block.clone()) };
         for (j, &gamma) in gamma[..columns].iter().enumerate() {

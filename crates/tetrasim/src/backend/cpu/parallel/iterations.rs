@@ -30,6 +30,8 @@ pub(super) struct Inputs<'a> {
     pub chebyshev_weights: Option<&'a [f32]>,
     /// Anderson acceleration's memory (0: off).
     pub anderson: u32,
+    /// Whether it mixes the volume constraints' multipliers ([`Schedule::anderson_volumes`]).
+    pub anderson_volumes: bool,
     /// The pass of each stage of the schedule.
     pub stages: &'a [PassKind],
     /// The step's per-iteration dispatches, in order.

@@ -20,6 +20,9 @@ pub struct PlanCounts {
     pub clamped: u32,
     /// Nodes held by grabs (each once).
     pub grabbed: u32,
+    /// Tets whose volume constraint is compliant (a problem's material says; every tet
+    /// when only the model is known).
+    pub compliant_tets: u32,
 }
 
 impl PlanCounts {
@@ -37,6 +40,7 @@ impl PlanCounts {
             colliders: count("colliders", model.colliders.len())?,
             clamps: count("clamps", model.clamps.len())?,
             grabbed: count("grabbed nodes", grabbed_nodes(&model.grabs).len())?,
+            compliant_tets: count("tets", model.tets.len())?,
             clamped: count(
                 "clamped nodes",
                 model.clamps.iter().map(|c| c.nodes.len()).sum(),

@@ -94,8 +94,16 @@ impl EnginePlan {
         metrics: bool,
     ) -> crate::Result<Self> {
         let sweeps: Vec<SweepPlan> = problem.sweeps.iter().map(SweepPlan::of).collect();
+        let compliant = problem
+            .material
+            .volume_compliance
+            .iter()
+            .filter(|&&a| a > 0.0);
         Ok(EnginePlan::with_bodies(
-            PlanCounts::of(&problem.model)?,
+            PlanCounts {
+                compliant_tets: compliant.count() as u32,
+                ..PlanCounts::of(&problem.model)?
+            },
             &problem.params,
             workgroup_size,
             metrics,
@@ -139,7 +147,9 @@ impl EnginePlan {
         body: Option<BodyCounts>,
     ) -> Self {
         let global = global.filter(|_| params.solves_global_volume());
-        let schedule = Schedule::new(params, sweeps.to_vec(), global.is_some(), metrics)
+        let mut schedule = Schedule::new(params, sweeps.to_vec(), global.is_some(), metrics);
+        schedule.anderson_volumes &= counts.compliant_tets > 0;
+        let schedule = schedule
             .with_body_contact(body.is_some())
             .with_colliders(counts.colliders, counts.grabbed > 0)
             .with_clamps(counts.clamped)
@@ -395,21 +405,16 @@ pub fn anderson_chunks(nodes: u32, workgroup_size: u32) -> u32 {
     nodes.div_ceil(workgroup_size.min(GLOBAL_WORKGROUP)).max(1)
 }
 
-/// The multipliers Anderson mixes: every spring's when a sweep solves springs, every tet's
-/// when one solves volumes (hard constraints' entries are never read).
+/// The multipliers Anderson mixes: every spring's when a sweep solves springs (implicit
+/// springs are compliant), every tet's when one solves volumes and some are compliant (a
+/// hard constraint never reads its multiplier).
 fn mixed_multipliers(schedule: &Schedule, counts: PlanCounts) -> (u32, u32) {
     let has = |kind| schedule.sweeps.iter().any(|w| w.kind == kind);
+    let springs = has(ConstraintKind::Spring);
+    let tets = has(ConstraintKind::Volume) && schedule.anderson_volumes;
     (
-        if has(ConstraintKind::Spring) {
-            counts.springs
-        } else {
-            0
-        },
-        if has(ConstraintKind::Volume) {
-            counts.tets
-        } else {
-            0
-        },
+        if springs { counts.springs } else { 0 },
+        if tets { counts.tets } else { 0 },
     )
 }
 

@@ -12,6 +12,7 @@ const COUNTS: PlanCounts = PlanCounts {
     clamps: 0,
     clamped: 0,
     grabbed: 0,
+    compliant_tets: 12,
 };
 
 fn plan(params: &SimParams, sweeps: &[SweepPlan]) -> EnginePlan {

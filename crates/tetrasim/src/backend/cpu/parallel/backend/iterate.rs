@@ -115,6 +115,7 @@ impl ParallelBackend {
             global,
             chebyshev_weights,
             anderson: anderson.as_ref().map_or(0, |a| a.memory),
+            anderson_volumes: anderson.as_ref().is_some_and(|a| a.volumes),
             stages,
             dispatches: &dispatches[range],
         };

@@ -168,8 +168,12 @@ impl ParallelBackend {
                 before_n: vec![0.0; n],
             }),
             anderson: (params.anderson > 0 && !sweeps.is_empty()).then(|| {
-                let constraints = sweeps.iter().map(|s| s.multipliers.len()).sum();
-                super::anderson::Anderson::new(params.anderson, n, constraints)
+                let volumes = schedule.anderson_volumes;
+                let constraints = (sweeps.iter())
+                    .filter(|s| super::anderson::mixes(s.kind, volumes))
+                    .map(|s| s.multipliers.len())
+                    .sum();
+                super::anderson::Anderson::new(params.anderson, n, constraints, volumes)
             }),
             team: Team::for_work(n, mean_group_size(&sweeps)),
             floor_force: vec![0.0; n],
