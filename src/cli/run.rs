@@ -280,7 +280,7 @@ pub struct BadScene(pub tetrasim::Error);
 pub struct DivergedRun(pub String);
 
 /// `jacobi`, or `gauss-seidel (8 groups)`, with ` + global volume` when it is solved and
-/// ` + anderson M` with Anderson acceleration.
+/// ` + anderson M` with Anderson acceleration, and the inversion sweeps when they run.
 fn solver_label(params: &SimParams) -> String {
     let mut out = match params.solver {
         SolverKind::Jacobi => "jacobi".to_string(),
@@ -298,6 +298,12 @@ fn solver_label(params: &SimParams) -> String {
     }
     if params.anderson > 0 {
         out += &format!(" + anderson {}", params.anderson);
+    }
+    if params.inversion_sweeps > 0 {
+        out += &format!(
+            " + {} inversion sweeps (floor {})",
+            params.inversion_sweeps, params.inversion_floor
+        );
     }
     out
 }

@@ -65,6 +65,16 @@ pub struct SolverOverrides {
     /// slow modes of a stiff body (about 5 % more per iteration on cpu; docs/PHYSICS.md).
     #[cfg_attr(feature = "clap", arg(long, value_name = "MEMORY"))]
     pub anderson: Option<u32>,
+    /// Inversion sweeps after each step's iterations (method volume; 0, off, default, to
+    /// 64): each sweeps the volume constraints' groups once more, pushing every tet whose
+    /// volume at the step's end would be below `inversion_floor` of its rest volume back up
+    /// to it (docs/PHYSICS.md, "Inversion floor").
+    #[cfg_attr(feature = "clap", arg(long, value_name = "SWEEPS"))]
+    pub inversion_sweeps: Option<u32>,
+    /// The fraction of its rest volume the inversion sweeps restore a tet to, in (0, 1]
+    /// (default 0.1).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "FRACTION"))]
+    pub inversion_floor: Option<f64>,
     /// How contact and hard constraints turn position corrections into velocity:
     /// `combined` (one solve, default) or `split` (split impulses: a nearly rigid body does
     /// not bounce; about twice the solve, a higher local volume error; docs/PHYSICS.md).
@@ -94,6 +104,8 @@ impl SolverOverrides {
         set(&mut params.global_volume, self.global_volume.map(Some));
         set(&mut params.rho, self.rho);
         set(&mut params.anderson, self.anderson);
+        set(&mut params.inversion_sweeps, self.inversion_sweeps);
+        set(&mut params.inversion_floor, self.inversion_floor);
         set(&mut params.springs, self.springs);
         set(&mut params.warm_start, self.warm_start);
         set(&mut params.contact, self.contact);
@@ -102,7 +114,7 @@ impl SolverOverrides {
     }
 
     /// Every key (a `[solver]` key, a flag's id).
-    pub const KEYS: [&'static str; 16] = [
+    pub const KEYS: [&'static str; 18] = [
         "dt",
         "substeps",
         "iterations",
@@ -115,6 +127,8 @@ impl SolverOverrides {
         "warm_start",
         "rho",
         "anderson",
+        "inversion_sweeps",
+        "inversion_floor",
         "contact",
         "epsilon",
         "gravity",

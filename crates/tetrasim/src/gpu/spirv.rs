@@ -207,13 +207,14 @@ mod tests {
             );
             variants += usize::from(key.contains('#'));
         }
-        // spring_scatter, spring_constraint, distance, volume, contact_solve: ext + cas each;
-        // spring_constraint, distance, volume: gather; constraint_apply: sums, gather,
+        // spring_scatter, spring_constraint, distance, volume, inversion_floor,
+        // contact_solve: ext + cas each; spring_constraint, distance, volume,
+        // inversion_floor: gather; constraint_apply: sums, gather,
         // chebyshev, gather_chebyshev, sums_colliders, gather_colliders; global_volume,
         // integrate, contact_apply and anderson_mix: colliders (their `plain` variants keep
         // the shader's own key); integrate: split, colliders_split; split_velocity:
         // colliders; contact_measure: colliders, bodies, colliders_bodies.
-        assert_eq!(variants, 29);
+        assert_eq!(variants, 32);
     }
 
     #[test]

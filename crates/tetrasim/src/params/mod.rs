@@ -7,6 +7,8 @@ use serde::{Deserialize, Serialize};
 
 mod contact;
 pub use contact::ContactMode;
+mod inversion;
+pub use inversion::{default_inversion_floor, MAX_INVERSION_SWEEPS};
 
 use crate::error::{Error, Result};
 pub use crate::physics::{
@@ -259,6 +261,17 @@ pub struct SimParams {
     /// "Anderson acceleration"); 5 is a good memory.
     #[serde(default)]
     pub anderson: u32,
+    /// Inversion sweeps after the constraint iterations of every step (method `volume`;
+    /// 0: off): each sweeps the volume constraints' groups once more with the one-sided
+    /// floor `V >= inversion_floor V0` measured at the positions the step is about to
+    /// reach, so that a tet the iterations left collapsed or inside out is pushed back
+    /// before it is integrated (docs/PHYSICS.md, "Inversion floor").
+    #[serde(default)]
+    pub inversion_sweeps: u32,
+    /// The fraction of its rest volume below which the inversion sweeps push a tet back,
+    /// in `(0, 1]`.
+    #[serde(default = "default_inversion_floor")]
+    pub inversion_floor: f64,
     /// How position corrections reach the velocity: one combined solve (default) or split
     /// impulses (`split`: no rebound, twice the solve).
     #[serde(default)]
@@ -296,6 +309,8 @@ impl Default for SimParams {
             global_volume: None,
             rho: default_rho(),
             anderson: 0,
+            inversion_sweeps: 0,
+            inversion_floor: default_inversion_floor(),
             contact: ContactMode::Combined,
             constraint_epsilon: default_constraint_epsilon(),
         }
@@ -417,6 +432,7 @@ impl SimParams {
                 ));
             }
         }
+        self.validate_inversion()?;
         if let Some(e) = self.youngs_modulus {
             positive_finite("youngs_modulus", e)?;
         }

@@ -65,3 +65,50 @@ fn anderson_needs_iterations_a_small_memory_and_no_chebyshev() {
         );
     }
 }
+
+#[test]
+fn inversion_sweeps_need_the_volume_method_and_a_floor_in_range() {
+    let on = SimParams {
+        inversion_sweeps: 4,
+        ..SimParams::default()
+    };
+    on.validate().expect("inversion sweeps with the defaults");
+    let cases = [
+        (
+            SimParams {
+                inversion_sweeps: MAX_INVERSION_SWEEPS + 1,
+                ..on.clone()
+            },
+            "inversion_sweeps",
+            "at most 64",
+        ),
+        (
+            SimParams {
+                method: Method::Distance,
+                ..on.clone()
+            },
+            "inversion_sweeps",
+            "method volume",
+        ),
+        (
+            SimParams {
+                inversion_floor: 0.0,
+                ..on.clone()
+            },
+            "inversion_floor",
+            "(0, 1]",
+        ),
+        (
+            SimParams {
+                inversion_floor: 1.5,
+                ..on.clone()
+            },
+            "inversion_floor",
+            "(0, 1]",
+        ),
+    ];
+    for (params, key, says) in cases {
+        let message = params.validate().unwrap_err().to_string();
+        assert!(message.contains(key) && message.contains(says), "{message}");
+    }
+}

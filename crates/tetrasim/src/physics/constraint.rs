@@ -40,6 +40,23 @@ pub fn volume_constraint<V: Vector>(p: [V; 4], rest: V::Real) -> (V::Real, [V; 4
     (c, [-(g2 + g3 + g4), g2, g3, g4])
 }
 
+/// The inversion floor of a tet with rest volume `rest` [m^3] (docs/PHYSICS.md, "Inversion
+/// floor"): at the positions `p` its nodes reach at the step's end ([`end_position`]
+/// (super::end_position)), the one-sided hard constraint `C = V(p) - floor V0 >= 0`. Returns
+/// `C` [m^3] and its gradients at `p` [m^2] while the tet is below the floor (`C < 0`), `None`
+/// at or above it. Unlike [`volume_constraint`] it is measured where the step ends, not
+/// linearized at `x(t)`, so one sweep is one Newton step on the true volume; its multiplier is
+/// [`implicit_multiplier`] with `b = 0` (the end positions already hold `v` and `F`).
+#[inline]
+pub fn inversion_floor<V: Vector>(
+    p: [V; 4],
+    rest: V::Real,
+    floor: V::Real,
+) -> Option<(V::Real, [V; 4])> {
+    let (c, grad) = volume_constraint(p, rest * floor);
+    (c < V::Real::ZERO).then_some((c, grad))
+}
+
 /// The first-order implicit multiplier of one constraint (physics.md, "Implicit constraint
 /// enforcement" with the second edition's "Momentum-conserving scaling"):
 ///
@@ -191,6 +208,36 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn the_inversion_floor_lifts_an_inverted_tet_and_leaves_the_others() {
+        let p = tet();
+        let rest = tet_volume(p);
+        assert!(inversion_floor(p, rest, 0.1).is_none(), "at rest");
+        // Node 3 pushed through the opposite face: the tet is inside out.
+        let mut q = p;
+        q[3].z = -0.4;
+        assert!(tet_volume(q) < 0.0);
+        let (c, grad) = inversion_floor(q, rest, 0.1).expect("below the floor");
+        assert!((c - (tet_volume(q) - 0.1 * rest)).abs() < 1e-15);
+        // The hard multiplier with b = 0 (unit masses, dt 1), step after step along
+        // -lambda grad C: the volume is cubic in the positions, so each step is one Newton
+        // step; it rises every step and reaches the floor within a few.
+        let mut at = q;
+        let mut volumes = vec![tet_volume(q)];
+        while let Some((c, grad)) = inversion_floor(at, rest, 0.1) {
+            assert!(volumes.len() <= 4, "still below the floor: {volumes:?}");
+            let a: f64 = grad.iter().map(|g| g.length_squared()).sum();
+            let lambda = implicit_multiplier(c, a, 0.0, 1.0, 1e-12).unwrap();
+            at = std::array::from_fn(|k| at[k] - grad[k] * lambda);
+            volumes.push(tet_volume(at));
+        }
+        assert!(volumes.windows(2).all(|w| w[1] > w[0]), "{volumes:?}");
+        assert!(
+            *volumes.last().unwrap() >= 0.1 * rest && volumes.len() > 2,
+            "{volumes:?}"
+        );
     }
 
     #[test]

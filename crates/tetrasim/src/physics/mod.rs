@@ -39,7 +39,8 @@ pub use chebyshev::{
 };
 pub use constraint::{
     compliant_multiplier, distance_constraint, face_volume, implicit_accumulate, implicit_lambda,
-    implicit_multiplier, spring_constraint, spring_softness, volume_constraint, volume_softness,
+    implicit_multiplier, inversion_floor, spring_constraint, spring_softness, volume_constraint,
+    volume_softness,
 };
 pub use contact::{contact_push, end_position, surface_friction, Solve};
 pub use integrate::{floor_force, floor_friction, floor_solve, integrate_node, symplectic_euler};

@@ -46,6 +46,10 @@ pub enum Repeat {
     Iteration,
     /// Once per iteration, after its constraint groups (the global volume constraints).
     IterationEnd,
+    /// After the iterations, [`Schedule::inversion_sweeps`] times: once per group of the
+    /// stage's sweep, each followed by the [`Repeat::Iteration`] stages of no sweep (the
+    /// inversion floor, then `constraint_apply`).
+    Restore,
     /// Once per frame, after the last time step.
     Frame,
 }
@@ -160,6 +164,11 @@ pub struct Schedule {
     /// compliant (a hard constraint never reads its multiplier). The springs' are mixed
     /// whenever they are constraints (implicit springs are compliant).
     pub anderson_volumes: bool,
+    /// Inversion sweeps after the iterations (0: none; `inversion_floor` runs per group of
+    /// the volume sweep, [`Repeat::Restore`]).
+    pub inversion_sweeps: u32,
+    /// The fraction of the rest volume the inversion sweeps restore.
+    pub inversion_floor: f64,
     /// Whether the step has a floor.
     pub floor: bool,
     /// Kinematic colliders, solved with the floor (0: none).
@@ -316,6 +325,16 @@ impl Schedule {
     /// least 1).
     pub fn group_count(&self) -> u32 {
         (self.sweeps.iter().map(|s| s.groups.len()).sum::<usize>()).max(1) as u32
+    }
+
+    /// The groups the [`Repeat::Restore`] stages run for in one step (each followed by the
+    /// stages of no sweep): their sweep's groups, `inversion_sweeps` times.
+    pub fn restore_groups(&self) -> u32 {
+        (self.stages.iter())
+            .filter(|s| s.repeat == Repeat::Restore)
+            .filter_map(|s| s.sweep.and_then(|w| self.sweeps.get(w)))
+            .map(|w| w.groups.len().max(1) as u32 * self.inversion_sweeps)
+            .sum()
     }
 
     /// The Chebyshev weight of `iteration` (1 without Chebyshev).

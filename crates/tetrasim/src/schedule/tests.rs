@@ -193,3 +193,59 @@ fn anderson_ends_every_iteration_after_the_global_volume_and_body_contact() {
     let mss = Schedule::new(&mss, Vec::new(), false, false);
     assert!(!mss.runs(PassKind::AndersonMix) && mss.anderson == 0);
 }
+
+#[test]
+fn inversion_sweeps_follow_the_iterations_group_by_group() {
+    let params = SimParams {
+        springs: SpringKind::Implicit,
+        iterations: 2,
+        anderson: 3,
+        inversion_sweeps: 2,
+        ..SimParams::default()
+    };
+    let schedule = Schedule::new(&params, sweeps(), true, false);
+    let step = schedule.step();
+    let names = names(&schedule, &step);
+    let last_mix = names.iter().rposition(|&n| n == "anderson_mix").unwrap();
+    // After the last iteration: the volume sweep's three groups, each applied, twice.
+    let restore = ["inversion_floor", "constraint_apply"].repeat(3).repeat(2);
+    assert_eq!(
+        names[last_mix + 1..],
+        [&restore[..], &["integrate"]].concat()
+    );
+    let floors: Vec<&Dispatch> = (step.iter())
+        .filter(|d| schedule.stages[d.stage].kind == PassKind::InversionFloor)
+        .collect();
+    // The volume sweep's groups (index over all sweeps: 2, 3, 4) as further iterations.
+    let at: Vec<(u32, u32, Option<u32>)> = (floors.iter())
+        .map(|d| (d.group.unwrap().index, d.group.unwrap().first, d.iteration))
+        .collect();
+    assert_eq!(
+        at,
+        [
+            (2, 0, Some(2)),
+            (3, 5, Some(2)),
+            (4, 9, Some(2)),
+            (2, 0, Some(3)),
+            (3, 5, Some(3)),
+            (4, 9, Some(3)),
+        ]
+    );
+    assert_eq!(schedule.restore_groups(), 6);
+    // Off by default, and nothing to sweep without volume constraints.
+    let plain = Schedule::new(&SimParams::default(), sweeps(), true, false);
+    assert!(!plain.runs(PassKind::InversionFloor) && plain.restore_groups() == 0);
+    let springs_only = vec![sweeps().remove(0)];
+    let none = Schedule::new(&params, springs_only, false, false);
+    assert!(!none.runs(PassKind::InversionFloor) && none.inversion_sweeps == 0);
+}
+
+#[test]
+fn names_are_shader_stems_in_execution_order() {
+    for (i, k) in PassKind::ALL.iter().enumerate() {
+        assert_eq!(*k as usize, i, "ALL is in declaration order");
+        assert_eq!(k.shader(), format!("passes/{}.comp", k.name()));
+        assert_eq!(PassKind::from_name(k.name()), Some(*k));
+    }
+    assert_eq!(PassKind::from_name("nope"), None);
+}

@@ -86,13 +86,35 @@ impl Schedule {
             solve: Solve::Full,
         };
         let repeat = |k: usize| self.stages[step[k]].repeat;
+        // The stages of no sweep that follow every group (constraint_apply).
+        let shared: Vec<usize> = (step.iter().copied())
+            .filter(|&i| self.stages[i].repeat == Repeat::Iteration)
+            .filter(|&i| self.stages[i].sweep.is_none())
+            .collect();
         let mut out = Vec::new();
         let mut k = 0;
         while k < step.len() {
-            if repeat(k) != Repeat::Iteration {
-                out.push(once(step[k]));
-                k += 1;
-                continue;
+            match repeat(k) {
+                Repeat::Iteration => {}
+                Repeat::Restore => {
+                    // After the iterations: the stage's sweep, group by group, as further
+                    // iterations that solve only it.
+                    let stage = step[k];
+                    let sweep = self.stages[stage]
+                        .sweep
+                        .expect("a restore stage has a sweep");
+                    for round in 0..self.inversion_sweeps {
+                        let iteration = Some(self.iterations + round);
+                        self.push_groups(&mut out, sweep, &[stage], &shared, iteration);
+                    }
+                    k += 1;
+                    continue;
+                }
+                _ => {
+                    out.push(once(step[k]));
+                    k += 1;
+                    continue;
+                }
             }
             let end = (k..step.len())
                 .find(|&e| repeat(e) != Repeat::Iteration)
@@ -101,35 +123,12 @@ impl Schedule {
                 .find(|&e| repeat(e) != Repeat::IterationEnd)
                 .unwrap_or(step.len());
             let block = &step[k..end];
-            let shared: Vec<usize> = (block.iter().copied())
-                .filter(|&i| self.stages[i].sweep.is_none())
-                .collect();
             for iteration in 0..self.iterations {
-                let mut index = 0;
-                for (s, sweep) in self.sweeps.iter().enumerate() {
+                for s in 0..self.sweeps.len() {
                     let own: Vec<usize> = (block.iter().copied())
                         .filter(|&i| self.stages[i].sweep == Some(s))
                         .collect();
-                    let mut first = 0;
-                    for (g, &count) in sweep.groups.iter().enumerate() {
-                        let group = GroupAt {
-                            sweep: s,
-                            group: g,
-                            index,
-                            first,
-                            count,
-                        };
-                        for &stage in own.iter().chain(&shared) {
-                            out.push(Dispatch {
-                                stage,
-                                iteration: Some(iteration),
-                                group: Some(group),
-                                solve: Solve::Full,
-                            });
-                        }
-                        first += count;
-                        index += 1;
-                    }
+                    self.push_groups(&mut out, s, &own, &shared, Some(iteration));
                 }
                 for &stage in &step[end..after_end] {
                     out.push(Dispatch {
@@ -141,6 +140,38 @@ impl Schedule {
             k = after_end;
         }
         out
+    }
+
+    /// The dispatches of sweep `s`'s groups in one iteration: per group, the sweep's `own`
+    /// stages, then the `shared` ones.
+    fn push_groups(
+        &self,
+        out: &mut Vec<Dispatch>,
+        s: usize,
+        own: &[usize],
+        shared: &[usize],
+        iteration: Option<u32>,
+    ) {
+        let before: usize = self.sweeps[..s].iter().map(|w| w.groups.len()).sum();
+        let mut first = 0;
+        for (g, &count) in self.sweeps[s].groups.iter().enumerate() {
+            let group = GroupAt {
+                sweep: s,
+                group: g,
+                index: (before + g) as u32,
+                first,
+                count,
+            };
+            for &stage in own.iter().chain(shared) {
+                out.push(Dispatch {
+                    stage,
+                    iteration,
+                    group: Some(group),
+                    solve: Solve::Full,
+                });
+            }
+            first += count;
+        }
     }
 
     /// The stages that run once per frame after the last step, in order.

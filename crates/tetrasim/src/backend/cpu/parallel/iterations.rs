@@ -16,6 +16,8 @@ pub(super) struct Inputs<'a> {
     pub x: &'a [Vec3A],
     pub v: &'a [Vec3A],
     pub inv_mass: &'a [f32],
+    /// Per tet: its rest volume.
+    pub rest_volume: &'a [f32],
     pub k: Coefficients,
     pub floor: bool,
     /// The colliders of the step, when there are any.
@@ -85,6 +87,14 @@ pub(super) fn run(member: Member<'_>, inputs: &Inputs<'_>, outputs: &Outputs<'_>
                 // write disjoint blocks of the group's constraint results and multipliers
                 // and nobody writes `f`.
                 unsafe { solve(inputs, outputs, at.sweep, at.group, block) };
+            }
+            (PassKind::InversionFloor, Some(at)) => {
+                let range = inputs.sweeps[at.sweep].range(at.group);
+                let block = member.block(range.len());
+                let block = range.start + block.start..range.start + block.end;
+                // SAFETY: solve phase, as for the constraints: the members write disjoint
+                // blocks of the group's results and nobody writes `f`.
+                unsafe { super::inversion::floor(inputs, outputs, at.sweep, at.group, block) };
             }
             (PassKind::ConstraintApply, Some(at)) => {
                 let sweep = &inputs.sweeps[at.sweep];
@@ -316,7 +326,8 @@ unsafe fn apply(
             unsafe { before_f.part(nodes.clone()) },
             // SAFETY: as `f`.
             unsafe { before_n.part(nodes) },
-            weights[iteration],
+            // 1 after the iterations (the inversion sweeps' applies).
+            weights.get(iteration).copied().unwrap_or(1.0),
         )),
         _ => None,
     };

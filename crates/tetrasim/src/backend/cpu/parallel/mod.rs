@@ -35,6 +35,7 @@ use crate::schedule::{Dispatch, PassKind, Schedule};
 mod anderson;
 mod backend;
 mod barrier;
+mod inversion;
 mod iterations;
 mod shared;
 mod team;
@@ -53,6 +54,8 @@ struct Coefficients {
     omega: f32,
     friction: f32,
     epsilon: f32,
+    /// The fraction of the rest volume the inversion sweeps restore.
+    inversion_floor: f32,
     gravity: Vec3A,
     /// Which of the step's solves runs (split contact's velocity solve, or the full one).
     solve: Solve,

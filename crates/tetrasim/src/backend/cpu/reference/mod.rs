@@ -19,6 +19,7 @@ use crate::schedule::family::{ConstraintFamily, Family};
 use crate::schedule::{Dispatch, GroupAt, PassKind, Schedule};
 
 mod anderson;
+mod inversion;
 mod step_forces;
 mod surfaces;
 
@@ -221,6 +222,7 @@ impl ReferenceBackend {
             (PassKind::SpringConstraint | PassKind::Distance | PassKind::Volume, Some(at)) => {
                 step.sum = self.solve_group(at, step)
             }
+            (PassKind::InversionFloor, Some(at)) => step.sum = self.inversion_group(at, step),
             (PassKind::ConstraintApply, Some(at)) => self.apply_group(at, iteration, step),
             (PassKind::GlobalVolumeSum, _) => self.global_multipliers(step),
             (PassKind::GlobalVolume, _) => {

@@ -462,12 +462,20 @@ impl PassPlan {
                 Variant::Named("colliders")
             }
             (PassKind::SpringScatter, _) => Variant::Atomics,
-            (PassKind::SpringConstraint | PassKind::Distance | PassKind::Volume, true) => {
-                Variant::Named("gather")
-            }
-            (PassKind::SpringConstraint | PassKind::Distance | PassKind::Volume, false) => {
-                Variant::Atomics
-            }
+            (
+                PassKind::SpringConstraint
+                | PassKind::Distance
+                | PassKind::Volume
+                | PassKind::InversionFloor,
+                true,
+            ) => Variant::Named("gather"),
+            (
+                PassKind::SpringConstraint
+                | PassKind::Distance
+                | PassKind::Volume
+                | PassKind::InversionFloor,
+                false,
+            ) => Variant::Atomics,
             (PassKind::ConstraintApply, true) if chebyshev => Variant::Named("gather_chebyshev"),
             (PassKind::ConstraintApply, true) => Variant::Named("gather"),
             (PassKind::ConstraintApply, false) if chebyshev => Variant::Named("chebyshev"),
@@ -493,6 +501,9 @@ impl PassPlan {
         };
         if stage.kind == PassKind::ClampDrive {
             constants = vec![counts.clamped, counts.clamps];
+        }
+        if stage.kind == PassKind::InversionFloor {
+            constants = vec![(schedule.inversion_floor as f32).to_bits()];
         }
         // The collider count follows the floor's constants (id 2, or 3 after the chunks).
         // Then the grabbed nodes' count (the rows of one step's grab targets).

@@ -37,7 +37,19 @@ impl EnginePlan {
         match pass.stage.repeat {
             Repeat::Substep => solves * self.schedule.substeps,
             Repeat::Iteration => {
-                solves * self.schedule.substeps * self.schedule.iterations * self.groups_of(pass)
+                let per_step = self.schedule.iterations * self.groups_of(pass)
+                    + match pass.stage.sweep {
+                        // constraint_apply also follows every group of the restore sweeps.
+                        None => self.schedule.restore_groups(),
+                        Some(_) => 0,
+                    };
+                solves * self.schedule.substeps * per_step
+            }
+            Repeat::Restore => {
+                solves
+                    * self.schedule.substeps
+                    * self.schedule.inversion_sweeps
+                    * self.groups_of(pass)
             }
             Repeat::IterationEnd => solves * self.schedule.substeps * self.schedule.iterations,
             Repeat::Frame => 1,
@@ -120,7 +132,7 @@ impl EnginePlan {
                 let size = self.buffer(*id).map_or(0, |b| b.bytes);
                 let size = match (pass.stage.repeat, id) {
                     (
-                        Repeat::Iteration,
+                        Repeat::Iteration | Repeat::Restore,
                         BufferId::Tets
                         | BufferId::RestVolumes
                         | BufferId::VolumeCompliance
@@ -130,7 +142,7 @@ impl EnginePlan {
                         | BufferId::SpringDamping,
                     ) => size / sweep_groups,
                     (
-                        Repeat::Iteration,
+                        Repeat::Iteration | Repeat::Restore,
                         BufferId::Degrees
                         | BufferId::GroupMembers
                         | BufferId::Contributions

@@ -169,6 +169,27 @@ impl EnginePlan {
         }
     }
 
+    /// `4 x (8 groups x (inversion_floor#gather, constraint_apply#gather))`: a restore
+    /// pass's sweeps after the iterations, each group followed by the iteration's passes of
+    /// no sweep (from `iteration`).
+    fn restore_label(&self, pass: &PassPlan, iteration: &[&PassPlan]) -> String {
+        let mut labels = vec![pass.label()];
+        labels.extend(
+            (iteration.iter())
+                .filter(|p| p.stage.sweep.is_none())
+                .map(|p| p.label()),
+        );
+        let groups = pass
+            .stage
+            .sweep
+            .map_or(1, |s| self.schedule.sweeps[s].groups.len());
+        let part = match groups {
+            0 | 1 => labels.join(", "),
+            k => format!("{k} groups x ({})", labels.join(", ")),
+        };
+        format!("{} x ({part})", self.schedule.inversion_sweeps)
+    }
+
     /// Labels of one time step's passes (the iteration group written `N x (a, b)`).
     pub(super) fn step_list(&self) -> Vec<String> {
         let mut out = Vec::new();
@@ -182,6 +203,14 @@ impl EnginePlan {
             match p.stage.repeat {
                 Repeat::Iteration => group.push(p),
                 Repeat::IterationEnd => after.push(p.label()),
+                Repeat::Restore => {
+                    if !group.is_empty() {
+                        out.push(self.iteration_label(&group, &after));
+                        after.clear();
+                    }
+                    out.push(self.restore_label(p, &group));
+                    group.clear();
+                }
                 _ => {
                     if !group.is_empty() {
                         out.push(self.iteration_label(&group, &after));

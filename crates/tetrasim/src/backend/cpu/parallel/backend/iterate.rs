@@ -64,6 +64,7 @@ impl ParallelBackend {
             x,
             v,
             inv_mass,
+            rest_volume,
             k,
             floor,
             chebyshev,
@@ -96,6 +97,7 @@ impl ParallelBackend {
             x,
             v,
             inv_mass,
+            rest_volume,
             k: *k,
             floor: *floor,
             colliders: (!at.is_empty() || !attached.is_empty()).then_some(Colliders {

@@ -146,6 +146,7 @@ impl ParallelBackend {
                 omega: params.omega as f32,
                 friction: params.friction as f32,
                 epsilon: params.constraint_epsilon as f32,
+                inversion_floor: params.inversion_floor as f32,
                 gravity,
                 solve: Solve::Full,
             },
