@@ -9,7 +9,7 @@
 //! constraints with friction; compliant springs and volumes with Jacobi), Anderson
 //! acceleration (with Gauss-Seidel and with Jacobi), the inversion floor (at the rest volume,
 //! so that every compressed tet meets it: switching the sweeps off moves nodes by 5e-4 and
-//! 1.2e-3 m on `cpu-ref`; with Gauss-Seidel and with Jacobi), each on a small
+//! 1.2e-3 m on `cpu-ref`; with Gauss-Seidel, with Jacobi and with split contact), each on a small
 //! ball dropped from 1 cm so that the floor is part of every run (60 frames).
 //!
 //! Tolerances: every node within 1e-5 of the bounding-box diagonal (1e-4 with Anderson
@@ -284,6 +284,16 @@ fn cases() -> Vec<(&'static str, Model, SimParams)> {
                 inversion_sweeps: 3,
                 inversion_floor: 1.0,
                 solver: Solver::Jacobi,
+                ..base(Method::Volume)
+            },
+        ),
+        (
+            "inversion floor at the rest volume, split contact, deformed",
+            gpu_support::jittered(&plain, 0.02, 0.3, 79),
+            SimParams {
+                inversion_sweeps: 2,
+                inversion_floor: 1.0,
+                contact: ContactMode::Split,
                 ..base(Method::Volume)
             },
         ),

@@ -136,7 +136,9 @@ fn real_size_horse_keeps_its_volume_with_implicit_springs() {
 /// `cpu` for 400 frames with Anderson acceleration (memory 5) and 16 colour groups: 8
 /// inversion sweeps per step keep at most 1 % of the tets inverted at every frame and the
 /// average volume at 99.9 % or more, and at most half the inverted tets of the same run
-/// without them (the figures are docs/PHYSICS.md's, "Inversion floor").
+/// without them. Measured on this test's mesh: 2275 (2.66 %) inverted without, 672 (0.78 %)
+/// with, average volume 99.99 %, local error 3.53 / 14.90 % (docs/PHYSICS.md, "Inversion
+/// floor", has the `--keep-order` mesh's figures).
 #[test]
 fn inversion_sweeps_keep_the_real_size_horse_right_side_out() {
     let Some(model) = horse() else { return };

@@ -7,7 +7,8 @@
 // those positions (inversion_floor in src/physics/constraint.rs): lambda = C / (dt^2 A),
 // A = sum_k s_k w_k |grad_k C|^2, force -lambda grad_k C. Outputs as `volume` does:
 // variants `ext`/`cas` add to the per-node sums with float atomics, `gather` writes the
-// tet's four contribution slots for `constraint_apply#gather`.
+// tet's four contribution slots for `constraint_apply#gather`. Nothing in split contact's
+// velocity solve (pc.phase): the full solve's positions are restored, with no velocity.
 // @variant ext: ATOMICS_EXT
 // @variant cas: ATOMICS_CAS
 // @variant gather: GATHER
@@ -46,7 +47,8 @@ void main() {
     vec3 g[4];
     float c = volume_constraint(q[0], q[1], q[2], q[3], INVERSION_FLOOR * rest_volumes[t], g[0], g[1], g[2], g[3]);
     float lambda = 0.0;
-    if (c < 0.0) {
+    // A position correction: none in split contact's velocity solve.
+    if (c < 0.0 && pc.phase != PHASE_VELOCITY) {
         float a = 0.0;
         for (int k = 0; k < 4; ++k) {
             a += combine_a_scale(pc.combine, degrees[group_node(tet[k])]) * w[k] * dot(g[k], g[k]);

@@ -35,6 +35,10 @@ pub(super) unsafe fn floor(
         let end = ids.map(|i| end_position(x[i], v[i], f[i], w[i], k.dt));
         let rest = inputs.rest_volume[t as usize];
         *out = [Vec3A::ZERO; 4];
+        // A position correction: none in split contact's velocity solve.
+        if k.solve == Solve::Velocity {
+            continue;
+        }
         let Some((c, grad)) = inversion_floor(end, rest, k.inversion_floor) else {
             continue;
         };

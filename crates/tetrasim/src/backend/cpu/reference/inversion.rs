@@ -6,20 +6,26 @@ use glam::DVec3;
 
 use super::step_forces::StepForces;
 use super::ReferenceBackend;
-use crate::physics::{end_position, implicit_multiplier, inversion_floor};
+use crate::physics::{end_position, implicit_multiplier, inversion_floor, Solve};
 use crate::schedule::GroupAt;
 
 impl ReferenceBackend {
     /// The per-node sums of the inversion floor's forces of group `at` (a volume group)
     /// against the step's forces: every tet whose volume at its nodes' end positions is
     /// below `inversion_floor` times its rest volume gets the one-sided force
-    /// `-lambda grad C` that lifts it back to first order ([`inversion_floor`]).
+    /// `-lambda grad C` that lifts it back to first order ([`inversion_floor`]). None in
+    /// split contact's velocity solve: the floor corrects positions, which the full solve
+    /// keeps, and gives them no velocity.
     pub(super) fn inversion_group(&self, at: GroupAt, step: &StepForces) -> Vec<DVec3> {
         let (model, params) = (&self.problem.model, &self.problem.params);
         let dt = params.dt;
         let a_scale = &self.group_factors[at.sweep][at.group];
         let sweep = &self.problem.sweeps[at.sweep];
         let mut sum = vec![DVec3::ZERO; model.node_count()];
+        // A position correction: none in split contact's velocity solve.
+        if step.solve == Solve::Velocity {
+            return sum;
+        }
         for &t in sweep.groups.group(at.group) {
             let ids = model.tets[t as usize].map(|i| i as usize);
             let w = ids.map(|i| model.inv_mass[i]);
