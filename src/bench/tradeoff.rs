@@ -16,8 +16,8 @@ use tetrasim::model::Model;
 use tetrasim::params::{Method, SimParams, Solver};
 
 /// A solver with its settings: `jacobi`, `chebyshev`, `gauss-seidel:8`,
-/// `gauss-seidel:8+global`, `gauss-seidel:8+global+anderson5`, ... (Chebyshev with the
-/// default `rho`).
+/// `gauss-seidel:8+global`, `gauss-seidel:8+global+anderson5`,
+/// `gauss-seidel:16+global+anderson5+inversion8`, ... (Chebyshev with the default `rho`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SolverSetting {
     /// The solver.
@@ -28,6 +28,9 @@ pub struct SolverSetting {
     pub global_volume: bool,
     /// Anderson acceleration's memory (0: off).
     pub anderson: u32,
+    /// Inversion sweeps after the iterations (0: off; method `volume` only, the points of
+    /// the other methods skip a setting with them).
+    pub inversion_sweeps: u32,
 }
 
 impl SolverSetting {
@@ -49,6 +52,7 @@ impl SolverSetting {
             groups,
             global_volume,
             anderson: 0,
+            inversion_sweeps: 0,
         }
     }
 
@@ -56,6 +60,14 @@ impl SolverSetting {
     pub const fn with_anderson(self, memory: u32) -> Self {
         SolverSetting {
             anderson: memory,
+            ..self
+        }
+    }
+
+    /// The same setting with `sweeps` inversion sweeps.
+    pub const fn with_inversion(self, sweeps: u32) -> Self {
+        SolverSetting {
+            inversion_sweeps: sweeps,
             ..self
         }
     }
@@ -72,6 +84,9 @@ impl SolverSetting {
         if self.anderson > 0 {
             out += &format!("+anderson{}", self.anderson);
         }
+        if self.inversion_sweeps > 0 {
+            out += &format!("+inversion{}", self.inversion_sweeps);
+        }
         out
     }
 
@@ -82,6 +97,7 @@ impl SolverSetting {
             groups: self.groups,
             global_volume: Some(self.global_volume),
             anderson: self.anderson,
+            inversion_sweeps: self.inversion_sweeps,
             ..base.clone()
         }
     }
@@ -90,10 +106,28 @@ impl SolverSetting {
 impl std::str::FromStr for SolverSetting {
     type Err = Error;
 
-    /// `NAME[:GROUPS][+global][+andersonM]`, NAME `jacobi`, `chebyshev` or `gauss-seidel`
-    /// (groups, for Gauss-Seidel only, default 8), M Anderson acceleration's memory (1 to 8).
+    /// `NAME[:GROUPS][+global][+andersonM][+inversionN]`, NAME `jacobi`, `chebyshev` or
+    /// `gauss-seidel` (groups, for Gauss-Seidel only, default 8), M Anderson acceleration's
+    /// memory (1 to 8), N the inversion sweeps (1 to 64).
     fn from_str(text: &str) -> Result<Self> {
-        let (rest, anderson) = match text.rsplit_once("+anderson") {
+        let (rest, inversion) = match text.rsplit_once("+inversion") {
+            Some((rest, sweeps)) => {
+                let limit = tetrasim::params::MAX_INVERSION_SWEEPS;
+                let sweeps = (sweeps.parse::<u32>().ok())
+                    .filter(|n| (1..=limit).contains(n))
+                    .ok_or_else(|| {
+                        Error::param(
+                            "solvers",
+                            format!(
+                                "`{text}`: +inversionN needs a sweep count N from 1 to {limit}"
+                            ),
+                        )
+                    })?;
+                (rest, sweeps)
+            }
+            None => (text, 0),
+        };
+        let (rest, anderson) = match rest.rsplit_once("+anderson") {
             Some((rest, memory)) => {
                 let limit = tetrasim::params::ANDERSON_MAX_MEMORY;
                 let memory = (memory.parse::<u32>().ok())
@@ -106,7 +140,7 @@ impl std::str::FromStr for SolverSetting {
                     })?;
                 (rest, memory)
             }
-            None => (text, 0),
+            None => (rest, 0),
         };
         let (rest, global_volume) = match rest.strip_suffix("+global") {
             Some(rest) => (rest, true),
@@ -129,7 +163,7 @@ impl std::str::FromStr for SolverSetting {
                     "solvers",
                     format!(
                         "`{text}`: expected jacobi, chebyshev or gauss-seidel, optionally \
-                         with :GROUPS (gauss-seidel), +global and +andersonM"
+                         with :GROUPS (gauss-seidel), +global, +andersonM and +inversionN"
                     ),
                 )
             })?;
@@ -149,7 +183,9 @@ impl std::str::FromStr for SolverSetting {
                 format!("`{text}`: anderson does not combine with chebyshev"),
             ));
         }
-        Ok(SolverSetting::new(solver, groups, global_volume).with_anderson(anderson))
+        Ok(SolverSetting::new(solver, groups, global_volume)
+            .with_anderson(anderson)
+            .with_inversion(inversion))
     }
 }
 
@@ -264,7 +300,11 @@ impl SweepSpec {
                 }
                 continue;
             }
-            for &solver in &self.solvers {
+            // The inversion floor sweeps volume constraints: a setting with it is the volume
+            // method's alone.
+            let solvers = (self.solvers.iter())
+                .filter(|s| s.inversion_sweeps == 0 || method == Method::Volume);
+            for &solver in solvers {
                 for &substeps in &self.substeps {
                     for &iterations in &self.iterations {
                         points.push(SweepPoint {
@@ -503,65 +543,5 @@ pub fn mark_pareto(records: &mut [TradeoffRecord]) {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn default_sweep_has_the_grid_and_the_omega_points() {
-        let points = SweepSpec::default().points();
-        // mss: 3 substep counts; distance and volume: 5 solvers x 6 x 3 grid + 2 omegas each.
-        assert_eq!(points.len(), 3 + 2 * (5 * 18 + 2));
-        let volume: Vec<_> = points
-            .iter()
-            .filter(|p| p.method == Method::Volume)
-            .collect();
-        assert!(volume
-            .iter()
-            .any(|p| p.iterations == 50 && p.substeps == 4 && p.omega == 1.0));
-        assert_eq!(volume.iter().filter(|p| p.omega != 1.0).count(), 2);
-        let labels: Vec<String> = SolverSetting::DEFAULTS.iter().map(|s| s.label()).collect();
-        assert_eq!(
-            labels,
-            [
-                "jacobi",
-                "jacobi+global",
-                "gauss-seidel:8",
-                "gauss-seidel:8+global",
-                "gauss-seidel:8+global+anderson5"
-            ]
-        );
-        for label in &labels {
-            assert_eq!(&label.parse::<SolverSetting>().unwrap().label(), label);
-        }
-        assert_eq!(
-            "gauss-seidel".parse::<SolverSetting>().unwrap(),
-            SolverSetting::new(Solver::GaussSeidel, 8, false)
-        );
-        assert_eq!(
-            "jacobi+anderson3".parse::<SolverSetting>().unwrap(),
-            SolverSetting::new(Solver::Jacobi, 1, false).with_anderson(3)
-        );
-        for bad in [
-            "gs",
-            "jacobi:4",
-            "gauss-seidel:0",
-            "gauss-seidel:x+global",
-            "jacobi+anderson0",
-            "jacobi+anderson9",
-            "chebyshev+anderson5",
-        ] {
-            let err = bad.parse::<SolverSetting>().unwrap_err().to_string();
-            assert!(err.contains(bad), "{err}");
-        }
-        assert!(points
-            .iter()
-            .filter(|p| p.method == Method::Mss)
-            .all(|p| p.iterations == 1 && p.omega == 1.0));
-        assert!(SweepSpec {
-            substeps: vec![0],
-            ..SweepSpec::default()
-        }
-        .validate()
-        .is_err());
-    }
-}
+#[path = "tradeoff_tests.rs"]
+mod tests;

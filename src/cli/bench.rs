@@ -83,7 +83,7 @@ pub struct BenchArgs {
     #[arg(long)]
     pub substeps: Option<u32>,
     /// Solver of the constraint methods, `jacobi`, `chebyshev` or `gauss-seidel[:GROUPS]`,
-    /// optionally with `+global` and `+andersonM` (default: the engine's,
+    /// optionally with `+global`, `+andersonM` and `+inversionN` (default: the engine's,
     /// gauss-seidel:8+global).
     #[arg(long)]
     pub solver: Option<crate::bench::tradeoff::SolverSetting>,
@@ -178,6 +178,9 @@ pub fn execute(args: BenchArgs) -> anyhow::Result<()> {
         match params.anderson {
             0 => String::new(),
             m => format!(" + anderson {m}"),
+        } + &match params.inversion_sweeps {
+            0 => String::new(),
+            n => format!(" + {n} inversion sweeps"),
         }
     );
     let mut backends = Backends::new(args.gpu.engine_options());

@@ -39,9 +39,10 @@ pub struct TradeoffArgs {
     #[arg(long, value_delimiter = ',')]
     pub iterations: Vec<u32>,
     /// Solvers of the constraint methods, comma-separated, each `jacobi`, `chebyshev` or
-    /// `gauss-seidel[:GROUPS]`, optionally with `+global` and `+andersonM` (Anderson
-    /// acceleration of memory M; default: jacobi, jacobi+global, gauss-seidel:8,
-    /// gauss-seidel:8+global, gauss-seidel:8+global+anderson5).
+    /// `gauss-seidel[:GROUPS]`, optionally with `+global`, `+andersonM` (Anderson
+    /// acceleration of memory M) and `+inversionN` (N inversion sweeps; the volume method's
+    /// points only); default: jacobi, jacobi+global, gauss-seidel:8, gauss-seidel:8+global,
+    /// gauss-seidel:8+global+anderson5.
     #[arg(long, value_delimiter = ',')]
     pub solvers: Vec<crate::bench::tradeoff::SolverSetting>,
     /// Substep counts, at equal simulated time per frame (default: 1,2,4).
