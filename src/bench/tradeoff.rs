@@ -110,38 +110,10 @@ impl std::str::FromStr for SolverSetting {
     /// `gauss-seidel` (groups, for Gauss-Seidel only, default 8), M Anderson acceleration's
     /// memory (1 to 8), N the inversion sweeps (1 to 64).
     fn from_str(text: &str) -> Result<Self> {
-        let (rest, inversion) = match text.rsplit_once("+inversion") {
-            Some((rest, sweeps)) => {
-                let limit = tetrasim::params::MAX_INVERSION_SWEEPS;
-                let sweeps = (sweeps.parse::<u32>().ok())
-                    .filter(|n| (1..=limit).contains(n))
-                    .ok_or_else(|| {
-                        Error::param(
-                            "solvers",
-                            format!(
-                                "`{text}`: +inversionN needs a sweep count N from 1 to {limit}"
-                            ),
-                        )
-                    })?;
-                (rest, sweeps)
-            }
-            None => (text, 0),
-        };
-        let (rest, anderson) = match rest.rsplit_once("+anderson") {
-            Some((rest, memory)) => {
-                let limit = tetrasim::params::ANDERSON_MAX_MEMORY;
-                let memory = (memory.parse::<u32>().ok())
-                    .filter(|m| (1..=limit).contains(m))
-                    .ok_or_else(|| {
-                        Error::param(
-                            "solvers",
-                            format!("`{text}`: +andersonM needs a memory M from 1 to {limit}"),
-                        )
-                    })?;
-                (rest, memory)
-            }
-            None => (rest, 0),
-        };
+        let limit = tetrasim::params::MAX_INVERSION_SWEEPS;
+        let (rest, inversion) = counted_suffix(text, text, "+inversion", "N", limit)?;
+        let limit = tetrasim::params::ANDERSON_MAX_MEMORY;
+        let (rest, anderson) = counted_suffix(text, rest, "+anderson", "M", limit)?;
         let (rest, global_volume) = match rest.strip_suffix("+global") {
             Some(rest) => (rest, true),
             None => (rest, false),
@@ -187,6 +159,29 @@ impl std::str::FromStr for SolverSetting {
             .with_anderson(anderson)
             .with_inversion(inversion))
     }
+}
+
+/// `rest` without its last `SUFFIX<count>` and the count (1 to `limit`), or `rest` and 0
+/// without the suffix; the error names the setting `text` and the count's letter.
+fn counted_suffix<'a>(
+    text: &str,
+    rest: &'a str,
+    suffix: &str,
+    letter: &str,
+    limit: u32,
+) -> Result<(&'a str, u32)> {
+    let Some((rest, count)) = rest.rsplit_once(suffix) else {
+        return Ok((rest, 0));
+    };
+    let count = (count.parse::<u32>().ok())
+        .filter(|n| (1..=limit).contains(n))
+        .ok_or_else(|| {
+            Error::param(
+                "solvers",
+                format!("`{text}`: {suffix}{letter} needs {letter} from 1 to {limit}"),
+            )
+        })?;
+    Ok((rest, count))
 }
 
 /// One setting of the sweep.
