@@ -11,7 +11,7 @@
 // @variant colliders: COLLIDERS_ON
 #include "common/version.glsl"
 #include "common/bindings.glsl"
-#include "common/workgroup_sum8.glsl"
+#include "common/workgroup_sum.glsl"
 #include "physics/anderson.glsl"
 #include "physics/integrate.glsl"
 
@@ -37,6 +37,8 @@ layout(std430, set = 0, binding = B_ANDERSON_MULTIPLIERS) readonly restrict buff
 layout(std430, set = 0, binding = B_COLLIDER_CONTACTS) restrict buffer ColliderContacts { vec4 contacts[]; };
 #endif
 #include "passes/node_contacts.glsl"
+
+WORKGROUP_SUM_PAIR(workgroup_sum8, vec4)
 
 shared float s_gamma[ANDERSON_MAX_MEMORY];
 

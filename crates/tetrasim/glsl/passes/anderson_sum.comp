@@ -11,8 +11,10 @@
 // loop). Mirrors src/backend/cpu/parallel/anderson.rs.
 #include "common/version.glsl"
 #include "common/bindings.glsl"
-#include "common/workgroup_sum8.glsl"
+#include "common/workgroup_sum.glsl"
 #include "physics/anderson.glsl"
+
+WORKGROUP_SUM_PAIR(workgroup_sum8, vec4)
 
 layout(std430, set = 0, binding = B_FORCES) readonly restrict buffer Forces { vec4 forces[]; };
 layout(std430, set = 0, binding = B_ANDERSON_HISTORY) restrict buffer AndersonHistory { vec4 history[]; };

@@ -35,6 +35,8 @@ layout(std430, set = 0, binding = B_COLLIDER_CONTACTS) restrict buffer ColliderC
 #endif
 #include "passes/node_contacts.glsl"
 
+WORKGROUP_SUM_PAIR(workgroup_sum2, float)
+
 void main() {
     uint index = global_object_index();
     GlobalObject object = objects[index];
@@ -45,7 +47,10 @@ void main() {
     for (uint chunk = gl_LocalInvocationID.x; chunk < CHUNKS; chunk += gl_WorkGroupSize.x) {
         partial += global_state[index * CHUNKS + chunk].xyz;
     }
-    vec3 sums = vec3(workgroup_sum2(partial.x, partial.y), workgroup_sum2(partial.z, 0.0).x);
+    float unused = 0.0;
+    workgroup_sum2(partial.x, partial.y);
+    workgroup_sum2(partial.z, unused);
+    vec3 sums = partial;
     float lambda = implicit_multiplier(solve_hard(pc.phase, sums.x - object.rest_volume), sums.y, sums.z, pc.dt, pc.epsilon);
     uint k = global_chunk_item();
     if (k >= object.node_count) {

@@ -13,6 +13,8 @@
 #include "common/global_chunk.glsl"
 #include "physics/volume.glsl"
 
+WORKGROUP_SUM_PAIR(workgroup_sum2, float)
+
 layout(std430, set = 0, binding = B_POSITIONS) readonly restrict buffer Positions { vec4 positions[]; };
 layout(std430, set = 0, binding = B_GLOBAL_OBJECTS) readonly restrict buffer GlobalObjects { GlobalObject objects[]; };
 layout(std430, set = 0, binding = B_SURFACE_NODES) readonly restrict buffer SurfaceNodes { uint surface_nodes[]; };
@@ -54,7 +56,8 @@ void main() {
         a = w * dot(g, g);
         surface_gradients[at] = vec4(g, w);
     }
-    vec2 sums = workgroup_sum2(c, a);
+    workgroup_sum2(c, a);
+    vec2 sums = vec2(c, a);
     if (gl_LocalInvocationID.x == 0u) {
         global_state[gl_WorkGroupID.x] = vec4(sums, 0.0, 0.0);
     }

@@ -12,6 +12,8 @@
 #include "common/global_chunk.glsl"
 #include "physics/implicit.glsl"
 
+WORKGROUP_SUM_PAIR(workgroup_sum2, float)
+
 layout(std430, set = 0, binding = B_VELOCITIES) readonly restrict buffer Velocities { vec4 velocities[]; };
 layout(std430, set = 0, binding = B_FORCES) readonly restrict buffer Forces { vec4 forces[]; };
 layout(std430, set = 0, binding = B_GLOBAL_OBJECTS) readonly restrict buffer GlobalObjects { GlobalObject objects[]; };
@@ -29,7 +31,8 @@ void main() {
         vec4 g = surface_gradients[object.node_first + k];
         implicit_accumulate(unused_a, b, g.xyz, g.w, 1.0, velocities[node].xyz, forces[node].xyz, pc.dt);
     }
-    b = workgroup_sum2(b, 0.0).x;
+    float unused = 0.0;
+    workgroup_sum2(b, unused);
     if (gl_LocalInvocationID.x == 0u) {
         global_state[gl_WorkGroupID.x].z = b;
     }
