@@ -137,7 +137,7 @@ fn real_size_horse_keeps_its_volume_with_implicit_springs() {
 /// inversion sweeps per step keep at most 1 % of the tets inverted at every frame and the
 /// average volume at 99.9 % or more, and at most half the inverted tets of the same run
 /// without them. Measured on this test's mesh: 2275 (2.66 %) inverted without, 672 (0.78 %)
-/// with, average volume 99.99 %, local error 3.53 / 14.90 % (docs/PHYSICS.md, "Inversion
+/// with, average volume 100.00 %, local error 3.56 / 14.87 % (docs/PHYSICS.md, "Inversion
 /// floor", has the `--keep-order` mesh's figures).
 #[test]
 fn inversion_sweeps_keep_the_real_size_horse_right_side_out() {

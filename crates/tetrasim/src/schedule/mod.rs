@@ -48,7 +48,8 @@ pub enum Repeat {
     IterationEnd,
     /// After the iterations, [`Schedule::inversion_sweeps`] times: once per group of the
     /// stage's sweep, each followed by the [`Repeat::Iteration`] stages of no sweep (the
-    /// inversion floor, then `constraint_apply`).
+    /// inversion floor, then `constraint_apply`), then the global volume stages when the
+    /// step has them.
     Restore,
     /// Once per frame, after the last time step.
     Frame,
@@ -335,6 +336,18 @@ impl Schedule {
             .filter_map(|s| s.sweep.and_then(|w| self.sweeps.get(w)))
             .map(|w| w.groups.len().max(1) as u32 * self.inversion_sweeps)
             .sum()
+    }
+
+    /// How many times the [`Repeat::IterationEnd`] stage `kind` runs per step: once per
+    /// iteration, and the global volume stages once more after each inversion sweep.
+    pub fn iteration_ends(&self, kind: PassKind) -> u32 {
+        let restores = self.stages.iter().any(|s| s.repeat == Repeat::Restore);
+        match kind {
+            PassKind::GlobalVolumeSum | PassKind::GlobalVolume if restores => {
+                self.iterations + self.inversion_sweeps
+            }
+            _ => self.iterations,
+        }
     }
 
     /// The Chebyshev weight of `iteration` (1 without Chebyshev).

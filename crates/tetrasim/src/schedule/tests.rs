@@ -207,8 +207,14 @@ fn inversion_sweeps_follow_the_iterations_group_by_group() {
     let step = schedule.step();
     let names = names(&schedule, &step);
     let last_mix = names.iter().rposition(|&n| n == "anderson_mix").unwrap();
-    // After the last iteration: the volume sweep's three groups, each applied, twice.
-    let restore = ["inversion_floor", "constraint_apply"].repeat(3).repeat(2);
+    // After the last iteration: the volume sweep's three groups, each applied, then the
+    // global volume constraint, twice.
+    let round = [
+        ["inversion_floor", "constraint_apply"].repeat(3),
+        vec!["global_volume_sum", "global_volume"],
+    ]
+    .concat();
+    let restore = round.repeat(2);
     assert_eq!(
         names[last_mix + 1..],
         [&restore[..], &["integrate"]].concat()
@@ -232,6 +238,8 @@ fn inversion_sweeps_follow_the_iterations_group_by_group() {
         ]
     );
     assert_eq!(schedule.restore_groups(), 6);
+    assert_eq!(schedule.iteration_ends(PassKind::GlobalVolume), 4);
+    assert_eq!(schedule.iteration_ends(PassKind::AndersonMix), 2);
     // Off by default, and nothing to sweep without volume constraints.
     let plain = Schedule::new(&SimParams::default(), sweeps(), true, false);
     assert!(!plain.runs(PassKind::InversionFloor) && plain.restore_groups() == 0);

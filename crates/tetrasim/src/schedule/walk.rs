@@ -97,15 +97,30 @@ impl Schedule {
             match repeat(k) {
                 Repeat::Iteration => {}
                 Repeat::Restore => {
-                    // After the iterations: the stage's sweep, group by group, as further
-                    // iterations that solve only it.
+                    // After the iterations: the stage's sweep, group by group, then the
+                    // global volume constraint when it is solved (the floor moves surface
+                    // nodes), as further iterations that solve only those.
                     let stage = step[k];
                     let sweep = self.stages[stage]
                         .sweep
                         .expect("a restore stage has a sweep");
+                    let global: Vec<usize> = (step.iter().copied())
+                        .filter(|&i| {
+                            matches!(
+                                self.stages[i].kind,
+                                PassKind::GlobalVolumeSum | PassKind::GlobalVolume
+                            )
+                        })
+                        .collect();
                     for round in 0..self.inversion_sweeps {
                         let iteration = Some(self.iterations + round);
                         self.push_groups(&mut out, sweep, &[stage], &shared, iteration);
+                        for &g in &global {
+                            out.push(Dispatch {
+                                iteration,
+                                ..once(g)
+                            });
+                        }
                     }
                     k += 1;
                     continue;

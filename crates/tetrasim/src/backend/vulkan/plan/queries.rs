@@ -51,7 +51,9 @@ impl EnginePlan {
                     * self.schedule.inversion_sweeps
                     * self.groups_of(pass)
             }
-            Repeat::IterationEnd => solves * self.schedule.substeps * self.schedule.iterations,
+            Repeat::IterationEnd => {
+                solves * self.schedule.substeps * self.schedule.iteration_ends(pass.stage.kind)
+            }
             Repeat::Frame => 1,
         }
     }

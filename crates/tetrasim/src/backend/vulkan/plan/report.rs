@@ -169,10 +169,11 @@ impl EnginePlan {
         }
     }
 
-    /// `4 x (8 groups x (inversion_floor#gather, constraint_apply#gather))`: a restore
-    /// pass's sweeps after the iterations, each group followed by the iteration's passes of
-    /// no sweep (from `iteration`).
-    fn restore_label(&self, pass: &PassPlan, iteration: &[&PassPlan]) -> String {
+    /// `4 x (8 groups x (inversion_floor#gather, constraint_apply#gather), global_volume_sum,
+    /// global_volume)`: a restore pass's sweeps after the iterations, each group followed by
+    /// the iteration's passes of no sweep (from `iteration`), each sweep by the global volume
+    /// passes among the iteration's ends (`ends`).
+    fn restore_label(&self, pass: &PassPlan, iteration: &[&PassPlan], ends: &[String]) -> String {
         let mut labels = vec![pass.label()];
         labels.extend(
             (iteration.iter())
@@ -187,7 +188,13 @@ impl EnginePlan {
             0 | 1 => labels.join(", "),
             k => format!("{k} groups x ({})", labels.join(", ")),
         };
-        format!("{} x ({part})", self.schedule.inversion_sweeps)
+        let global = (ends.iter()).filter(|l| l.starts_with("global_volume"));
+        let items: Vec<String> = std::iter::once(part).chain(global.cloned()).collect();
+        format!(
+            "{} x ({})",
+            self.schedule.inversion_sweeps,
+            items.join(", ")
+        )
     }
 
     /// Labels of one time step's passes (the iteration group written `N x (a, b)`).
@@ -206,10 +213,10 @@ impl EnginePlan {
                 Repeat::Restore => {
                     if !group.is_empty() {
                         out.push(self.iteration_label(&group, &after));
-                        after.clear();
                     }
-                    out.push(self.restore_label(p, &group));
+                    out.push(self.restore_label(p, &group, &after));
                     group.clear();
+                    after.clear();
                 }
                 _ => {
                     if !group.is_empty() {
