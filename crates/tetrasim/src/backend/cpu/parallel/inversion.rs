@@ -30,15 +30,15 @@ pub(super) unsafe fn floor(
     let out = unsafe { outputs.tet_out.part(block.clone()) };
     let members = &sweep.members.items[block.clone()];
     let tets = &sweep.tet_nodes[block];
+    out.fill([Vec3A::ZERO; 4]);
+    // A position correction: none in split contact's velocity solve.
+    if k.solve == Solve::Velocity {
+        return;
+    }
     for ((out, &t), ids) in out.iter_mut().zip(members).zip(tets) {
         let ids = ids.map(|i| i as usize);
         let end = ids.map(|i| end_position(x[i], v[i], f[i], w[i], k.dt));
         let rest = inputs.rest_volume[t as usize];
-        *out = [Vec3A::ZERO; 4];
-        // A position correction: none in split contact's velocity solve.
-        if k.solve == Solve::Velocity {
-            continue;
-        }
         let Some((c, grad)) = inversion_floor(end, rest, k.inversion_floor) else {
             continue;
         };
