@@ -6,6 +6,9 @@
 #   bench     default solver and jacobi on bunny20k and horse86m (new, and old beside it
 #             when the bundle holds bin/tetrasim-old), the pass breakdown included
 #   implicit  the real-size horse with implicit springs (issue 13's scene), 400 frames
+#   stiff     issue 26: the real-size horse (1000 kg/m^3, ks 5000) with Anderson acceleration,
+#             more colour groups, substeps and inversion sweeps, 400 frames each; what those
+#             options cost on bunny20k and horse86m at the seed preset (bench)
 #   tests     the GPU test binaries, one at a time, default test threads, CI=true
 #   threads   the cpu backend on 1..all cores (new: bin/tetrasim-cpu when bundled; old
 #             beside it)
@@ -18,10 +21,10 @@
 set -u
 b=target/gpu-bundle
 [ -d "$b/bin" ] || { echo "gpu-report.sh: $b is missing; run scripts/gpu-bundle.sh first" >&2; exit 2; }
-steps=${*:-bench implicit tests threads tradeoff scaling}
+steps=${*:-bench implicit stiff tests threads tradeoff scaling}
 for s in $steps; do
-  case $s in bench|implicit|tests|threads|tradeoff|scaling) ;;
-    *) echo "gpu-report.sh: unknown step \`$s\` (known: bench implicit tests threads tradeoff scaling)" >&2; exit 2 ;;
+  case $s in bench|implicit|stiff|tests|threads|tradeoff|scaling) ;;
+    *) echo "gpu-report.sh: unknown step \`$s\` (known: bench implicit stiff tests threads tradeoff scaling)" >&2; exit 2 ;;
   esac
 done
 OUT=${OUT:-$PWD/gpu-report}; WORK=${WORK:-/tmp/gpu-report}; mkdir -p "$OUT"
@@ -78,11 +81,38 @@ for step in $steps; do
         > "$R/implicit_horse_$v.txt" 2>&1
       echo "$v:"; sed -n '2,4p' "$R/implicit_horse_$v.txt"
     done ;;
+  stiff)
+    while read -r label opts; do
+      f="$R/stiff_horse_$label.txt"
+      timeout 60 "$B/tetrasim" run --mesh "$M/horse86m" --no-fit --drop-height 0.1 --density 1000 \
+        --method volume --springs implicit --backend vulkan --frames 400 $opts > "$f" 2>&1
+      echo "horse $label: $(sed -n 3p "$f")"
+    done <<'SETTINGS'
+default
+anderson5 --anderson 5
+anderson5_groups16 --anderson 5 --groups 16
+anderson5_groups64 --anderson 5 --groups 64
+anderson5_groups16_inversion4 --anderson 5 --groups 16 --inversion-sweeps 4
+anderson5_groups16_inversion8 --anderson 5 --groups 16 --inversion-sweeps 8
+groups16_inversion8 --groups 16 --inversion-sweeps 8
+anderson5_substeps2 --anderson 5 --substeps 2 --dt 0.0005
+anderson5_substeps2_inversion4 --anderson 5 --substeps 2 --dt 0.0005 --inversion-sweeps 4
+anderson5_7x2_inversion4 --anderson 5 --iterations 7 --substeps 2 --dt 0.0005 --inversion-sweeps 4
+anderson5_groups16_5x2_inversion4 --anderson 5 --groups 16 --iterations 5 --substeps 2 --dt 0.0005 --inversion-sweeps 4
+SETTINGS
+    for s in gauss-seidel:8+global gauss-seidel:8+global+anderson5 gauss-seidel:8+global+inversion4 \
+             gauss-seidel:16+global+anderson5; do
+      f="$R/stiff_bench_${s//[:+]/-}"
+      timeout 60 "$B/tetrasim" bench --mesh "$M/bunny20k" --mesh "$M/horse86m" --no-bundled --method volume \
+        --backend vulkan --solver "$s" --json "$f.json" > "$f.txt" 2>&1
+      echo "$s:"; grep -E 'ms/frame' "$f.txt" | head -4
+    done ;;
   tests)
     export CI=true
-    for t in "$b"/tests/*; do
+    rm -rf /tmp/gpu-tests && mkdir -p /tmp/gpu-tests && tar xzf "$b/tests.tgz" -C /tmp/gpu-tests
+    for t in /tmp/gpu-tests/tests/*; do
       n=$(basename "$t")
-      (cd "$built" && timeout 150 "$OLDPWD/$t" > "$R/test_$n.txt" 2>&1); c=$?
+      (cd "$built" && timeout 150 "$t" > "$R/test_$n.txt" 2>&1); c=$?
       echo "test $n: exit $c: $(grep -E '^test result' "$R/test_$n.txt" | tail -1)"
     done
     unset CI ;;
@@ -104,8 +134,8 @@ for step in $steps; do
     done ;;
   tradeoff)
     # the reference on the threaded cpu backend, as docs/BENCHMARKS.md's front on 2 cores
-    timeout 200 "$B/tetrasim" tradeoff --mesh "$M/bunny20k" --backend vulkan --methods volume \
-      --solvers gauss-seidel:1+global,gauss-seidel:2+global,gauss-seidel:4+global,gauss-seidel:8+global,chebyshev+global,jacobi+global \
+    timeout 240 "$B/tetrasim" tradeoff --mesh "$M/bunny20k" --backend vulkan --methods volume \
+      --solvers gauss-seidel:1+global,gauss-seidel:2+global,gauss-seidel:4+global,gauss-seidel:8+global,chebyshev+global,jacobi+global,gauss-seidel:8+global+anderson5,gauss-seidel:4+global+anderson5,jacobi+global+anderson5 \
       --iterations 5,10,20 --substeps 1,2 --frames 200 --ref-backend cpu --ref-iterations 50 --ref-substeps 4 \
       --out-dir "$R/tradeoff" > "$R/tradeoff.txt" 2>&1
     tail -25 "$R/tradeoff.txt" ;;

@@ -259,6 +259,80 @@ fn colliders_match_the_reference_and_keep_every_node_out() {
     );
 }
 
+/// Largest allowed difference after one frame from the same state, as a fraction of the
+/// bounding-box diagonal: f32 rounding of one frame (the states above may part more by the
+/// end of a run; this check does not let differences compound).
+const ONE_FRAME_FRACTION: f64 = 1e-6;
+
+/// Every frame of every scene, stepped once on `cpu-ref` from the GPU's own state, lands
+/// where the GPU's frame does. Unlike the end-of-run comparison above, a difference cannot
+/// compound here: the first frame whose contact the GPU solves differently fails, naming
+/// the node, where it was against each collider, and how both backends moved it.
+#[test]
+fn each_frame_from_the_gpu_state_matches_the_reference() {
+    if !gpu_support::vulkan_available() {
+        return;
+    }
+    for (name, model, params, frames) in scenes() {
+        let diag = model.bounds_diagonal();
+        let frame_time = params.frame_time();
+        let mut gpu = gpu_support::validated(&model, &params);
+        let mut reference = ReferenceBackend::new(&model, &params).unwrap();
+        let mut worst = (0.0f64, 0u32);
+        for frame in 0..frames {
+            let start = gpu.state().unwrap();
+            reference.set_state(&start).unwrap();
+            reference.step_frame().unwrap();
+            gpu.step_frame().unwrap();
+            let (got, want) = (gpu.state().unwrap(), reference.state().unwrap());
+            let (gap, node) = (got.positions.iter().zip(&want.positions))
+                .map(|(a, b)| a.distance(*b))
+                .enumerate()
+                .fold(
+                    (0.0f64, 0usize),
+                    |a, (i, d)| if d > a.0 { (d, i) } else { a },
+                );
+            if gap > worst.0 {
+                worst = (gap, frame);
+            }
+            if gap > ONE_FRAME_FRACTION * diag {
+                let t0 = f64::from(frame) * frame_time;
+                let t1 = t0 + frame_time;
+                let against = |x: DVec3, t: f64| -> Vec<String> {
+                    (model.colliders.iter())
+                        .map(|c| {
+                            let (phi, n) = c.shape.distance(c.pose_at(t).invert(x));
+                            format!("phi {phi:.3e} (r {}) local normal {n:.3}", c.thickness)
+                        })
+                        .collect()
+                };
+                panic!(
+                    "{name}: frame {frame}: one frame from the same state moves node {node} \
+                     {gap:.3e} m ({:.2e} of the diagonal) from cpu-ref's\n  start x {:.7} v {:.5} \
+                     against the colliders at t0 {:?}\n  vulkan x {:.7} v {:.5} at t1 {:?}\n  \
+                     cpu-ref x {:.7} v {:.5} at t1 {:?}",
+                    gap / diag,
+                    start.positions[node],
+                    start.velocities[node],
+                    against(start.positions[node], t0),
+                    got.positions[node],
+                    got.velocities[node],
+                    against(got.positions[node], t1),
+                    want.positions[node],
+                    want.velocities[node],
+                    against(want.positions[node], t1),
+                );
+            }
+        }
+        println!(
+            "{name}: largest one-frame difference {:.2e} of the diagonal (frame {})",
+            worst.0 / diag,
+            worst.1
+        );
+        gpu_support::assert_no_validation_messages(&gpu);
+    }
+}
+
 /// Two frames in flight, each with its own slot's poses written before its submit, give
 /// bit for bit the frames waited for one by one (the gather path has no atomics), and the
 /// same contact series.
