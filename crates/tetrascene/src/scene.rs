@@ -55,7 +55,8 @@
 //! friction = 0.0             # in [0, 1]: tangential velocity removed per step in contact
 //!
 //! # Kinematic colliders (any number, in this order): every type below also takes
-//! # friction (in [0, 1], default 0), thickness (m, >= 0, default 0: nodes are kept this far
+//! # friction (in [0, 1], default 0: the fraction of a touching node's sliding removed per
+//! # step, at most friction x the push's normal velocity: Coulomb's bound), thickness (m, >= 0, default 0: nodes are kept this far
 //! # out) and an optional motion of its declared pose, either
 //! #   motion = { velocity = [0, -0.1, 0], angular_velocity = [0, 1, 0] }  # m/s, rad/s
 //! # (turning about the collider's centre) or keyframes in increasing time (positions

@@ -51,9 +51,10 @@ void main() {
 #ifdef COLLIDERS_ON
     int touching = -1;
     vec3 normal = vec3(0.0);
+    float pressed = 0.0;
     {
         vec3 c = contacts[i].xyz;
-        f.xyz = colliders_solve(i, f.xyz, c, xn, v.xyz, w, pc.dt, touching, normal);
+        f.xyz = colliders_solve(i, f.xyz, c, xn, v.xyz, w, pc.dt, touching, normal, pressed);
         // Reset for the next solve; w keeps whether a collider pushed the node in this
         // solve (contact_measure counts it after the frame's last step, whose last solve is
         // `integrate`'s).
@@ -64,7 +65,7 @@ void main() {
     if (contact) {
         vn = floor_friction(vn, pc.friction);
     }
-    vn = friction_of(touching, normal, xn, vn, pc.dt);
+    vn = friction_of(touching, normal, pressed, xn, vn, pc.dt);
     xn += pc.dt * vn;
 #else
     vec3 vn = integrate_node(xn, v.xyz, f.xyz, w, pc.dt, contact, pc.friction);

@@ -19,7 +19,8 @@ vec4 node_contacts(uint i, vec4 f) {
         vec3 contact = contacts[i].xyz;
         int touching;
         vec3 normal;
-        f.xyz = colliders_solve(i, f.xyz, contact, p.xyz, velocities[i].xyz, p.w, pc.dt, touching, normal);
+        float pressed;
+        f.xyz = colliders_solve(i, f.xyz, contact, p.xyz, velocities[i].xyz, p.w, pc.dt, touching, normal, pressed);
         contacts[i] = vec4(contact, 0.0);
     }
 #endif

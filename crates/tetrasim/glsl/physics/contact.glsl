@@ -36,12 +36,17 @@ float contact_push(float phi, float thickness, float w, float dt) {
     return (thickness - phi) / (dt * dt * w);
 }
 
-// Friction against a surface moving at `surface`: the tangential part of the relative
-// velocity loses `friction` of itself, the normal part is kept.
-vec3 surface_friction(vec3 v, vec3 surface, vec3 normal, float friction) {
+// Friction against a surface moving at `surface`, bounded by Coulomb's law: the tangential
+// part of the relative velocity loses `friction` of itself but never more than
+// friction * pressed, the velocity the contact's push gave the node along the normal in the
+// step (push w dt); the normal part is kept.
+vec3 surface_friction(vec3 v, vec3 surface, vec3 normal, float friction, float pressed) {
     vec3 relative = v - surface;
     vec3 normal_part = normal * dot(relative, normal);
-    return surface + normal_part + (relative - normal_part) * (1.0 - friction);
+    vec3 sliding = relative - normal_part;
+    float speed = length(sliding);
+    float removed = speed > pressed ? friction * pressed / speed : friction;
+    return surface + normal_part + sliding * (1.0 - removed);
 }
 
 // How the unit quaternion q (x, y, z, w) turns r: R r - r.
@@ -235,13 +240,15 @@ vec3 surface_velocity(uint k, vec3 x, float dt) {
 // thickness along its normal (in split contact's velocity solve, pc.phase, keeping the
 // penetration the node starts the step with: solve_slack). Returns the new total force;
 // `contact` becomes the colliders' new force, `touching` the last collider that pushed
-// (-1: none) and `normal` its normal. A pinned node (w = 0) gets none.
+// (-1: none), `normal` its normal and `pressed` the velocity its push gives the node along
+// it (push w dt: Coulomb's bound on the friction). A pinned node (w = 0) gets none.
 vec3 colliders_solve(uint i, vec3 f, inout vec3 contact, vec3 x, vec3 v, float w, float dt,
-                     out int touching, out vec3 normal) {
+                     out int touching, out vec3 normal, out float pressed) {
     vec3 other = f - contact;
     contact = vec3(0.0);
     touching = -1;
     normal = vec3(0.0);
+    pressed = 0.0;
     if (!(w > 0.0)) {
         return other;
     }
@@ -265,6 +272,7 @@ vec3 colliders_solve(uint i, vec3 f, inout vec3 contact, vec3 x, vec3 v, float w
             contact += n * push;
             touching = int(k);
             normal = n;
+            pressed = push * w * dt;
         }
     }
     return other + contact;
@@ -272,12 +280,12 @@ vec3 colliders_solve(uint i, vec3 f, inout vec3 contact, vec3 x, vec3 v, float w
 
 // friction_of: the velocity v1 after the step's update of a node at x, with the friction
 // of the collider it touches relative to that collider's surface velocity at x + dt v1.
-vec3 friction_of(int touching, vec3 normal, vec3 x, vec3 v1, float dt) {
+vec3 friction_of(int touching, vec3 normal, float pressed, vec3 x, vec3 v1, float dt) {
     if (touching < 0) {
         return v1;
     }
     vec3 surface = surface_velocity(uint(touching), x + v1 * dt, dt);
-    return surface_friction(v1, surface, normal, colliders[touching].friction);
+    return surface_friction(v1, surface, normal, colliders[touching].friction, pressed);
 }
 
 #endif // COLLIDERS_ON

@@ -149,8 +149,10 @@ pub struct Collider {
     pub pose: Pose,
     /// How it moves from the declared placement.
     pub motion: Motion,
-    /// Fraction of a contacting node's tangential velocity (relative to the collider's
-    /// surface) removed per step, in `[0, 1]`.
+    /// Friction, in `[0, 1]`: a contacting node's tangential velocity relative to the
+    /// collider's surface loses this fraction of itself per step, but never more than this
+    /// times the velocity the collider's push gave it along the normal (Coulomb's law with
+    /// `mu = friction`; [`crate::physics::surface_friction`]).
     pub friction: f64,
     /// Contact thickness `r` [m]: nodes are kept at `phi >= r`.
     pub thickness: f64,
@@ -379,9 +381,20 @@ pub fn at_step(colliders: &[Collider], step: u64, dt: f64) -> Vec<ColliderAt<'_>
 pub struct NodeContact {
     /// The colliders' total force on the node [N].
     pub force: DVec3,
-    /// The last collider that pushed it (`None`: no contact), with the normal it pushed
-    /// along.
-    pub touching: Option<(usize, DVec3)>,
+    /// The last collider that pushed it (`None`: no contact).
+    pub touching: Option<Touch>,
+}
+
+/// The collider that pushed a node last in a solve, as friction needs it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Touch {
+    /// Its index.
+    pub collider: usize,
+    /// The normal it pushed along (unit, world).
+    pub normal: DVec3,
+    /// The velocity its push gives the node along the normal in the step, `push w dt`
+    /// [m/s]: Coulomb's bound on the friction ([`surface_friction`]).
+    pub pressed: f64,
 }
 
 impl NodeContact {
@@ -448,7 +461,11 @@ pub fn solve_node_attached(
         let push = contact_push(phi + slack, thickness, w, dt);
         if push > 0.0 {
             out.force += normal * push;
-            out.touching = Some((k, normal));
+            out.touching = Some(Touch {
+                collider: k,
+                normal,
+                pressed: push * w * dt,
+            });
         }
     }
     (other + out.force, out)
@@ -505,10 +522,16 @@ pub fn friction_of(
     dt: f64,
 ) -> DVec3 {
     match contact.touching {
-        Some((k, normal)) => {
-            let c = &colliders[k];
+        Some(touch) => {
+            let c = &colliders[touch.collider];
             let surface = c.surface_velocity(x + v1 * dt, dt);
-            surface_friction(v1, surface, normal, c.collider.friction)
+            surface_friction(
+                v1,
+                surface,
+                touch.normal,
+                c.collider.friction,
+                touch.pressed,
+            )
         }
         None => v1,
     }

@@ -64,14 +64,30 @@ pub fn contact_push<R: Real>(phi: R, thickness: R, w: R, dt: R) -> R {
     (thickness - phi) / (dt * dt * w)
 }
 
-/// Friction of a node in contact with a moving surface: the part of its velocity `v` [m/s]
-/// relative to the surface's `surface` [m/s] that is tangential to `normal` (unit) loses
-/// `friction` of itself; the normal part is kept.
+/// Friction of a node in contact with a moving surface, bounded by Coulomb's law: the part of
+/// its velocity `v` [m/s] relative to the surface's `surface` [m/s] that is tangential to
+/// `normal` (unit) loses `friction` of itself, but never more than `friction * pressed`,
+/// where `pressed` [m/s] is the velocity the contact's push gave the node along the normal
+/// in this step (`push w dt`, [`contact_push`]): a node pressed hard keeps `1 - friction` of
+/// its sliding, one barely touching slides almost freely, and the friction fades to nothing
+/// as the push does (Coulomb with `mu = friction`). The normal part is kept.
 #[inline]
-pub fn surface_friction<V: Vector>(v: V, surface: V, normal: V, friction: V::Real) -> V {
+pub fn surface_friction<V: Vector>(
+    v: V,
+    surface: V,
+    normal: V,
+    friction: V::Real,
+    pressed: V::Real,
+) -> V {
     let relative = v - surface;
     let normal_part = normal * relative.dot(normal);
-    surface + normal_part + (relative - normal_part) * (V::Real::ONE - friction)
+    let sliding = relative - normal_part;
+    let speed = sliding.length();
+    let removed = match speed > pressed {
+        true => friction * pressed / speed,
+        false => friction,
+    };
+    surface + normal_part + sliding * (V::Real::ONE - removed)
 }
 
 #[cfg(test)]
@@ -100,8 +116,26 @@ mod tests {
     fn friction_acts_on_the_relative_tangential_velocity() {
         let surface = DVec3::new(1.0, 0.0, 0.0);
         let v = DVec3::new(3.0, -1.0, 0.0);
-        let held = surface_friction(v, surface, DVec3::Y, 1.0);
+        // Pressed harder than it slides: `friction` of the sliding goes.
+        let held = surface_friction(v, surface, DVec3::Y, 1.0, 5.0);
         assert_eq!(held, DVec3::new(1.0, -1.0, 0.0));
-        assert_eq!(surface_friction(v, surface, DVec3::Y, 0.0), v);
+        assert_eq!(surface_friction(v, surface, DVec3::Y, 0.0, 5.0), v);
+        let kept = surface_friction(v, surface, DVec3::Y, 0.5, 5.0);
+        assert_eq!(kept, DVec3::new(2.0, -1.0, 0.0));
+    }
+
+    #[test]
+    fn friction_is_bounded_by_the_push_and_fades_with_it() {
+        let (surface, v) = (DVec3::ZERO, DVec3::new(2.0, -1.0, 0.0));
+        // Sliding at 2 m/s, pressed by 0.5 m/s: at most 0.8 * 0.5 = 0.4 m/s goes.
+        let slid = surface_friction(v, surface, DVec3::Y, 0.8, 0.5);
+        assert!(
+            (slid - DVec3::new(1.6, -1.0, 0.0)).length() < 1e-15,
+            "{slid}"
+        );
+        // No push, no friction; a vanishing push, a vanishing friction (no jump at 0).
+        assert_eq!(surface_friction(v, surface, DVec3::Y, 0.8, 0.0), v);
+        let grazing = surface_friction(v, surface, DVec3::Y, 0.8, 1e-9);
+        assert!((grazing - v).length() < 1e-8, "{grazing}");
     }
 }
