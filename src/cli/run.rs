@@ -78,7 +78,8 @@ pub struct RunArgs {
     /// Spring constants and mass (a scene object's `material`).
     #[command(flatten)]
     pub material: MaterialOverrides,
-    /// Fraction of tangential velocity removed on floor contact, in [0, 1].
+    /// Floor friction in [0, 1]: Coulomb's mu; a node on the floor loses this fraction of its
+    /// sliding per step at most (default 0).
     #[arg(long)]
     pub friction: Option<f64>,
     /// Remove the floor (free fall).

@@ -52,7 +52,8 @@
 //!
 //! [[collider]]
 //! type = "floor"             # the plane y = 0 (the fast path; at most one)
-//! friction = 0.0             # in [0, 1]: tangential velocity removed per step in contact
+//! friction = 0.0             # in [0, 1]: Coulomb's mu (at most this fraction of the sliding
+//!                            # removed per step)
 //!
 //! # Kinematic colliders (any number, in this order): every type below also takes
 //! # friction (in [0, 1], default 0: the fraction of a touching node's sliding removed per

@@ -42,10 +42,10 @@ void main() {
     vec4 v = velocities[i];
     float w = p.w;
     vec4 f = forces[i];
-    bool contact = false;
+    float n = 0.0; // the floor's force
     if (FLOOR != 0u && pc.floor_on != 0u) {
         f = floor_solve(f, p.y + solve_slack(pc.phase, p.y), v.y, w, pc.dt);
-        contact = f.w > 0.0;
+        n = f.w;
     }
     vec3 xn = p.xyz;
 #ifdef COLLIDERS_ON
@@ -62,13 +62,13 @@ void main() {
     }
     // integrate_node with the collider's friction before the position update.
     vec3 vn = v.xyz + pc.dt * w * f.xyz;
-    if (contact) {
-        vn = floor_friction(vn, pc.friction);
+    if (n > 0.0) {
+        vn = floor_friction(vn, pc.friction, n * w * pc.dt);
     }
     vn = friction_of(touching, normal, pressed, xn, vn, pc.dt);
     xn += pc.dt * vn;
 #else
-    vec3 vn = integrate_node(xn, v.xyz, f.xyz, w, pc.dt, contact, pc.friction);
+    vec3 vn = integrate_node(xn, v.xyz, f.xyz, w, pc.dt, n, pc.friction);
 #endif
     forces[i] = vec4(0.0, -pc.gravity * v.w, 0.0, 0.0);
 #ifdef SPLIT_VELOCITY_PASS

@@ -13,6 +13,7 @@
 #define PHYSICS_CONTACT_GLSL
 
 #include "physics/solve.glsl"
+#include "physics/integrate.glsl"
 
 // Shape codes (src/collider/mod.rs, Shape::code).
 #define SHAPE_PLANE 0u
@@ -36,17 +37,11 @@ float contact_push(float phi, float thickness, float w, float dt) {
     return (thickness - phi) / (dt * dt * w);
 }
 
-// Friction against a surface moving at `surface`, bounded by Coulomb's law: the tangential
-// part of the relative velocity loses `friction` of itself but never more than
-// friction * pressed, the velocity the contact's push gave the node along the normal in the
-// step (push w dt); the normal part is kept.
+// Friction against a surface moving at `surface`: coulomb_friction (physics/integrate.glsl)
+// of the velocity relative to it, `pressed` = push w dt, the velocity the contact's push gave
+// the node along the normal in the step.
 vec3 surface_friction(vec3 v, vec3 surface, vec3 normal, float friction, float pressed) {
-    vec3 relative = v - surface;
-    vec3 normal_part = normal * dot(relative, normal);
-    vec3 sliding = relative - normal_part;
-    float speed = length(sliding);
-    float removed = speed > pressed ? friction * pressed / speed : friction;
-    return surface + normal_part + sliding * (1.0 - removed);
+    return surface + coulomb_friction(v - surface, normal, friction, pressed);
 }
 
 // How the unit quaternion q (x, y, z, w) turns r: R r - r.

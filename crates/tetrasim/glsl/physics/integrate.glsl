@@ -24,18 +24,31 @@ vec4 floor_solve(vec4 f, float y, float vy, float w, float dt) {
     return vec4(f.x, other + n, f.z, n);
 }
 
-// Friction of a node in contact: its tangential (X, Z) velocity scaled by 1 - friction.
-vec3 floor_friction(vec3 v, float friction) {
-    return vec3(v.x * (1.0 - friction), v.y, v.z * (1.0 - friction));
+// Friction bounded by Coulomb's law (mu = friction) on a velocity relative to the surface:
+// its part tangential to `normal` loses `friction` of itself but never more than
+// friction * pressed, the velocity the contact's force gave the node along the normal in the
+// step (n w dt); the normal part is kept.
+vec3 coulomb_friction(vec3 relative, vec3 normal, float friction, float pressed) {
+    vec3 normal_part = normal * dot(relative, normal);
+    vec3 sliding = relative - normal_part;
+    float speed = length(sliding);
+    float removed = speed > pressed ? friction * pressed / speed : friction;
+    return normal_part + sliding * (1.0 - removed);
 }
 
-// Symplectic Euler with floor friction: v' = v + dt w F; a node in contact (its floor force
-// is positive) loses `friction` of its tangential velocity; then x' = x + dt v'. Returns v'
-// and writes x' to x.
-vec3 integrate_node(inout vec3 x, vec3 v, vec3 f, float w, float dt, bool contact, float friction) {
+// Friction of a node on the floor: coulomb_friction about the up direction, `pressed` the
+// velocity its floor force n gave it in the step (n w dt).
+vec3 floor_friction(vec3 v, float friction, float pressed) {
+    return coulomb_friction(v, vec3(0.0, 1.0, 0.0), friction, pressed);
+}
+
+// Symplectic Euler with floor friction: v' = v + dt w F; a node on the floor (floor force
+// n > 0) gets floor_friction with pressed = n w dt; then x' = x + dt v'. Returns v' and
+// writes x' to x.
+vec3 integrate_node(inout vec3 x, vec3 v, vec3 f, float w, float dt, float n, float friction) {
     vec3 v1 = v + dt * w * f;
-    if (contact) {
-        v1 = floor_friction(v1, friction);
+    if (n > 0.0) {
+        v1 = floor_friction(v1, friction, n * w * dt);
     }
     x += dt * v1;
     return v1;

@@ -231,7 +231,9 @@ pub struct SimParams {
     pub gravity: f64,
     /// Whether the floor plane `y = 0` exists.
     pub floor: bool,
-    /// Fraction of tangential velocity removed on floor contact, in `[0, 1]`.
+    /// Floor friction in `[0, 1]`: a node on the floor loses this fraction of its tangential
+    /// velocity per step, but never more than this times the velocity its floor force gave it
+    /// (Coulomb's law with `mu = friction`; [`crate::physics::floor_friction`]).
     pub friction: f64,
     /// Node mass assignment.
     pub mass: MassMode,

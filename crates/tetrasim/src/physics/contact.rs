@@ -3,6 +3,7 @@
 //! a plane, linearised along the normal for curved shapes, re-solved every iteration). The
 //! GLSL twins, same names, are in glsl/physics/contact.glsl.
 
+use super::integrate::coulomb_friction;
 use super::{Real, Vector};
 
 /// Which of a time step's solves runs (physics.md, "Contact that does not bounce back"): the
@@ -64,13 +65,10 @@ pub fn contact_push<R: Real>(phi: R, thickness: R, w: R, dt: R) -> R {
     (thickness - phi) / (dt * dt * w)
 }
 
-/// Friction of a node in contact with a moving surface, bounded by Coulomb's law: the part of
-/// its velocity `v` [m/s] relative to the surface's `surface` [m/s] that is tangential to
-/// `normal` (unit) loses `friction` of itself, but never more than `friction * pressed`,
-/// where `pressed` [m/s] is the velocity the contact's push gave the node along the normal
-/// in this step (`push w dt`, [`contact_push`]): a node pressed hard keeps `1 - friction` of
-/// its sliding, one barely touching slides almost freely, and the friction fades to nothing
-/// as the push does (Coulomb with `mu = friction`). The normal part is kept.
+/// Friction of a node in contact with a moving surface: [`coulomb_friction`] of its velocity
+/// `v` [m/s] relative to the surface's `surface` [m/s], about `normal` (unit), with
+/// `pressed = push w dt` the velocity the contact's push ([`contact_push`]) gave it along
+/// the normal in the step: the friction fades to nothing as the push does.
 #[inline]
 pub fn surface_friction<V: Vector>(
     v: V,
@@ -79,15 +77,7 @@ pub fn surface_friction<V: Vector>(
     friction: V::Real,
     pressed: V::Real,
 ) -> V {
-    let relative = v - surface;
-    let normal_part = normal * relative.dot(normal);
-    let sliding = relative - normal_part;
-    let speed = sliding.length();
-    let removed = match speed > pressed {
-        true => friction * pressed / speed,
-        false => friction,
-    };
-    surface + normal_part + sliding * (V::Real::ONE - removed)
+    surface + coulomb_friction(v - surface, normal, friction, pressed)
 }
 
 #[cfg(test)]

@@ -50,19 +50,39 @@ pub fn floor_solve<V: Vector>(
     (f + V::UNIT_Y * (n1 - n), n1)
 }
 
-/// Friction of a node in floor contact (its floor force is positive): the tangential part of
-/// `v` (X and Z) is scaled by `1 - friction`, the normal part is kept.
+/// Friction bounded by Coulomb's law with `mu = friction`, on a velocity `relative` to the
+/// surface: its part tangential to `normal` (unit) loses `friction` of itself, but never
+/// more than `friction * pressed`, where `pressed` [m/s] is the velocity the contact's force
+/// gave the node along the normal in the step (`n w dt`). Pressed harder than it slides, a
+/// node keeps `1 - friction` of its sliding; barely touching, it slides almost freely; no
+/// push, no friction. The normal part is kept.
 #[inline]
-pub fn floor_friction<V: Vector>(v: V, friction: V::Real) -> V {
-    let up = V::UNIT_Y;
-    let vn = v.dot(up);
-    (v - up * vn) * (V::Real::ONE - friction) + up * vn
+pub fn coulomb_friction<V: Vector>(
+    relative: V,
+    normal: V,
+    friction: V::Real,
+    pressed: V::Real,
+) -> V {
+    let normal_part = normal * relative.dot(normal);
+    let sliding = relative - normal_part;
+    let speed = sliding.length();
+    let removed = match speed > pressed {
+        true => friction * pressed / speed,
+        false => friction,
+    };
+    normal_part + sliding * (V::Real::ONE - removed)
+}
+
+/// Friction of a node on the floor: [`coulomb_friction`] about the up direction, `pressed`
+/// the velocity its floor force `n` gave it in the step (`n w dt`; 0 off the floor).
+#[inline]
+pub fn floor_friction<V: Vector>(v: V, friction: V::Real, pressed: V::Real) -> V {
+    coulomb_friction(v, V::UNIT_Y, friction, pressed)
 }
 
 /// Symplectic Euler with floor friction (`integrate_node` in glsl/physics/integrate.glsl):
-/// `v' = v + dt w F`; a node in contact (`contact`:
-/// its floor force is positive) loses `friction` of its tangential velocity; then
-/// `x' = x + dt v'`. Returns `(x', v')`.
+/// `v' = v + dt w F`; a node on the floor (floor force `n > 0`) gets [`floor_friction`] with
+/// `pressed = n w dt`; then `x' = x + dt v'`. Returns `(x', v')`.
 #[inline]
 pub fn integrate_node<V: Vector>(
     x: V,
@@ -70,12 +90,12 @@ pub fn integrate_node<V: Vector>(
     f: V,
     w: V::Real,
     dt: V::Real,
-    contact: bool,
+    n: V::Real,
     friction: V::Real,
 ) -> (V, V) {
     let mut v1 = v + f * (w * dt);
-    if contact {
-        v1 = floor_friction(v1, friction);
+    if n > V::Real::ZERO {
+        v1 = floor_friction(v1, friction, n * w * dt);
     }
     (x + v1 * dt, v1)
 }
@@ -104,25 +124,42 @@ mod tests {
 
     #[test]
     fn friction_scales_tangential_velocity_of_nodes_in_contact() {
-        let v = floor_friction(DVec3::new(2.0, -3.0, -4.0), 0.25);
+        // Pressed harder than it slides: `friction` of the sliding goes.
+        let v = floor_friction(DVec3::new(2.0, -3.0, -4.0), 0.25, 10.0);
         assert_eq!(v, DVec3::new(1.5, -3.0, -3.0));
+        // Pressed by 1 m/s while sliding at sqrt(20): at most 0.25 m/s goes (Coulomb).
+        let slid = floor_friction(DVec3::new(2.0, -3.0, -4.0), 0.25, 1.0);
+        let kept = 1.0 - 0.25 / 20f64.sqrt();
+        assert!((slid - DVec3::new(2.0 * kept, -3.0, -4.0 * kept)).length() < 1e-15);
+        // Held by a floor force of 4 N (w 1, dt 0.5: pressed 2 m/s): stops.
         let (x, v) = integrate_node(
             Vec3A::ZERO,
             Vec3A::new(2.0, 0.0, 0.0),
             Vec3A::ZERO,
             1.0,
             0.5,
-            true,
+            4.0,
             1.0,
         );
         assert_eq!((x, v), (Vec3A::ZERO, Vec3A::ZERO));
+        // A floor force of 1 N (pressed 0.5 m/s) takes only 0.5 of the 2 m/s.
+        let (_, v) = integrate_node(
+            Vec3A::ZERO,
+            Vec3A::new(2.0, 0.0, 0.0),
+            Vec3A::ZERO,
+            1.0,
+            0.5,
+            1.0,
+            1.0,
+        );
+        assert_eq!(v, Vec3A::new(1.5, 0.0, 0.0));
         let (x, _) = integrate_node(
             Vec3A::ZERO,
             Vec3A::new(2.0, 0.0, 0.0),
             Vec3A::ZERO,
             1.0,
             0.5,
-            false,
+            0.0,
             1.0,
         );
         assert_eq!(x, Vec3A::new(1.0, 0.0, 0.0));

@@ -43,6 +43,8 @@ pub use constraint::{
     volume_softness,
 };
 pub use contact::{contact_push, end_position, surface_friction, Solve};
-pub use integrate::{floor_force, floor_friction, floor_solve, integrate_node, symplectic_euler};
+pub use integrate::{
+    coulomb_friction, floor_force, floor_friction, floor_solve, integrate_node, symplectic_euler,
+};
 pub use spring::spring_force;
 pub use tetmesh::geometry::{tet_volume, Real, Vector};

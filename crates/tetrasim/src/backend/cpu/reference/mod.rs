@@ -464,9 +464,8 @@ impl ReferenceBackend {
             .zip(self.v.iter_mut())
             .zip(f.iter().zip(&self.problem.model.inv_mass));
         for (i, ((x, v), (&f, &w))) in nodes.enumerate() {
-            let contact = forces.floor[i] > 0.0;
             let (x0, v0) = (*x, *v);
-            (*x, *v) = integrate_node(x0, v0, f, w, p.dt, contact, p.friction);
+            (*x, *v) = integrate_node(x0, v0, f, w, p.dt, forces.floor[i], p.friction);
             if forces.contacts[i].touching.is_some() {
                 *v = collider::friction_of(&at, &forces.contacts[i], x0, *v, p.dt);
                 *x = x0 + *v * p.dt;
@@ -474,8 +473,7 @@ impl ReferenceBackend {
             // Split contact: the positions are the full solve's, the velocities the
             // velocity solve's (with its own contacts' friction).
             if let Some((f_v, split)) = &velocity {
-                let contact = split.floor[i] > 0.0;
-                *v = integrate_node(x0, v0, f_v[i], w, p.dt, contact, p.friction).1;
+                *v = integrate_node(x0, v0, f_v[i], w, p.dt, split.floor[i], p.friction).1;
                 if split.contacts[i].touching.is_some() {
                     *v = collider::friction_of(&at, &split.contacts[i], x0, *v, p.dt);
                 }

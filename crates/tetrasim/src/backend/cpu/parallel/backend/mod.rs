@@ -361,7 +361,7 @@ impl ParallelBackend {
                         touch.touching.is_some().then_some(touch)
                     }
                 };
-                let (mut x1, mut v1) = integrate_node(*x, *v, *f, w[i], k.dt, *n > 0.0, k.friction);
+                let (mut x1, mut v1) = integrate_node(*x, *v, *f, w[i], k.dt, *n, k.friction);
                 if let Some(touch) = touch {
                     let v2 = collider::friction_of(
                         at,
