@@ -3,7 +3,7 @@
 # (no Rust, no registry, no network) with target/gpu-bundle/ present:
 #   bash target/gpu-bundle/gpu-report.sh [STEPS]
 # STEPS (default: all, in this order) picks and orders what is measured:
-#   bench     default solver and jacobi on bunny20k and horse86m (new, and old beside it
+#   bench     the default solver, jacobi, chebyshev and 1 and 2 groups on bunny20k and horse86m (new, and old beside it
 #             when the bundle holds bin/tetrasim-old), the pass breakdown included
 #   implicit  the real-size horse with implicit springs (issue 13's scene), 400 frames
 #   stiff     issue 26: the real-size horse (1000 kg/m^3, ks 5000) with Anderson acceleration,
@@ -62,7 +62,7 @@ for step in $steps; do
   case $step in
   bench)
     for v in $builds; do
-      for s in gauss-seidel:8+global jacobi chebyshev+global; do
+      for s in gauss-seidel:8+global jacobi chebyshev+global gauss-seidel:1+global gauss-seidel:2+global; do
         f="$R/bench_${v}_${s//[:+]/-}"
         timeout 120 "$(bin_of $v)" bench --mesh "$M/bunny20k" --mesh "$M/horse86m" --no-bundled --method volume \
           --backend vulkan --solver "$s" --json "$f.json" > "$f.txt" 2>&1

@@ -3,8 +3,10 @@
 //! (`docs/data/gpu-nvidia-h200/`, made by `scripts/gpu-report.sh` on 2026-11-26): the default
 //! solver, Jacobi and Chebyshev with the global constraint on bunny20k and horse86m, the
 //! real-size horse with implicit springs, and (measured after the fit, in the third session's
-//! call: `2026-11-26-fused/`) the default, 4 and 2 colour groups again. So a change to the
-//! step can be judged where no GPU is lent. (`--workgroup-size 1024` on the horse is outside it: predicted 63 % too slow, the
+//! call: `2026-11-26-fused/`) the default, 4 and 2 colour groups again; Chebyshev from the
+//! build with the gather's lanes (`2026-11-27-lanes/`; the 2-group rows were measured before
+//! them, 0.383 / 0.653 ms, and the lanes' build ran 0.361 / 0.561, predicted 0.374 / 0.581).
+//! So a change to the step can be judged where no GPU is lent. (`--workgroup-size 1024` on the horse is outside it: predicted 63 % too slow, the
 //! model counts a 1024-wide workgroup's gathers as serial on its multiprocessor.)
 //!
 //! Needs `../shared/meshes` (the scans, meshed here as the bundle meshed them); without it
@@ -106,7 +108,7 @@ fn the_h200_cost_model_predicts_the_measured_frames_within_30_percent() {
         ),
         ("bench_new_jacobi", Solver::Jacobi, 8, None),
         (
-            "bench_new_chebyshev-global",
+            "2026-11-27-lanes/bench_new_chebyshev-global",
             Solver::Chebyshev,
             8,
             Some(true),

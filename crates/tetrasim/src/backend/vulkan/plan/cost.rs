@@ -61,7 +61,10 @@ impl GpuProfile {
         let wg = pass.workgroup_size.max(1);
         let workgroups = elements.div_ceil(wg);
         let rounds = workgroups.div_ceil(self.multiprocessors.max(1));
-        let busiest = f64::from(rounds) * f64::from(wg.min(elements));
+        // Counted per node and per lane: a gather's lanes split a node's chain of slots, so
+        // each lane sums `slots / lanes` of them (fitted to 2026-11-27-lanes/).
+        let lanes = f64::from(pass.lanes());
+        let busiest = f64::from(rounds) * f64::from(wg.min(elements)) / lanes;
         let bytes = plan.pass_bytes(pass) as f64;
         let per_element = match pass.stage.kind {
             PassKind::Volume | PassKind::Distance | PassKind::SpringConstraint => {
@@ -70,7 +73,7 @@ impl GpuProfile {
             _ => self.element_ns,
         };
         self.dispatch_us
-            + busiest * (per_element + gathered_slots(plan, pass) * self.slot_ns) * 1e-3
+            + busiest * (per_element + gathered_slots(plan, pass) / lanes * self.slot_ns) * 1e-3
             + bytes / self.bandwidth * 1e6
             + atomics(pass, elements) / self.atomics_per_s * 1e6
     }

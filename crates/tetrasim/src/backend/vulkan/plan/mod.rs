@@ -513,6 +513,17 @@ impl PassPlan {
         if stage.kind == PassKind::ContactMeasure && colliders > 0 {
             constants = vec![colliders];
         }
+        // The gather's lanes per node (constant 4, after the colliders' and grabs').
+        let lanes = match (stage.kind, schedule.gather) {
+            (PassKind::ConstraintApply, true) => {
+                workgroups::gather_lanes(schedule, counts.nodes, workgroup_size)
+            }
+            _ => 1,
+        };
+        if lanes > 1 {
+            constants.resize(3, 0);
+            constants.push(lanes);
+        }
         // Anderson's passes reduce per workgroup (a chunk of nodes) in shared memory, as
         // the global passes do: the floor, the chunks, the colliders and grabs (0 without)
         // and the memory as constants 1 to 5.
@@ -539,7 +550,7 @@ impl PassPlan {
         };
         let elements = match (stage.domain, global) {
             (Domain::Nodes, _) if stage.kind == PassKind::ClampDrive => counts.clamped,
-            (Domain::Nodes, _) => counts.nodes,
+            (Domain::Nodes, _) => counts.nodes * lanes,
             (Domain::Springs, _) => counts.springs,
             (Domain::Tets, _) => counts.tets,
             (Domain::Group, _) => constraints(stage.sweep),

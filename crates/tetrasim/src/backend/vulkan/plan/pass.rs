@@ -1,7 +1,7 @@
 //! The passes of a plan: how often each runs, which shader variant, what it binds.
 
 use super::PlanCounts;
-use crate::schedule::{volume_sum, Domain, Stage};
+use crate::schedule::{volume_sum, Domain, PassKind, Stage};
 
 /// Which compiled variant of a pass's shader runs (build.rs, `// @variant`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -43,6 +43,17 @@ impl PassPlan {
             _ => "",
         };
         format!("{}{variant}{floor}", self.name())
+    }
+
+    /// Invocations per node: `constraint_apply#gather`'s `LANES` (constant 4,
+    /// [`super::workgroups::gather_lanes`]), 1 for every other pass.
+    pub fn lanes(&self) -> u32 {
+        match (self.stage.kind, self.variant) {
+            (PassKind::ConstraintApply, Variant::Named(v)) if v.starts_with("gather") => {
+                self.constants.get(3).copied().unwrap_or(1)
+            }
+            _ => 1,
+        }
     }
 
     /// Whether each dispatch covers only the current group's constraints.

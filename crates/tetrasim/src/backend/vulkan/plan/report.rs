@@ -37,8 +37,11 @@ impl EnginePlan {
         let sized: Vec<String> = self
             .passes
             .iter()
-            .filter(|p| p.workgroup_size != self.workgroup_size)
-            .map(|p| format!("{} {}", p.label(), p.workgroup_size))
+            .filter(|p| p.workgroup_size != self.workgroup_size || p.lanes() > 1)
+            .map(|p| match p.lanes() {
+                1 => format!("{} {}", p.label(), p.workgroup_size),
+                lanes => format!("{} {} ({lanes} a node)", p.label(), p.workgroup_size),
+            })
             .collect();
         if !sized.is_empty() {
             let _ = writeln!(out, "workgroups sized to the work: {}", sized.join(", "));

@@ -364,3 +364,31 @@ fn contact_is_measured_per_frame_only_with_metrics_and_something_to_measure() {
         Some((CONTACT_STATUS_BYTES, CONTACT_STATUS_BYTES))
     );
 }
+
+#[test]
+fn a_gather_over_many_slots_per_node_gets_lanes() {
+    let params = SimParams {
+        global_volume: Some(false),
+        ..SimParams::default()
+    };
+    let apply = |sweeps: &[SweepPlan]| {
+        let p = plan(&params, sweeps);
+        let pass = (p.passes.iter())
+            .find(|p| p.stage.kind == PassKind::ConstraintApply)
+            .expect("an apply pass")
+            .clone();
+        (pass.lanes(), pass.elements, pass.constants)
+    };
+    // One group of 12 tets over 10 nodes: 4.8 slots a node, two lanes of at least 2 each.
+    let one = [SweepPlan {
+        kind: ConstraintKind::Volume,
+        groups: vec![12],
+    }];
+    assert_eq!(apply(&one), (2, 2 * COUNTS.nodes, vec![1, 0, 0, 2]));
+    // Six groups of 2: 0.8 slots a node, one lane, no constant.
+    let six = [SweepPlan {
+        kind: ConstraintKind::Volume,
+        groups: vec![2; 6],
+    }];
+    assert_eq!(apply(&six), (1, COUNTS.nodes, vec![1]));
+}

@@ -8,7 +8,25 @@
 //! `--workgroup-size` sets every pass and skips this.
 
 use super::{EnginePlan, PassPlan, MIN_WORKGROUPS, MIN_WORKGROUP_SIZE};
-use crate::schedule::PassKind;
+use crate::schedule::{PassKind, Schedule};
+
+/// Most invocations `constraint_apply#gather` gives one node.
+pub const MAX_GATHER_LANES: u32 = 8;
+
+/// Invocations per node of `constraint_apply` on the gather path (its `LANES`): the largest
+/// power of two, at most [`MAX_GATHER_LANES`] and `workgroup_size`, that leaves each lane
+/// at least two of the slots a node sums on average after the largest group of any sweep.
+/// A group of the default's eight gives a horse node about 2 slots (1 lane); a sweep in one
+/// group (Chebyshev, `gauss-seidel:1`) about 14 (4 lanes).
+pub fn gather_lanes(schedule: &Schedule, nodes: u32, workgroup_size: u32) -> u32 {
+    let slots = (schedule.sweeps.iter())
+        .map(|w| w.corners() * u64::from(w.groups.iter().copied().max().unwrap_or(0)))
+        .max()
+        .unwrap_or(0);
+    let per_lane_pair = (slots / (2 * u64::from(nodes.max(1)))).max(1) as u32;
+    let power = 1u32 << (31 - per_lane_pair.leading_zeros());
+    power.min(MAX_GATHER_LANES).min(workgroup_size.max(1))
+}
 
 /// The size for a dispatch of `elements` invocations, at most `largest`.
 pub fn for_elements(elements: u32, largest: u32) -> u32 {
