@@ -11,7 +11,7 @@ use super::*;
 pub enum Collider {
     /// The plane `y = 0`.
     Floor {
-        /// Fraction of tangential velocity removed on contact, in [0, 1].
+        /// Friction in [0, 1]: Coulomb's mu (at most this fraction of the sliding removed per step).
         #[serde(default)]
         friction: f64,
     },
@@ -21,7 +21,7 @@ pub enum Collider {
         normal: [f64; 3],
         /// Offset along the unit normal [m].
         offset: f64,
-        /// Fraction of tangential velocity removed on contact, in [0, 1].
+        /// Friction in [0, 1]: Coulomb's mu (at most this fraction of the sliding removed per step).
         #[serde(default)]
         friction: f64,
         /// Contact thickness [m], >= 0.
@@ -37,7 +37,7 @@ pub enum Collider {
         center: [f64; 3],
         /// Radius [m], > 0.
         radius: f64,
-        /// Fraction of tangential velocity removed on contact, in [0, 1].
+        /// Friction in [0, 1]: Coulomb's mu (at most this fraction of the sliding removed per step).
         #[serde(default)]
         friction: f64,
         /// Contact thickness [m], >= 0.
@@ -57,7 +57,7 @@ pub enum Collider {
         /// Orientation as a unit quaternion `[w, x, y, z]` (default the identity).
         #[serde(default = "identity")]
         rotation: [f64; 4],
-        /// Fraction of tangential velocity removed on contact, in [0, 1].
+        /// Friction in [0, 1]: Coulomb's mu (at most this fraction of the sliding removed per step).
         #[serde(default)]
         friction: f64,
         /// Contact thickness [m], >= 0.
@@ -75,7 +75,7 @@ pub enum Collider {
         b: [f64; 3],
         /// Radius [m], > 0.
         radius: f64,
-        /// Fraction of tangential velocity removed on contact, in [0, 1].
+        /// Friction in [0, 1]: Coulomb's mu (at most this fraction of the sliding removed per step).
         #[serde(default)]
         friction: f64,
         /// Contact thickness [m], >= 0.
@@ -93,7 +93,7 @@ pub enum Collider {
         /// Grid cells along the longest side of its bounds (default [`DEFAULT_CELLS`]).
         #[serde(default = "default_cells")]
         cells: u32,
-        /// Fraction of tangential velocity removed on contact, in [0, 1].
+        /// Friction in [0, 1]: Coulomb's mu (at most this fraction of the sliding removed per step).
         #[serde(default)]
         friction: f64,
         /// Contact thickness [m], >= 0.
