@@ -6,6 +6,8 @@
 //! call: `2026-11-26-fused/`) the default, 4 and 2 colour groups again; Chebyshev from the
 //! build with the gather's lanes (`2026-11-27-lanes/`; the 2-group rows were measured before
 //! them, 0.383 / 0.653 ms, and the lanes' build ran 0.361 / 0.561, predicted 0.374 / 0.581).
+//! And Anderson (m = 5, with 8 and 16 groups) and 4 inversion sweeps, measured after the
+//! fit (`2026-11-27-stiff/`): predicted 6 to 24 % slow.
 //! So a change to the step can be judged where no GPU is lent. (`--workgroup-size 1024` on the horse is outside it: predicted 63 % too slow, the
 //! model counts a 1024-wide workgroup's gathers as serial on its multiprocessor.)
 //!
@@ -99,42 +101,78 @@ fn the_h200_cost_model_predicts_the_measured_frames_within_30_percent() {
     // The first call's files, then the third session's (2026-11-26-fused/: fewer groups,
     // each unfused, as the engine runs them).
     let third = "2026-11-26-fused/bench_new_gauss-seidel";
+    let stiff = "2026-11-27-stiff/stiff_bench_gauss-seidel";
     let solvers = [
         (
             "bench_new_gauss-seidel-8-global",
             Solver::GaussSeidel,
             8,
             None,
+            0,
+            0,
         ),
-        ("bench_new_jacobi", Solver::Jacobi, 8, None),
+        ("bench_new_jacobi", Solver::Jacobi, 8, None, 0, 0),
         (
             "2026-11-27-lanes/bench_new_chebyshev-global",
             Solver::Chebyshev,
             8,
             Some(true),
+            0,
+            0,
         ),
         (
             &format!("{third}-8-global_fuse-off"),
             Solver::GaussSeidel,
             8,
             None,
+            0,
+            0,
         ),
         (
             &format!("{third}-4-global_fuse-off"),
             Solver::GaussSeidel,
             4,
             None,
+            0,
+            0,
         ),
         (
             &format!("{third}-2-global_fuse-off"),
             Solver::GaussSeidel,
             2,
             None,
+            0,
+            0,
+        ),
+        // Anderson (m = 5), 16 groups with it, and 4 inversion sweeps (2026-11-27-stiff/).
+        (
+            &format!("{stiff}-8-global-anderson5"),
+            Solver::GaussSeidel,
+            8,
+            None,
+            5,
+            0,
+        ),
+        (
+            &format!("{stiff}-16-global-anderson5"),
+            Solver::GaussSeidel,
+            16,
+            None,
+            5,
+            0,
+        ),
+        (
+            &format!("{stiff}-8-global-inversion4"),
+            Solver::GaussSeidel,
+            8,
+            None,
+            0,
+            4,
         ),
     ];
     let mut failures = Vec::new();
     for (name, mesh) in [("bunny20k", &bunny), ("horse86m", &horse)] {
-        for &(file, solver, groups, global_volume) in &solvers {
+        for &(file, solver, groups, global_volume, anderson, inversion_sweeps) in &solvers {
             let (ms, nodes, tets) = measured(&format!("{file}.json"), name);
             assert_eq!(
                 (mesh.nodes.len(), mesh.tets.len()),
@@ -146,6 +184,8 @@ fn the_h200_cost_model_predicts_the_measured_frames_within_30_percent() {
                 solver,
                 groups,
                 global_volume,
+                anderson,
+                inversion_sweeps,
                 ..SimParams::default()
             };
             check(
