@@ -16,9 +16,6 @@
 
 #[path = "common/prep.rs"]
 mod prep_fixtures;
-#[allow(clippy::duplicate_mod)]
-#[path = "common/skip.rs"]
-mod skip;
 
 use std::path::{Path, PathBuf};
 

@@ -87,10 +87,6 @@ fn run_checked(model: &Model, params: &SimParams, frames: u32) -> Vec<Vec<DVec3>
         .collect()
 }
 
-fn lowest(positions: &[DVec3]) -> f64 {
-    positions.iter().map(|p| p.y).fold(f64::INFINITY, f64::min)
-}
-
 fn centre(positions: &[DVec3]) -> DVec3 {
     positions.iter().copied().sum::<DVec3>() / positions.len() as f64
 }

@@ -219,7 +219,7 @@ mod tests {
         let mut q = p;
         q[3].z = -0.4;
         assert!(tet_volume(q) < 0.0);
-        let (c, grad) = inversion_floor(q, rest, 0.1).expect("below the floor");
+        let (c, _) = inversion_floor(q, rest, 0.1).expect("below the floor");
         assert!((c - (tet_volume(q) - 0.1 * rest)).abs() < 1e-15);
         // The hard multiplier with b = 0 (unit masses, dt 1), step after step along
         // -lambda grad C: the volume is cubic in the positions, so each step is one Newton
