@@ -105,27 +105,36 @@ fn a_stiff_real_size_box_keeps_every_tet_closer_to_its_volume() {
     }
 }
 
-#[test]
-fn the_distance_sphere_rebounds_less() {
-    let model = ModelBuilder::new(&gpu_support::bundled_sphere())
+/// The bundled sphere, 1 m across, its lowest node 0.1 m up (the `seed` placement).
+fn dropped_sphere() -> Model {
+    ModelBuilder::new(&gpu_support::bundled_sphere())
         .placement(Placement {
             fit_size: Some(1.0),
             drop_height: Some(0.1),
         })
         .build()
-        .unwrap();
+        .unwrap()
+}
+
+/// The highest the lowest node rises after the first contact [mm], from [`frames`].
+fn rebound_mm(run: &[(f64, f64, f64)]) -> f64 {
+    let contact = run.iter().position(|f| f.2 < 1e-4).expect("it lands");
+    1e3 * run[contact..].iter().map(|f| f.2).fold(0.0, f64::max)
+}
+
+#[test]
+fn the_distance_sphere_rebounds_less() {
+    let model = dropped_sphere();
     let params = |anderson| SimParams {
         anderson,
         method: Method::Distance,
         ..SimParams::default()
     };
-    // The highest the lowest node rises after the first contact [mm], the volume's range.
+    // The rebound [mm] and the volume's range.
     let rebound = |run: &[(f64, f64, f64)]| {
-        let contact = run.iter().position(|f| f.2 < 1e-4).expect("it lands");
-        let rise = run[contact..].iter().map(|f| f.2).fold(0.0, f64::max);
         let low = run.iter().map(|f| f.1).fold(f64::INFINITY, f64::min);
         let high = run.iter().map(|f| f.1).fold(0.0, f64::max);
-        (1e3 * rise, low, high)
+        (rebound_mm(run), low, high)
     };
     let mut plain = Vec::new();
     on_each_backend(&model, &params(0), |b| {
@@ -162,31 +171,20 @@ fn the_distance_sphere_rebounds_less() {
 
 #[test]
 fn with_enough_iterations_the_distance_sphere_comes_to_rest() {
-    let model = ModelBuilder::new(&gpu_support::bundled_sphere())
-        .placement(Placement {
-            fit_size: Some(1.0),
-            drop_height: Some(0.1),
-        })
-        .build()
-        .unwrap();
+    let model = dropped_sphere();
     let params = |anderson, iterations| SimParams {
         anderson,
         iterations,
         method: Method::Distance,
         ..SimParams::default()
     };
-    // The highest the lowest node rises after the first contact [mm].
-    let rebound = |run: &[(f64, f64, f64)]| {
-        let contact = run.iter().position(|f| f.2 < 1e-4).expect("it lands");
-        1e3 * run[contact..].iter().map(|f| f.2).fold(0.0, f64::max)
-    };
     let mut plain = Vec::new();
     on_each_backend(&model, &params(0, 40), |b| {
-        plain.push(rebound(&frames(b, &model, 400)))
+        plain.push(rebound_mm(&frames(b, &model, 400)))
     });
     let mut fast = Vec::new();
     on_each_backend(&model, &params(5, 30), |b| {
-        fast.push(rebound(&frames(b, &model, 400)))
+        fast.push(rebound_mm(&frames(b, &model, 400)))
     });
     for (backend, (p, f)) in plain.iter().zip(&fast).enumerate() {
         println!(
