@@ -9,7 +9,9 @@
 //! constraints with friction; compliant springs and volumes with Jacobi), Anderson
 //! acceleration (with Gauss-Seidel and with Jacobi), the inversion floor (at the rest volume,
 //! so that every compressed tet meets it: switching the sweeps off moves nodes by 5e-4 and
-//! 1.2e-3 m on `cpu-ref`; with Gauss-Seidel, with Jacobi and with split contact), each on a small
+//! 1.2e-3 m on `cpu-ref`; with Gauss-Seidel, with Jacobi and with split contact), block
+//! Gauss-Seidel (blocks of 64; of 40 with compliant volumes, implicit springs and Anderson;
+//! hubs in `tests/block_gauss_seidel.rs`), each on a small
 //! ball dropped from 1 cm so that the floor is part of every run (60 frames).
 //!
 //! Tolerances: every node within 1e-5 of the bounding-box diagonal (1e-4 with Anderson
@@ -295,6 +297,24 @@ fn cases() -> Vec<(&'static str, Model, SimParams)> {
                 inversion_floor: 1.0,
                 contact: ContactMode::Split,
                 ..base(Method::Volume)
+            },
+        ),
+        (
+            "block gauss-seidel, blocks of 64, deformed",
+            gpu_support::jittered(&plain, 0.01, 0.3, 83),
+            SimParams {
+                block_size: 64,
+                ..base(Method::Volume)
+            },
+        ),
+        (
+            "block gauss-seidel, blocks of 40, compliant volumes, implicit springs, anderson 3",
+            gpu_support::jittered(&dense, 0.01, 0.3, 89),
+            SimParams {
+                block_size: 40,
+                anderson: 3,
+                springs: SpringKind::Implicit,
+                ..elastic(Method::Volume, 0.45)
             },
         ),
         ("two objects, two materials", two_materials(&mesh), {

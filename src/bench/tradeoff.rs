@@ -17,19 +17,22 @@ use tetrasim::params::{Method, SimParams, Solver};
 
 /// A solver with its settings: `jacobi`, `chebyshev`, `gauss-seidel:8`,
 /// `gauss-seidel:8+global`, `gauss-seidel:8+global+anderson5`,
-/// `gauss-seidel:16+global+anderson5+inversion8`, ... (Chebyshev with the default `rho`).
+/// `gauss-seidel:16+global+anderson5+inversion8`, `gauss-seidel:block1024+global`, ...
+/// (Chebyshev with the default `rho`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SolverSetting {
     /// The solver.
     pub solver: Solver,
     /// Colour groups (Gauss-Seidel; 1 for Jacobi).
     pub groups: u32,
+    /// Block Gauss-Seidel's tets per block (0: colour groups).
+    pub block_size: u32,
     /// Whether the global volume constraint is solved too.
     pub global_volume: bool,
     /// Anderson acceleration's memory (0: off).
     pub anderson: u32,
     /// Inversion sweeps after the iterations (0: off; method `volume` only, the points of
-    /// the other methods skip a setting with them).
+    /// the other methods skip a setting with them, as one with blocks).
     pub inversion_sweeps: u32,
 }
 
@@ -50,6 +53,7 @@ impl SolverSetting {
         SolverSetting {
             solver,
             groups,
+            block_size: 0,
             global_volume,
             anderson: 0,
             inversion_sweeps: 0,
@@ -60,6 +64,14 @@ impl SolverSetting {
     pub const fn with_anderson(self, memory: u32) -> Self {
         SolverSetting {
             anderson: memory,
+            ..self
+        }
+    }
+
+    /// The same Gauss-Seidel setting in blocks of `tets` (block Gauss-Seidel).
+    pub const fn with_blocks(self, tets: u32) -> Self {
+        SolverSetting {
+            block_size: tets,
             ..self
         }
     }
@@ -75,7 +87,9 @@ impl SolverSetting {
     /// The name in tables, records and on the command line (`gauss-seidel:8+global`).
     pub fn label(&self) -> String {
         let mut out = self.solver.name().to_string();
-        if self.solver == Solver::GaussSeidel {
+        if self.solver == Solver::GaussSeidel && self.block_size > 0 {
+            out += &format!(":block{}", self.block_size);
+        } else if self.solver == Solver::GaussSeidel {
             out += &format!(":{}", self.groups);
         }
         if self.global_volume {
@@ -95,6 +109,7 @@ impl SolverSetting {
         SimParams {
             solver: self.solver,
             groups: self.groups,
+            block_size: self.block_size,
             global_volume: Some(self.global_volume),
             anderson: self.anderson,
             inversion_sweeps: self.inversion_sweeps,
@@ -106,9 +121,10 @@ impl SolverSetting {
 impl std::str::FromStr for SolverSetting {
     type Err = Error;
 
-    /// `NAME[:GROUPS][+global][+andersonM][+inversionN]`, NAME `jacobi`, `chebyshev` or
-    /// `gauss-seidel` (groups, for Gauss-Seidel only, default 8), M Anderson acceleration's
-    /// memory (1 to 8), N the inversion sweeps (1 to 64).
+    /// `NAME[:GROUPS|:blockB][+global][+andersonM][+inversionN]`, NAME `jacobi`,
+    /// `chebyshev` or `gauss-seidel` (groups, for Gauss-Seidel only, default 8; or blocks of
+    /// B tets, 1 to 1024), M Anderson acceleration's memory (1 to 8), N the inversion
+    /// sweeps (1 to 64).
     fn from_str(text: &str) -> Result<Self> {
         let limit = tetrasim::params::MAX_INVERSION_SWEEPS;
         let (rest, inversion) = counted_suffix(text, text, "+inversion", "N", limit)?;
@@ -117,6 +133,14 @@ impl std::str::FromStr for SolverSetting {
         let (rest, global_volume) = match rest.strip_suffix("+global") {
             Some(rest) => (rest, true),
             None => (rest, false),
+        };
+        let (rest, block_size) = match rest.split_once(":block") {
+            Some((name, _)) => {
+                let limit = tetrasim::params::MAX_BLOCK_SIZE;
+                let (_, tets) = counted_suffix(text, &rest[name.len()..], ":block", "B", limit)?;
+                (name, tets)
+            }
+            None => (rest, 0),
         };
         let (name, groups) = match rest.split_once(':') {
             Some((name, g)) => {
@@ -135,7 +159,8 @@ impl std::str::FromStr for SolverSetting {
                     "solvers",
                     format!(
                         "`{text}`: expected jacobi, chebyshev or gauss-seidel, optionally \
-                         with :GROUPS (gauss-seidel), +global, +andersonM and +inversionN"
+                         with :GROUPS or :blockB (gauss-seidel), +global, +andersonM and \
+                         +inversionN"
                     ),
                 )
             })?;
@@ -149,6 +174,12 @@ impl std::str::FromStr for SolverSetting {
             (Solver::Jacobi | Solver::Chebyshev, None) => 1,
             (Solver::GaussSeidel, g) => g.unwrap_or(tetrasim::params::default_groups()),
         };
+        if block_size > 0 && solver != Solver::GaussSeidel {
+            return Err(Error::param(
+                "solvers",
+                format!("`{text}`: {name} has no blocks (gauss-seidel:blockB)"),
+            ));
+        }
         if anderson > 0 && solver == Solver::Chebyshev {
             return Err(Error::param(
                 "solvers",
@@ -156,6 +187,7 @@ impl std::str::FromStr for SolverSetting {
             ));
         }
         Ok(SolverSetting::new(solver, groups, global_volume)
+            .with_blocks(block_size)
             .with_anderson(anderson)
             .with_inversion(inversion))
     }
@@ -297,8 +329,9 @@ impl SweepSpec {
             }
             // The inversion floor sweeps volume constraints: a setting with it is the volume
             // method's alone.
-            let solvers = (self.solvers.iter())
-                .filter(|s| s.inversion_sweeps == 0 || method == Method::Volume);
+            let solvers = (self.solvers.iter()).filter(|s| {
+                (s.inversion_sweeps == 0 && s.block_size == 0) || method == Method::Volume
+            });
             for &solver in solvers {
                 for &substeps in &self.substeps {
                     for &iterations in &self.iterations {

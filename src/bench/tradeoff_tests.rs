@@ -49,6 +49,16 @@ fn default_sweep_has_the_grid_and_the_omega_points() {
             .unwrap(),
         SolverSetting::DEFAULTS[3].with_inversion(4)
     );
+    let blocked = "gauss-seidel:block512+global+anderson5"
+        .parse::<SolverSetting>()
+        .unwrap();
+    assert_eq!(
+        blocked,
+        SolverSetting::DEFAULTS[4].with_blocks(512),
+        "blocks of 512"
+    );
+    assert_eq!(blocked.label(), "gauss-seidel:block512+global+anderson5");
+    assert_eq!(blocked.apply(&SimParams::default()).block_size, 512);
     // A setting with inversion sweeps is the volume method's alone.
     let with_floor = SweepSpec {
         methods: vec![Method::Distance, Method::Volume],
@@ -73,6 +83,9 @@ fn default_sweep_has_the_grid_and_the_omega_points() {
         "chebyshev+anderson5",
         "gauss-seidel+inversion0",
         "gauss-seidel+inversion65",
+        "gauss-seidel:block0",
+        "gauss-seidel:block1025+global",
+        "jacobi:block64",
     ] {
         let err = bad.parse::<SolverSetting>().unwrap_err().to_string();
         assert!(err.contains(bad), "{err}");

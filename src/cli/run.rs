@@ -285,6 +285,9 @@ pub struct DivergedRun(pub String);
 fn solver_label(params: &SimParams) -> String {
     let mut out = match params.solver {
         SolverKind::Jacobi => "jacobi".to_string(),
+        SolverKind::GaussSeidel if params.solves_in_blocks() => {
+            format!("block gauss-seidel (blocks of {} tets)", params.block_size)
+        }
         SolverKind::GaussSeidel => format!("gauss-seidel ({} groups)", params.groups),
         SolverKind::Chebyshev => match params.chebyshev_rho() {
             used if used < params.rho => format!(

@@ -40,6 +40,11 @@ pub struct SolverOverrides {
     /// Colour groups of the Gauss-Seidel solver (default 8).
     #[cfg_attr(feature = "clap", arg(long))]
     pub groups: Option<u32>,
+    /// Block Gauss-Seidel (solver gauss-seidel, method volume; 0, off, default, to 1024):
+    /// the tets cut in index order into blocks of this many, each swept colour by colour
+    /// while all blocks run at once, in place of the colour groups (docs/PHYSICS.md).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "TETS"))]
+    pub block_size: Option<u32>,
     /// One global volume constraint per object, solved after the local constraints in every
     /// iteration: `true` (`--global-volume` alone) or `false`; default: on for
     /// `gauss-seidel`, off for `jacobi` (the paper's method) and `chebyshev`.
@@ -101,6 +106,7 @@ impl SolverOverrides {
         set(&mut params.combine, self.combine);
         set(&mut params.solver, self.solver);
         set(&mut params.groups, self.groups);
+        set(&mut params.block_size, self.block_size);
         set(&mut params.global_volume, self.global_volume.map(Some));
         set(&mut params.rho, self.rho);
         set(&mut params.anderson, self.anderson);
@@ -114,7 +120,7 @@ impl SolverOverrides {
     }
 
     /// Every key (a `[solver]` key, a flag's id).
-    pub const KEYS: [&'static str; 18] = [
+    pub const KEYS: [&'static str; 19] = [
         "dt",
         "substeps",
         "iterations",
@@ -122,6 +128,7 @@ impl SolverOverrides {
         "combine",
         "solver",
         "groups",
+        "block_size",
         "global_volume",
         "springs",
         "warm_start",
@@ -146,6 +153,7 @@ impl SolverOverrides {
     pub fn misplaced(&self, solver: Solver) -> Option<(&'static str, Solver)> {
         [
             ("groups", self.groups.is_some(), Solver::GaussSeidel),
+            ("block_size", self.block_size.is_some(), Solver::GaussSeidel),
             ("rho", self.rho.is_some(), Solver::Chebyshev),
         ]
         .into_iter()

@@ -147,4 +147,14 @@ bindings! {
     /// float per mixed multiplier (the springs', then the tets'; `anderson > 0`): the last
     /// iteration's values, then `m` planes of their differences.
     ANDERSON_MULTIPLIERS = 43,
+    /// uvec4 per block of block Gauss-Seidel (volume.comp#block, one workgroup each): its
+    /// first member position within the sweep, its member count, its first entry in
+    /// BLOCK_NODES, its node count | colour count << 16.
+    BLOCK_ROWS = 44,
+    /// u32 per block node: its global node index, block after block (shared memory holds
+    /// them by local index).
+    BLOCK_NODES = 45,
+    /// uvec4 per member position of the blocked sweep: its four corners' local indices
+    /// (two 16-bit halves in x and y), its colour within its block (z), 0.
+    BLOCK_CORNERS = 46,
 }

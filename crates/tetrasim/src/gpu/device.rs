@@ -293,6 +293,25 @@ impl DeviceInfo {
         }
         Ok(())
     }
+
+    /// Checks that a workgroup of `size` invocations with block Gauss-Seidel's shared
+    /// memory (48 bytes per block node) runs here; the error names `block_size` (`asked`).
+    pub fn check_block_workgroup(&self, size: u32, asked: u32) -> Result<()> {
+        let limit = self
+            .max_workgroup_invocations
+            .min(self.max_workgroup_size[0]);
+        let shared = 48 * crate::model::MAX_BLOCK_NODES as u64;
+        if size > limit || shared > u64::from(self.max_shared_memory) {
+            return Err(Error::param(
+                "block_size",
+                format!(
+                    "blocks of {asked} tets need workgroups of {size} invocations and {shared}                      bytes of shared memory; device `{}` allows {limit} and {} (use a                      smaller block_size)",
+                    self.name, self.max_shared_memory
+                ),
+            ));
+        }
+        Ok(())
+    }
 }
 
 impl std::fmt::Display for DeviceInfo {

@@ -503,6 +503,9 @@ mod tests {
             ("AndersonHistory", binding::ANDERSON_HISTORY),
             ("AndersonSums", binding::ANDERSON_SUMS),
             ("AndersonMultipliers", binding::ANDERSON_MULTIPLIERS),
+            ("BlockRows", binding::BLOCK_ROWS),
+            ("BlockNodes", binding::BLOCK_NODES),
+            ("BlockCorners", binding::BLOCK_CORNERS),
         ]
         .into_iter()
         .collect();

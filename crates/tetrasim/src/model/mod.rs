@@ -1,11 +1,13 @@
 //! The static model: everything about the object that does not change during a run,
 //! built and validated once on the CPU from a [`TetMesh`]. Every backend reads the same model.
 
+mod blocks;
 mod builder;
 mod global;
 mod groups;
 mod material;
 
+pub use blocks::{ConstraintBlocks, HUB_DEGREE, MAX_BLOCK_NODES};
 pub use builder::ModelBuilder;
 
 pub use global::{GlobalObject, GlobalVolume};
@@ -209,6 +211,14 @@ impl Model {
     pub fn constraint_sweeps(&self, params: &SimParams) -> Vec<Sweep> {
         let n = self.node_count();
         let split = |kind: ConstraintKind| {
+            if kind == ConstraintKind::Volume && params.solves_in_blocks() {
+                let (groups, blocks) = ConstraintGroups::blocked(&self.tets, n, params.block_size);
+                return Sweep {
+                    kind,
+                    groups,
+                    blocks: Some(blocks),
+                };
+            }
             let groups = match (kind, params.solver) {
                 (ConstraintKind::Volume, Solver::GaussSeidel) => {
                     ConstraintGroups::coloured(&self.tets, n, params.groups)
@@ -219,7 +229,11 @@ impl Model {
                 }
                 _ => ConstraintGroups::single(&self.springs, n),
             };
-            Sweep { kind, groups }
+            Sweep {
+                kind,
+                groups,
+                blocks: None,
+            }
         };
         let mut sweeps = Vec::new();
         if params.springs == SpringKind::Implicit {
@@ -264,6 +278,8 @@ pub struct Sweep {
     pub kind: ConstraintKind,
     /// The constraints (spring or tet indices) in their groups.
     pub groups: ConstraintGroups,
+    /// Block Gauss-Seidel's blocks of the one group (`block_size > 0`, volume sweeps).
+    pub blocks: Option<ConstraintBlocks>,
 }
 
 impl Model {

@@ -5,6 +5,7 @@
 
 use serde::{Deserialize, Serialize};
 
+mod blocks;
 mod contact;
 pub use contact::ContactMode;
 mod inversion;
@@ -246,6 +247,12 @@ pub struct SimParams {
     /// Jacobi).
     #[serde(default = "default_groups")]
     pub groups: u32,
+    /// Block Gauss-Seidel (docs/PHYSICS.md, "Block Gauss-Seidel"; 0: off): the volume
+    /// constraints cut into blocks of at most `block_size` tets (at most
+    /// [`MAX_BLOCK_SIZE`]), each swept colour by colour within an iteration while the blocks
+    /// run at once, in place of the colour groups (solver `gauss-seidel`, method `volume`).
+    #[serde(default)]
+    pub block_size: u32,
     /// One global volume constraint per object, solved after the local constraints in
     /// every iteration (methods `distance` and `volume`; ignored by the springs-only ones).
     /// `None`: the solver's default, on for Gauss-Seidel and off for Jacobi (the paper's
@@ -308,6 +315,7 @@ impl Default for SimParams {
             combine: ConstraintCombine::Scaled,
             solver: default_solver(),
             groups: default_groups(),
+            block_size: 0,
             global_volume: None,
             rho: default_rho(),
             anderson: 0,
@@ -343,6 +351,12 @@ impl SimParams {
     pub fn global_volume_on(&self) -> bool {
         self.global_volume
             .unwrap_or(self.solver == Solver::GaussSeidel)
+    }
+
+    /// Whether the volume constraints are swept in blocks (`block_size > 0` with
+    /// Gauss-Seidel and method `volume`).
+    pub fn solves_in_blocks(&self) -> bool {
+        self.block_size > 0 && self.solver == Solver::GaussSeidel && self.method == Method::Volume
     }
 
     /// The spectral radius estimate the Chebyshev weights use: `rho`, lowered to
@@ -399,6 +413,7 @@ impl SimParams {
         if self.groups == 0 {
             return Err(Error::param("groups", "must be at least 1"));
         }
+        self.validate_blocks()?;
         if !(self.rho > 0.0 && self.rho < 1.0) {
             return Err(Error::param(
                 "rho",
@@ -534,6 +549,10 @@ pub const DEFAULT_DAMPING_TIME: f64 = 15.0 / 5000.0;
 pub fn default_solver() -> Solver {
     Solver::GaussSeidel
 }
+
+/// The most tets in one block of block Gauss-Seidel ([`SimParams::block_size`]): a block
+/// is one GPU workgroup, one invocation per tet, and 1024 invocations is what GPUs offer.
+pub const MAX_BLOCK_SIZE: u32 = 1024;
 
 /// Default of [`SimParams::rho`] (physics.md's prototype: 0.95 on the bunny).
 pub fn default_rho() -> f64 {

@@ -112,3 +112,50 @@ fn inversion_sweeps_need_the_volume_method_and_a_floor_in_range() {
         assert!(message.contains(key) && message.contains(says), "{message}");
     }
 }
+
+#[test]
+fn blocks_need_gauss_seidel_volumes_and_at_most_a_workgroup() {
+    let on = SimParams {
+        block_size: 256,
+        ..SimParams::default()
+    };
+    on.validate().expect("blocks with the defaults");
+    assert!(on.solves_in_blocks());
+    let cases = [
+        (
+            SimParams {
+                block_size: MAX_BLOCK_SIZE + 1,
+                ..on.clone()
+            },
+            "at most 1024",
+        ),
+        (
+            SimParams {
+                solver: Solver::Chebyshev,
+                ..on.clone()
+            },
+            "solver chebyshev",
+        ),
+        (
+            SimParams {
+                method: Method::Distance,
+                ..on.clone()
+            },
+            "method distance",
+        ),
+        (
+            SimParams {
+                inversion_sweeps: 2,
+                ..on.clone()
+            },
+            "inversion_sweeps",
+        ),
+    ];
+    for (params, says) in cases {
+        let message = params.validate().unwrap_err().to_string();
+        assert!(
+            message.contains("block_size") && message.contains(says),
+            "{message}"
+        );
+    }
+}

@@ -102,6 +102,14 @@ pub enum BufferId {
     AndersonSums,
     /// `1 + m` floats per spring and tet multiplier (`anderson`).
     AndersonMultipliers,
+    /// uvec4 per block: first member, members, first node, nodes | colours << 16 (block
+    /// Gauss-Seidel).
+    BlockRows,
+    /// u32 per block node: its global index, block after block (block Gauss-Seidel).
+    BlockNodes,
+    /// uvec4 per member of the blocked sweep: its corners' local indices (16 bits each),
+    /// its colour (block Gauss-Seidel).
+    BlockCorners,
 }
 
 impl BufferId {
@@ -152,6 +160,9 @@ impl BufferId {
             BufferId::AndersonHistory => "anderson history",
             BufferId::AndersonSums => "anderson sums",
             BufferId::AndersonMultipliers => "anderson multipliers",
+            BufferId::BlockRows => "block rows",
+            BufferId::BlockNodes => "block nodes",
+            BufferId::BlockCorners => "block corners",
         }
     }
 
@@ -202,6 +213,9 @@ impl BufferId {
             BufferId::AndersonHistory => binding::ANDERSON_HISTORY,
             BufferId::AndersonSums => binding::ANDERSON_SUMS,
             BufferId::AndersonMultipliers => binding::ANDERSON_MULTIPLIERS,
+            BufferId::BlockRows => binding::BLOCK_ROWS,
+            BufferId::BlockNodes => binding::BLOCK_NODES,
+            BufferId::BlockCorners => binding::BLOCK_CORNERS,
         }
     }
 }

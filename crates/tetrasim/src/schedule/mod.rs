@@ -109,6 +109,21 @@ pub struct SweepPlan {
     pub kind: ConstraintKind,
     /// Constraints per group, solved one group after another.
     pub groups: Vec<u32>,
+    /// Block Gauss-Seidel's blocks of its one group, when it sweeps in blocks.
+    pub blocks: Option<BlockShape>,
+}
+
+/// The shape of a sweep's blocks (block Gauss-Seidel; [`crate::model::ConstraintBlocks`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BlockShape {
+    /// Number of blocks (one workgroup each on the GPU).
+    pub blocks: u32,
+    /// The blocks' nodes, counted per block (a node in two blocks counts twice).
+    pub nodes: u32,
+    /// The most constraints in one block (the GPU's workgroup size, one invocation each).
+    pub largest: u32,
+    /// The most colours in one block (barriers per sweep of a block).
+    pub colours: u32,
 }
 
 impl SweepPlan {
@@ -117,6 +132,12 @@ impl SweepPlan {
         SweepPlan {
             kind: sweep.kind,
             groups: sweep.groups.sizes(),
+            blocks: sweep.blocks.as_ref().map(|b| BlockShape {
+                blocks: b.len() as u32,
+                nodes: b.nodes.items.len() as u32,
+                largest: b.largest(),
+                colours: b.most_colours(),
+            }),
         }
     }
 

@@ -312,6 +312,9 @@ impl Schedule {
                 bindings.extend(element_data);
                 bindings.push((Degrees, Read));
                 bindings.extend(output.iter().copied());
+                if sweep.blocks.is_some() {
+                    bindings.extend([(BlockRows, Read), (BlockNodes, Read), (BlockCorners, Read)]);
+                }
                 stages.push(Stage {
                     sweep: Some(index),
                     ..stage(

@@ -9,10 +9,12 @@ fn sweeps() -> Vec<SweepPlan> {
         SweepPlan {
             kind: ConstraintKind::Spring,
             groups: vec![20, 10],
+            blocks: None,
         },
         SweepPlan {
             kind: ConstraintKind::Volume,
             groups: vec![5, 4, 3],
+            blocks: None,
         },
     ]
 }
@@ -84,6 +86,7 @@ fn what_a_scene_does_not_use_is_not_scheduled() {
     let volume = vec![SweepPlan {
         kind: ConstraintKind::Volume,
         groups: vec![12],
+        blocks: None,
     }];
     let jacobi = Schedule::new(&params, volume.clone(), true, true);
     assert!(!jacobi.gather && jacobi.chebyshev.is_empty());

@@ -13,7 +13,7 @@ use crate::backend::State;
 use crate::contact::BodyContact;
 use crate::gpu::layout::{vec4, GpuGlobalObject, GpuSpring};
 use crate::gpu::{Buffer, Context, Uploads};
-use crate::model::{ConstraintKind, GlobalVolume, Model, Sweep};
+use crate::model::{ConstraintBlocks, ConstraintKind, GlobalVolume, Model, Sweep};
 use crate::problem::Problem;
 use crate::{Error, Result};
 
@@ -198,6 +198,9 @@ impl SimBuffers {
         if plan.schedule.gather {
             gather_buffers(&mut optional, model, sweeps)?;
         }
+        if let Some(blocks) = sweeps.iter().find_map(|sweep| sweep.blocks.as_ref()) {
+            block_buffers(&mut optional, blocks)?;
+        }
         if let Some(g) = global.filter(|_| plan.global.is_some()) {
             global_buffers(&mut optional, g)?;
         }
@@ -303,6 +306,34 @@ fn gather_buffers(optional: &mut Optional<'_>, model: &Model, sweeps: &[Sweep]) 
     optional.zeroed(BufferId::Contributions, 16 * u64::from(slot_first))?;
     optional.data(BufferId::NodeSlotOffsets, bytes(&offsets))?;
     optional.data(BufferId::NodeSlotItems, bytes(&items))
+}
+
+/// Block Gauss-Seidel's buffers (volume.comp#block; the one blocked sweep's): a row per
+/// block (first member, members, first node, nodes | colours << 16), the blocks' nodes (bit
+/// 31: a hub), and
+/// per member its corners' local indices in two 16-bit halves and its colour.
+fn block_buffers(optional: &mut Optional<'_>, blocks: &ConstraintBlocks) -> Result<()> {
+    let rows: Vec<[u32; 4]> = (0..blocks.len())
+        .map(|b| {
+            let members = blocks.members(b);
+            let nodes = blocks.nodes.offsets[b]..blocks.nodes.offsets[b + 1];
+            [
+                members.start as u32,
+                members.len() as u32,
+                nodes.start,
+                (nodes.end - nodes.start) | (blocks.colours[b] << 16),
+            ]
+        })
+        .collect();
+    let corners: Vec<[u32; 4]> = (blocks.corners.iter().zip(&blocks.colour))
+        .map(|(c, &colour)| [c[0] | (c[1] << 16), c[2] | (c[3] << 16), colour, 0])
+        .collect();
+    let nodes: Vec<u32> = (blocks.nodes.items.iter())
+        .map(|&k| k | (u32::from(blocks.hub[k as usize]) << 31))
+        .collect();
+    optional.data(BufferId::BlockRows, bytes(&rows))?;
+    optional.data(BufferId::BlockNodes, bytes(&nodes))?;
+    optional.data(BufferId::BlockCorners, bytes(&corners))
 }
 
 /// The global volume constraints' buffers ([`GlobalVolume`]); the chunk partials as many as
@@ -450,7 +481,7 @@ impl Optional<'_> {
 }
 
 /// Every buffer kind.
-const ALL_BUFFERS: [BufferId; 44] = [
+const ALL_BUFFERS: [BufferId; 47] = [
     BufferId::Positions,
     BufferId::Velocities,
     BufferId::Forces,
@@ -495,4 +526,7 @@ const ALL_BUFFERS: [BufferId; 44] = [
     BufferId::AndersonHistory,
     BufferId::AndersonSums,
     BufferId::AndersonMultipliers,
+    BufferId::BlockRows,
+    BufferId::BlockNodes,
+    BufferId::BlockCorners,
 ];

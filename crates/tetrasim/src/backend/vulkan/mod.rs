@@ -166,14 +166,18 @@ impl VulkanBackend {
         options: &EngineOptions,
     ) -> Result<EnginePlan> {
         let metrics = !options.volume_on_demand;
-        match options.workgroup_size {
+        let plan = match options.workgroup_size {
             Some(wg) => {
                 info.check_workgroup_size(wg)?;
                 EnginePlan::of_problem(problem, wg, metrics)
             }
             None => EnginePlan::of_problem(problem, info.default_workgroup_size(), metrics)
                 .map(EnginePlan::size_workgroups),
+        }?;
+        if let Some(pass) = plan.passes.iter().find(|p| p.solves_blocks()) {
+            info.check_block_workgroup(pass.workgroup_size, problem.params.block_size)?;
         }
+        Ok(plan)
     }
 
     /// The backend for a prepared problem on an existing context, with all options but the

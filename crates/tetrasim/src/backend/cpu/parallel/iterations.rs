@@ -79,6 +79,15 @@ pub(super) fn run(member: Member<'_>, inputs: &Inputs<'_>, outputs: &Outputs<'_>
     for dispatch in inputs.dispatches {
         let iteration = dispatch.iteration.unwrap_or(0) as usize;
         match (inputs.stages[dispatch.stage], dispatch.group) {
+            (PassKind::Volume, Some(at)) if inputs.sweeps[at.sweep].blocks.is_some() => {
+                let blocks = inputs.sweeps[at.sweep]
+                    .blocks
+                    .as_ref()
+                    .map_or(0, |b| b.len());
+                // SAFETY: solve phase: the members solve disjoint runs of whole blocks
+                // (their results and multipliers) and nobody writes `f`.
+                unsafe { super::blocks::solve(inputs, outputs, at.sweep, member.block(blocks)) };
+            }
             (PassKind::SpringConstraint | PassKind::Distance | PassKind::Volume, Some(at)) => {
                 let range = inputs.sweeps[at.sweep].range(at.group);
                 let block = member.block(range.len());

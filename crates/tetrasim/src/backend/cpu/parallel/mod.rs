@@ -35,6 +35,7 @@ use crate::schedule::{Dispatch, PassKind, Schedule};
 mod anderson;
 mod backend;
 mod barrier;
+mod blocks;
 mod inversion;
 mod iterations;
 mod shared;
@@ -90,6 +91,8 @@ struct Sweep {
     pair_nodes: Vec<[u32; 2]>,
     /// Per constraint, in group order: a tet's four nodes (empty for springs).
     tet_nodes: Vec<[u32; 4]>,
+    /// Block Gauss-Seidel's blocks of the one group (`block_size > 0`).
+    blocks: Option<blocks::Blocks>,
 }
 
 impl Sweep {
@@ -102,6 +105,12 @@ impl Sweep {
         let n = model.node_count();
         let slots = ConstraintKind::node_slots(&sweep, model);
         let (kind, groups) = (sweep.kind, sweep.groups);
+        let blocks = (sweep.blocks).map(|b| {
+            let factors: Vec<(f64, f64)> = (groups.degree.iter())
+                .map(|&d| params.combine.node_factors(d))
+                .collect();
+            blocks::Blocks::new(b, &factors, params.omega)
+        });
         let factors: Vec<(f64, f64)> = groups
             .degree
             .iter()
@@ -116,6 +125,7 @@ impl Sweep {
         };
         Sweep {
             kind,
+            blocks,
             family,
             nodes: n,
             pair_nodes,

@@ -87,6 +87,13 @@ fn teams_of_any_size_give_the_same_bits() {
             },
         ),
         (
+            "block gauss-seidel, blocks of 96",
+            SimParams {
+                block_size: 96,
+                ..params.clone()
+            },
+        ),
+        (
             "implicit springs, warm-started",
             SimParams {
                 springs: SpringKind::Implicit,

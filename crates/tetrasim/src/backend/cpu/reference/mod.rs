@@ -19,6 +19,7 @@ use crate::schedule::family::{ConstraintFamily, Family};
 use crate::schedule::{Dispatch, GroupAt, PassKind, Schedule};
 
 mod anderson;
+mod blocks;
 mod inversion;
 mod step_forces;
 mod surfaces;
@@ -259,6 +260,10 @@ impl ReferenceBackend {
             .map(|f| f.0)
             .collect();
         let members = sweep.groups.group(at.group);
+        if let (Some(blocks), Family::Volumes(f)) = (&sweep.blocks, &self.families[at.sweep]) {
+            let factors = &self.group_factors[at.sweep][at.group];
+            return self.sweep_blocks(members, blocks, f, step, factors);
+        }
         let (total, solve) = (&step.total, step.solve);
         let (springs, volumes) = (&mut step.spring_lambda, &mut step.volume_lambda);
         match &self.families[at.sweep] {
@@ -379,7 +384,10 @@ impl ReferenceBackend {
                 true => (c, softness * lambda[e]),
                 false => (solve.hard(c), 0.0),
             };
-            if let Some(delta) = self.lambda(c, &grad, ids, f, a_scale, so_far, softness, damping) {
+            let forces = ids.map(|i| f[i]);
+            if let Some(delta) =
+                self.lambda(c, &grad, ids, forces, a_scale, so_far, softness, damping)
+            {
                 if softness > 0.0 {
                     lambda[e] += self.problem.params.omega * delta;
                 }
@@ -392,15 +400,15 @@ impl ReferenceBackend {
     }
 
     /// The multiplier (increment) of one constraint with value `c` and gradients `grad` on
-    /// the nodes `ids` against the force `f` ([`compliant_multiplier`]; softness 0: hard),
-    /// `so_far` = softness times the multiplier found so far (subtracted from `B`).
+    /// the nodes `ids` against their forces `f` ([`compliant_multiplier`]; softness 0:
+    /// hard), `so_far` = softness times the multiplier found so far (subtracted from `B`).
     #[allow(clippy::too_many_arguments)]
     fn lambda<const K: usize>(
         &self,
         c: f64,
         grad: &[DVec3; K],
         ids: [usize; K],
-        f: &[DVec3],
+        f: [DVec3; K],
         a_scale: &[f64],
         so_far: f64,
         softness: f64,
@@ -412,7 +420,7 @@ impl ReferenceBackend {
             let i = ids[k];
             let w = self.problem.model.inv_mass[i];
             implicit_accumulate(
-                &mut a, &mut b, grad[k], w, a_scale[i], self.v[i], f[i], p.dt,
+                &mut a, &mut b, grad[k], w, a_scale[i], self.v[i], f[k], p.dt,
             );
         }
         compliant_multiplier(

@@ -33,6 +33,13 @@ pub struct GpuProfile {
     pub bandwidth: f64,
     /// Float atomic additions per second, device-wide.
     pub atomics_per_s: f64,
+    /// Invocations one multiprocessor holds at once (blocks of block Gauss-Seidel resident
+    /// together).
+    pub threads_per_multiprocessor: u32,
+    /// One colour of a block of block Gauss-Seidel (`volume#block`): a tet's solve from
+    /// shared memory and the workgroup's barrier [ns]. Assumed, not fitted: no GPU has run
+    /// the pass yet (docs/GPU.md, "Block Gauss-Seidel").
+    pub block_colour_ns: f64,
 }
 
 /// The GPUs with fitted constants. NVIDIA H200 (132 SMs, driver 580.159.04): fitted to the
@@ -47,6 +54,8 @@ pub const GPU_PROFILES: [GpuProfile; 1] = [GpuProfile {
     slot_ns: 5.3,
     bandwidth: 2.9e12,
     atomics_per_s: 80e9,
+    threads_per_multiprocessor: 2048,
+    block_colour_ns: 250.0,
 }];
 
 /// The fitted profile of the GPU named `name` (exact, as `tetrasim info` prints it).
@@ -57,6 +66,18 @@ pub fn profile(name: &str) -> Option<GpuProfile> {
 impl GpuProfile {
     /// Predicted time of one dispatch of `pass` in `plan` [us].
     pub fn dispatch_us(&self, plan: &EnginePlan, pass: &PassPlan) -> f64 {
+        if let Some(shape) = plan.block_shape(pass) {
+            // Blocks resident together run their colours side by side: the dispatch takes
+            // the colours of its rounds of blocks one after another.
+            let wg = pass.workgroup_size.max(1);
+            let resident = (self.threads_per_multiprocessor / wg).max(1) * self.multiprocessors;
+            let rounds = shape.blocks.div_ceil(resident.max(1));
+            let colours = f64::from(rounds) * f64::from(shape.colours);
+            let bytes = plan.pass_bytes(pass) as f64;
+            return self.dispatch_us
+                + colours * self.block_colour_ns * 1e-3
+                + bytes / self.bandwidth * 1e6;
+        }
         let elements = plan.elements_per_dispatch(pass).max(1);
         let wg = pass.workgroup_size.max(1);
         let workgroups = elements.div_ceil(wg);

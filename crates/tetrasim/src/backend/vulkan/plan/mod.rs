@@ -20,6 +20,7 @@
 //! contact: colliders or body contact; grabs alone get the words without the pass), and so
 //! are the rest volumes (the local volume error needs them).
 
+mod anderson;
 mod buffer;
 mod cost;
 mod counts;
@@ -30,6 +31,8 @@ mod report;
 mod tests;
 mod workgroups;
 
+pub use anderson::anderson_chunks;
+use anderson::{mixed_multipliers, ANDERSON_TERMS};
 pub use buffer::BufferPlan;
 pub use cost::{profile as gpu_profile, GpuProfile, GPU_PROFILES};
 pub use counts::{
@@ -303,6 +306,13 @@ fn buffers(
         if !schedule.chebyshev.is_empty() {
             buffers.push((ChebyshevBefore, 16 * n, 0));
         }
+        for sweep in sweeps {
+            if let Some(shape) = sweep.blocks {
+                buffers.push((BlockRows, 16 * u64::from(shape.blocks), 0));
+                buffers.push((BlockNodes, 4 * u64::from(shape.nodes), 0));
+                buffers.push((BlockCorners, 16 * sweep.constraints(), 0));
+            }
+        }
         // The compliant constraints' multipliers so far in the step, one float per
         // constraint of a sweep that tracks them. Volume sweeps always get theirs: the
         // plan sees counts and parameters, not the per-tet compliances (a material's
@@ -393,29 +403,6 @@ fn buffers(
         }
     }
     buffers
-}
-
-/// The Gram terms each Anderson chunk keeps room for (those of the largest memory).
-const ANDERSON_TERMS: u64 =
-    crate::physics::gram_terms(crate::physics::ANDERSON_MAX_MEMORY as usize) as u64;
-
-/// The chunks (workgroups) of Anderson's passes over `nodes` nodes for passes of
-/// `workgroup_size` invocations.
-pub fn anderson_chunks(nodes: u32, workgroup_size: u32) -> u32 {
-    nodes.div_ceil(workgroup_size.min(GLOBAL_WORKGROUP)).max(1)
-}
-
-/// The multipliers Anderson mixes: every spring's when a sweep solves springs (implicit
-/// springs are compliant), every tet's when one solves volumes and some are compliant (a
-/// hard constraint never reads its multiplier).
-fn mixed_multipliers(schedule: &Schedule, counts: PlanCounts) -> (u32, u32) {
-    let has = |kind| schedule.sweeps.iter().any(|w| w.kind == kind);
-    let springs = has(ConstraintKind::Spring);
-    let tets = has(ConstraintKind::Volume) && schedule.anderson_volumes;
-    (
-        if springs { counts.springs } else { 0 },
-        if tets { counts.tets } else { 0 },
-    )
 }
 
 /// Bytes of one collider's pose over one step ([`crate::gpu::layout::GpuColliderPose`]).
@@ -556,6 +543,15 @@ impl PassPlan {
             (Domain::Group, _) => constraints(stage.sweep),
             (Domain::Surface, Some(g)) => g.objects * g.chunks(global_workgroup) * global_workgroup,
             (Domain::Surface, None) => 0,
+        };
+        // Block Gauss-Seidel: one workgroup per block.
+        let blocks = stage.sweep.and_then(|s| schedule.sweeps[s].blocks);
+        let (variant, workgroup_size, elements) = match (stage.kind, blocks) {
+            (PassKind::Volume, Some(shape)) if schedule.gather => {
+                let size = workgroups::for_blocks(shape);
+                (Variant::Named("block"), size, shape.blocks * size)
+            }
+            _ => (variant, workgroup_size, elements),
         };
         PassPlan {
             stage: stage.clone(),

@@ -56,9 +56,16 @@ impl PassPlan {
         }
     }
 
-    /// Whether each dispatch covers only the current group's constraints.
+    /// Whether each dispatch covers only the current group's constraints (block
+    /// Gauss-Seidel's pass covers its blocks, one workgroup each).
     pub fn per_group(&self) -> bool {
-        self.stage.domain == Domain::Group
+        self.stage.domain == Domain::Group && !self.solves_blocks()
+    }
+
+    /// Whether it is block Gauss-Seidel's pass (`volume#block`): its workgroup size is its
+    /// blocks', whatever the plan's.
+    pub fn solves_blocks(&self) -> bool {
+        self.variant == Variant::Named("block")
     }
 
     /// The pass's name (the shader's file stem), as timings and records print it.

@@ -58,6 +58,12 @@ impl EnginePlan {
         }
     }
 
+    /// The blocks `pass` solves, when it is block Gauss-Seidel's.
+    pub fn block_shape(&self, pass: &PassPlan) -> Option<crate::schedule::BlockShape> {
+        let sweep = pass.stage.sweep.and_then(|s| self.schedule.sweeps.get(s))?;
+        sweep.blocks.filter(|_| pass.solves_blocks())
+    }
+
     /// Constraint groups solved one after another per iteration, over all sweeps (at
     /// least 1).
     pub fn group_count(&self) -> u32 {

@@ -38,9 +38,16 @@ impl EnginePlan {
             .passes
             .iter()
             .filter(|p| p.workgroup_size != self.workgroup_size || p.lanes() > 1)
-            .map(|p| match p.lanes() {
-                1 => format!("{} {}", p.label(), p.workgroup_size),
-                lanes => format!("{} {} ({lanes} a node)", p.label(), p.workgroup_size),
+            .map(|p| match (p.lanes(), self.block_shape(p)) {
+                (_, Some(b)) => format!(
+                    "{} {} ({} blocks, {} colours at most)",
+                    p.label(),
+                    p.workgroup_size,
+                    b.blocks,
+                    b.colours
+                ),
+                (1, None) => format!("{} {}", p.label(), p.workgroup_size),
+                (lanes, None) => format!("{} {} ({lanes} a node)", p.label(), p.workgroup_size),
             })
             .collect();
         if !sized.is_empty() {

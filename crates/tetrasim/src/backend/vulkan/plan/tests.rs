@@ -30,10 +30,12 @@ fn implicit_springs_sweep_before_the_volumes_and_share_the_gather_buffers() {
         SweepPlan {
             kind: ConstraintKind::Spring,
             groups: vec![20, 10],
+            blocks: None,
         },
         SweepPlan {
             kind: ConstraintKind::Volume,
             groups: vec![5, 4, 3],
+            blocks: None,
         },
     ];
     let p = plan(&params, &sweeps);
@@ -86,6 +88,7 @@ fn implicit_springs_alone_are_a_jacobi_sweep_without_a_force_pass() {
     let sweeps = [SweepPlan {
         kind: ConstraintKind::Spring,
         groups: vec![30],
+        blocks: None,
     }];
     let p = plan(&params, &sweeps);
     assert_eq!(
@@ -118,6 +121,7 @@ fn warm_started_implicit_springs_gather_their_stored_forces_before_the_iteration
     let sweeps = [SweepPlan {
         kind: ConstraintKind::Spring,
         groups: vec![30],
+        blocks: None,
     }];
     let p = plan(&params, &sweeps);
     assert!(p.schedule.warm_start);
@@ -164,6 +168,7 @@ fn colliders_add_their_buffers_variants_and_count_only_when_there_are_some() {
     let sweeps = [SweepPlan {
         kind: ConstraintKind::Volume,
         groups: vec![7, 5],
+        blocks: None,
     }];
     let global = GlobalCounts {
         objects: 1,
@@ -280,6 +285,7 @@ fn contact_is_measured_per_frame_only_with_metrics_and_something_to_measure() {
     let sweeps = [SweepPlan {
         kind: ConstraintKind::Volume,
         groups: vec![7, 5],
+        blocks: None,
     }];
     let body = BodyCounts {
         nodes: 8,
@@ -383,12 +389,14 @@ fn a_gather_over_many_slots_per_node_gets_lanes() {
     let one = [SweepPlan {
         kind: ConstraintKind::Volume,
         groups: vec![12],
+        blocks: None,
     }];
     assert_eq!(apply(&one), (2, 2 * COUNTS.nodes, vec![1, 0, 0, 2]));
     // Six groups of 2: 0.8 slots a node, one lane, no constant.
     let six = [SweepPlan {
         kind: ConstraintKind::Volume,
         groups: vec![2; 6],
+        blocks: None,
     }];
     assert_eq!(apply(&six), (1, COUNTS.nodes, vec![1]));
 }

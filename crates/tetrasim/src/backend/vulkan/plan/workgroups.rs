@@ -8,7 +8,7 @@
 //! `--workgroup-size` sets every pass and skips this.
 
 use super::{EnginePlan, PassPlan, MIN_WORKGROUPS, MIN_WORKGROUP_SIZE};
-use crate::schedule::{PassKind, Schedule};
+use crate::schedule::{BlockShape, PassKind, Schedule};
 
 /// Most invocations `constraint_apply#gather` gives one node.
 pub const MAX_GATHER_LANES: u32 = 8;
@@ -26,6 +26,12 @@ pub fn gather_lanes(schedule: &Schedule, nodes: u32, workgroup_size: u32) -> u32
     let per_lane_pair = (slots / (2 * u64::from(nodes.max(1)))).max(1) as u32;
     let power = 1u32 << (31 - per_lane_pair.leading_zeros());
     power.min(MAX_GATHER_LANES).min(workgroup_size.max(1))
+}
+
+/// The workgroup of block Gauss-Seidel's pass (`volume#block`, one workgroup per block): an
+/// invocation per tet of the largest block, rounded up to a multiple of 32 (a warp).
+pub fn for_blocks(shape: BlockShape) -> u32 {
+    shape.largest.max(1).next_multiple_of(32)
 }
 
 /// The size for a dispatch of `elements` invocations, at most `largest`.
@@ -54,7 +60,7 @@ impl EnginePlan {
             .passes
             .iter()
             .map(|p| {
-                element_wise(p.stage.kind)
+                (element_wise(p.stage.kind) && !p.solves_blocks())
                     .then(|| for_elements(self.elements_per_dispatch(p), largest))
             })
             .collect();
