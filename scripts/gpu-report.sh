@@ -5,6 +5,9 @@
 # STEPS (default: all, in this order) picks and orders what is measured:
 #   bench     the default solver, jacobi, chebyshev and 1 and 2 groups on bunny20k and horse86m (new, and old beside it
 #             when the bundle holds bin/tetrasim-old), the pass breakdown included
+#   blocks    block Gauss-Seidel (--block-size) beside the default on bunny20k and horse86m: blocks of
+#             1024, 512 and 256, with Anderson at 10 and 7 iterations, the pass breakdown included;
+#             the real-size horse with implicit springs in blocks; the cpu backend's threads in blocks
 #   implicit  the real-size horse with implicit springs (issue 13's scene), 400 frames
 #   stiff     issue 26: the real-size horse (1000 kg/m^3, ks 5000) with Anderson acceleration,
 #             more colour groups, substeps and inversion sweeps, 400 frames each; what those
@@ -21,10 +24,10 @@
 set -u
 b=target/gpu-bundle
 [ -d "$b/bin" ] || { echo "gpu-report.sh: $b is missing; run scripts/gpu-bundle.sh first" >&2; exit 2; }
-steps=${*:-bench implicit stiff tests threads tradeoff scaling}
+steps=${*:-bench blocks implicit stiff tests threads tradeoff scaling}
 for s in $steps; do
-  case $s in bench|implicit|stiff|tests|threads|tradeoff|scaling) ;;
-    *) echo "gpu-report.sh: unknown step \`$s\` (known: bench implicit stiff tests threads tradeoff scaling)" >&2; exit 2 ;;
+  case $s in bench|blocks|implicit|stiff|tests|threads|tradeoff|scaling) ;;
+    *) echo "gpu-report.sh: unknown step \`$s\` (known: bench blocks implicit stiff tests threads tradeoff scaling)" >&2; exit 2 ;;
   esac
 done
 OUT=${OUT:-$PWD/gpu-report}; WORK=${WORK:-/tmp/gpu-report}; mkdir -p "$OUT"
@@ -74,6 +77,33 @@ for step in $steps; do
       --workgroup-size 1024 > "$R/bench_new_wg1024.txt" 2>&1
     grep -E 'ms/frame' "$R/bench_new_wg1024.txt" | sed 's/^/new, --workgroup-size 1024: /'
     "$B/tetrasim" plan --mesh "$M/horse86m" --method volume > "$R/plan_horse.txt" 2>&1 ;;
+  blocks)
+    for s in gauss-seidel:8+global gauss-seidel:block1024+global gauss-seidel:block512+global \
+             gauss-seidel:block256+global gauss-seidel:block1024+global+anderson5; do
+      f="$R/blocks_bench_${s//[:+]/-}"
+      timeout 90 "$B/tetrasim" bench --mesh "$M/bunny20k" --mesh "$M/horse86m" --no-bundled --method volume \
+        --backend vulkan --solver "$s" --json "$f.json" > "$f.txt" 2>&1
+      echo "$s:"; grep -E 'ms/frame|GPU' "$f.txt" | head -8
+    done
+    f="$R/blocks_bench_block1024-anderson5-7it"
+    timeout 90 "$B/tetrasim" bench --mesh "$M/bunny20k" --mesh "$M/horse86m" --no-bundled --method volume \
+      --backend vulkan --solver gauss-seidel:block1024+global+anderson5 --iterations 7 --json "$f.json" > "$f.txt" 2>&1
+    echo "block1024+anderson5, 7 it:"; grep -E 'ms/frame' "$f.txt" | head -4
+    for m in bunny20k horse86m; do
+      "$B/tetrasim" plan --mesh "$M/$m" --method volume --block-size 1024 > "$R/blocks_plan_$m.txt" 2>&1
+    done
+    timeout 90 "$B/tetrasim" run --mesh "$M/horse86m" --no-fit --drop-height 0.1 --method volume \
+      --youngs 1e5 --poisson 0.45 --density 1050 --springs implicit --block-size 1024 --backend vulkan \
+      --frames 400 > "$R/blocks_implicit_horse.txt" 2>&1
+    echo "implicit horse, blocks of 1024:"; sed -n '2,4p' "$R/blocks_implicit_horse.txt"
+    n=$(nproc)
+    for k in 1 2 4 8 16 $n; do
+      [ "$k" -le "$n" ] || continue
+      f="$R/blocks_threads_$k.txt"
+      RAYON_NUM_THREADS=$k timeout 60 "$B/tetrasim" bench --mesh "$M/bunny20k" --mesh "$M/horse86m" --no-bundled \
+        --method volume --backend cpu --solver gauss-seidel:block1024+global --frames 40 --warmup 5 > "$f" 2>&1
+      echo "cpu blocks of 1024, threads $k: $(grep -E 'cpu: [0-9.]+ ms/frame' "$f" | sed 's/.*\///' | tr '\n' ';')"
+    done ;;
   implicit)
     for v in $builds; do
       timeout 90 "$(bin_of $v)" run --mesh "$M/horse86m" --no-fit --drop-height 0.1 --method volume \
@@ -135,7 +165,7 @@ SETTINGS
   tradeoff)
     # the reference on the threaded cpu backend, as docs/BENCHMARKS.md's front on 2 cores
     timeout 240 "$B/tetrasim" tradeoff --mesh "$M/bunny20k" --backend vulkan --methods volume \
-      --solvers gauss-seidel:1+global,gauss-seidel:2+global,gauss-seidel:4+global,gauss-seidel:8+global,chebyshev+global,jacobi+global,gauss-seidel:8+global+anderson5,gauss-seidel:4+global+anderson5,jacobi+global+anderson5 \
+      --solvers gauss-seidel:1+global,gauss-seidel:2+global,gauss-seidel:4+global,gauss-seidel:8+global,chebyshev+global,jacobi+global,gauss-seidel:8+global+anderson5,gauss-seidel:4+global+anderson5,jacobi+global+anderson5,gauss-seidel:block1024+global,gauss-seidel:block1024+global+anderson5 \
       --iterations 5,10,20 --substeps 1,2 --frames 200 --ref-backend cpu --ref-iterations 50 --ref-substeps 4 \
       --out-dir "$R/tradeoff" > "$R/tradeoff.txt" 2>&1
     tail -25 "$R/tradeoff.txt" ;;

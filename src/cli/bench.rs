@@ -82,8 +82,8 @@ pub struct BenchArgs {
     /// Time steps per frame (default 1); dt is scaled to keep 1 ms of simulated time per frame.
     #[arg(long)]
     pub substeps: Option<u32>,
-    /// Solver of the constraint methods, `jacobi`, `chebyshev` or `gauss-seidel[:GROUPS]`,
-    /// optionally with `+global`, `+andersonM` and `+inversionN` (default: the engine's,
+    /// Solver of the constraint methods, `jacobi`, `chebyshev` or
+    /// `gauss-seidel[:GROUPS|:blockB]` (blocks of B tets), optionally with `+global`, `+andersonM` and `+inversionN` (default: the engine's,
     /// gauss-seidel:8+global).
     #[arg(long)]
     pub solver: Option<crate::bench::tradeoff::SolverSetting>,
