@@ -97,12 +97,12 @@ for step in $steps; do
       --frames 400 > "$R/blocks_implicit_horse.txt" 2>&1
     echo "implicit horse, blocks of 1024:"; sed -n '2,4p' "$R/blocks_implicit_horse.txt"
     n=$(nproc)
-    for k in 1 2 4 8 16 $n; do
+    for k in $(printf '%s\n' 1 2 4 8 16 "$n" | sort -nu); do
       [ "$k" -le "$n" ] || continue
       f="$R/blocks_threads_$k.txt"
       RAYON_NUM_THREADS=$k timeout 60 "$B/tetrasim" bench --mesh "$M/bunny20k" --mesh "$M/horse86m" --no-bundled \
         --method volume --backend cpu --solver gauss-seidel:block1024+global --frames 40 --warmup 5 > "$f" 2>&1
-      echo "cpu blocks of 1024, threads $k: $(grep -E 'cpu: [0-9.]+ ms/frame' "$f" | sed 's/.*\///' | tr '\n' ';')"
+      echo "cpu blocks of 1024, threads $k: $(grep -E 'cpu: [0-9.]+ ms/frame' "$f" | sed 's/.*meshes\///' | tr '\n' ';')"
     done ;;
   implicit)
     for v in $builds; do
@@ -158,7 +158,7 @@ SETTINGS
           f="$R/threads_${v}_${s//[:+]/-}_$k.txt"
           RAYON_NUM_THREADS=$k timeout 60 "$cb" bench --mesh "$M/bunny20k" --mesh "$M/horse86m" --no-bundled \
             --method volume --backend cpu --solver "$s" --frames 40 --warmup 5 > "$f" 2>&1
-          echo "$v $s threads $k: $(grep -E 'cpu: [0-9.]+ ms/frame' "$f" | sed 's/.*\///' | tr '\n' ';')"
+          echo "$v $s threads $k: $(grep -E 'cpu: [0-9.]+ ms/frame' "$f" | sed 's/.*meshes\///' | tr '\n' ';')"
         done
       done
     done ;;

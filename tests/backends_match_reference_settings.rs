@@ -10,8 +10,9 @@
 //! acceleration (with Gauss-Seidel and with Jacobi), the inversion floor (at the rest volume,
 //! so that every compressed tet meets it: switching the sweeps off moves nodes by 5e-4 and
 //! 1.2e-3 m on `cpu-ref`; with Gauss-Seidel, with Jacobi and with split contact), block
-//! Gauss-Seidel (blocks of 64; of 40 with compliant volumes, implicit springs and Anderson;
-//! hubs in `tests/block_gauss_seidel.rs`), each on a small
+//! Gauss-Seidel (blocks of 64; of 40 with compliant volumes, implicit springs in blocks too
+//! and Anderson; of 48 with distance constraints; hubs in `tests/block_gauss_seidel.rs`),
+//! each on a small
 //! ball dropped from 1 cm so that the floor is part of every run (60 frames).
 //!
 //! Tolerances: every node within 1e-5 of the bounding-box diagonal (1e-4 with Anderson
@@ -315,6 +316,14 @@ fn cases() -> Vec<(&'static str, Model, SimParams)> {
                 anderson: 3,
                 springs: SpringKind::Implicit,
                 ..elastic(Method::Volume, 0.45)
+            },
+        ),
+        (
+            "block gauss-seidel, blocks of 48, distance",
+            gpu_support::jittered(&plain, 0.01, 0.3, 97),
+            SimParams {
+                block_size: 48,
+                ..base(Method::Distance)
             },
         ),
         ("two objects, two materials", two_materials(&mesh), {

@@ -73,6 +73,7 @@ layout(push_constant, std430) uniform PushConstants {
     uint grab_first;  // step_row * grabbed nodes: the step's first entry in GrabTargets
     uint phase;       // PHASE_FULL, or PHASE_VELOCITY in split contact's velocity solve
                       // (physics/solve.glsl)
+    uint block_first; // the sweep's first row in BlockRows (block Gauss-Seidel)
 } pc;
 
 // Index of node i's per-group data (degrees, slot rows) in the current group.

@@ -21,7 +21,7 @@ pub mod binding {
     include!("bindings.rs");
 }
 
-/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 88 bytes used,
+/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 92 bytes used,
 /// padded to 96.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
@@ -81,8 +81,11 @@ pub struct PushConstants {
     /// Which of the step's solves the dispatch belongs to: [`phase::FULL`], or
     /// [`phase::VELOCITY`] in split contact's velocity solve (glsl/physics/solve.glsl).
     pub phase: u32,
+    /// The current sweep's first row in the block rows ([`binding::BLOCK_ROWS`]; block
+    /// Gauss-Seidel).
+    pub block_first: u32,
     /// Padding to a multiple of 16 bytes (not in the shader's block).
-    pub pad: [u32; 2],
+    pub pad: [u32; 1],
 }
 
 /// Values of [`PushConstants::phase`] (the `PHASE_*` macros in glsl/physics/solve.glsl).
@@ -143,7 +146,8 @@ impl PushConstants {
             step_row: 0,
             grab_first: 0,
             phase: phase::FULL,
-            pad: [0; 2],
+            block_first: 0,
+            pad: [0; 1],
         }
     }
 }
@@ -321,6 +325,7 @@ mod tests {
             ("step_row", offset_of!(PushConstants, step_row)),
             ("grab_first", offset_of!(PushConstants, grab_first)),
             ("phase", offset_of!(PushConstants, phase)),
+            ("block_first", offset_of!(PushConstants, block_first)),
         ];
         // integrate uses floor_on/friction/gravity, volume_sum the tet count: together they
         // name most members; every member the shader keeps must sit where Rust puts it.
@@ -333,6 +338,7 @@ mod tests {
                 "passes/volume.comp#gather",
                 "passes/constraint_apply.comp#chebyshev",
                 "passes/spring_constraint.comp#gather",
+                "passes/volume.comp#block",
             ],
             "PushConstants",
             &rust,

@@ -211,8 +211,13 @@ impl Model {
     pub fn constraint_sweeps(&self, params: &SimParams) -> Vec<Sweep> {
         let n = self.node_count();
         let split = |kind: ConstraintKind| {
-            if kind == ConstraintKind::Volume && params.solves_in_blocks() {
-                let (groups, blocks) = ConstraintGroups::blocked(&self.tets, n, params.block_size);
+            if params.solves_in_blocks() {
+                let (groups, blocks) = match kind {
+                    ConstraintKind::Volume => {
+                        ConstraintGroups::blocked(&self.tets, n, params.block_size)
+                    }
+                    _ => ConstraintGroups::blocked(&self.springs, n, params.block_size),
+                };
                 return Sweep {
                     kind,
                     groups,
@@ -278,7 +283,7 @@ pub struct Sweep {
     pub kind: ConstraintKind,
     /// The constraints (spring or tet indices) in their groups.
     pub groups: ConstraintGroups,
-    /// Block Gauss-Seidel's blocks of the one group (`block_size > 0`, volume sweeps).
+    /// Block Gauss-Seidel's blocks of the one group (`block_size > 0`).
     pub blocks: Option<ConstraintBlocks>,
 }
 

@@ -1,6 +1,6 @@
 //! The checks of block Gauss-Seidel's key ([`SimParams::block_size`]).
 
-use super::{Method, SimParams, Solver, MAX_BLOCK_SIZE};
+use super::{SimParams, Solver, MAX_BLOCK_SIZE};
 use crate::error::{Error, Result};
 
 impl SimParams {
@@ -12,7 +12,7 @@ impl SimParams {
         let refuse = |message: String| Err(Error::param("block_size", message));
         if self.block_size > MAX_BLOCK_SIZE {
             return refuse(format!(
-                "must be at most {MAX_BLOCK_SIZE} tets (a block is one GPU workgroup), got {}",
+                "must be at most {MAX_BLOCK_SIZE} (a block is one GPU workgroup), got {}",
                 self.block_size
             ));
         }
@@ -23,10 +23,10 @@ impl SimParams {
                 self.solver
             ));
         }
-        if self.method != Method::Volume {
+        if !self.has_constraints() {
             return refuse(format!(
-                "cuts the volume constraints into blocks; method {} has none (use method \
-                 volume, or block_size 0)",
+                "cuts the constraint sweeps into blocks; method {} with explicit springs has \
+                 none (use method volume or distance, or springs = implicit)",
                 self.method
             ));
         }

@@ -247,10 +247,10 @@ pub struct SimParams {
     /// Jacobi).
     #[serde(default = "default_groups")]
     pub groups: u32,
-    /// Block Gauss-Seidel (docs/PHYSICS.md, "Block Gauss-Seidel"; 0: off): the volume
-    /// constraints cut into blocks of at most `block_size` tets (at most
+    /// Block Gauss-Seidel (docs/PHYSICS.md, "Block Gauss-Seidel"; 0: off): each sweep's
+    /// constraints (tets, springs) cut into blocks of at most `block_size` (at most
     /// [`MAX_BLOCK_SIZE`]), each swept colour by colour within an iteration while the blocks
-    /// run at once, in place of the colour groups (solver `gauss-seidel`, method `volume`).
+    /// run at once, in place of the colour groups (solver `gauss-seidel`).
     #[serde(default)]
     pub block_size: u32,
     /// One global volume constraint per object, solved after the local constraints in
@@ -353,10 +353,9 @@ impl SimParams {
             .unwrap_or(self.solver == Solver::GaussSeidel)
     }
 
-    /// Whether the volume constraints are swept in blocks (`block_size > 0` with
-    /// Gauss-Seidel and method `volume`).
+    /// Whether the constraint sweeps run in blocks (`block_size > 0` with Gauss-Seidel).
     pub fn solves_in_blocks(&self) -> bool {
-        self.block_size > 0 && self.solver == Solver::GaussSeidel && self.method == Method::Volume
+        self.block_size > 0 && self.solver == Solver::GaussSeidel
     }
 
     /// The spectral radius estimate the Chebyshev weights use: `rho`, lowered to
@@ -550,8 +549,9 @@ pub fn default_solver() -> Solver {
     Solver::GaussSeidel
 }
 
-/// The most tets in one block of block Gauss-Seidel ([`SimParams::block_size`]): a block
-/// is one GPU workgroup, one invocation per tet, and 1024 invocations is what GPUs offer.
+/// The most constraints in one block of block Gauss-Seidel ([`SimParams::block_size`]): a
+/// block is one GPU workgroup, one invocation per constraint, and 1024 invocations is what
+/// GPUs offer.
 pub const MAX_BLOCK_SIZE: u32 = 1024;
 
 /// Default of [`SimParams::rho`] (physics.md's prototype: 0.95 on the bunny).

@@ -114,7 +114,7 @@ fn inversion_sweeps_need_the_volume_method_and_a_floor_in_range() {
 }
 
 #[test]
-fn blocks_need_gauss_seidel_volumes_and_at_most_a_workgroup() {
+fn blocks_need_gauss_seidel_constraints_and_at_most_a_workgroup() {
     let on = SimParams {
         block_size: 256,
         ..SimParams::default()
@@ -138,10 +138,10 @@ fn blocks_need_gauss_seidel_volumes_and_at_most_a_workgroup() {
         ),
         (
             SimParams {
-                method: Method::Distance,
+                method: Method::Mss,
                 ..on.clone()
             },
-            "method distance",
+            "method mss",
         ),
         (
             SimParams {

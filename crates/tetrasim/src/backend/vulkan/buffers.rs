@@ -13,7 +13,7 @@ use crate::backend::State;
 use crate::contact::BodyContact;
 use crate::gpu::layout::{vec4, GpuGlobalObject, GpuSpring};
 use crate::gpu::{Buffer, Context, Uploads};
-use crate::model::{ConstraintBlocks, ConstraintKind, GlobalVolume, Model, Sweep};
+use crate::model::{ConstraintKind, GlobalVolume, Model, Sweep};
 use crate::problem::Problem;
 use crate::{Error, Result};
 
@@ -198,9 +198,7 @@ impl SimBuffers {
         if plan.schedule.gather {
             gather_buffers(&mut optional, model, sweeps)?;
         }
-        if let Some(blocks) = sweeps.iter().find_map(|sweep| sweep.blocks.as_ref()) {
-            block_buffers(&mut optional, blocks)?;
-        }
+        block_buffers(&mut optional, sweeps)?;
         if let Some(g) = global.filter(|_| plan.global.is_some()) {
             global_buffers(&mut optional, g)?;
         }
@@ -308,29 +306,41 @@ fn gather_buffers(optional: &mut Optional<'_>, model: &Model, sweeps: &[Sweep]) 
     optional.data(BufferId::NodeSlotItems, bytes(&items))
 }
 
-/// Block Gauss-Seidel's buffers (volume.comp#block; the one blocked sweep's): a row per
-/// block (first member, members, first node, nodes | colours << 16), the blocks' nodes (bit
-/// 31: a hub), and
-/// per member its corners' local indices in two 16-bit halves and its colour.
-fn block_buffers(optional: &mut Optional<'_>, blocks: &ConstraintBlocks) -> Result<()> {
-    let rows: Vec<[u32; 4]> = (0..blocks.len())
-        .map(|b| {
+/// Block Gauss-Seidel's buffers (`#block` variants; common/block.glsl), the blocked sweeps
+/// one after another: a row per block (its first member position within its sweep, its
+/// members, its first entry in the nodes, its nodes | its colours << 16), the blocks' nodes
+/// (bit 31: a hub), and per member of every sweep its corners' local indices in two 16-bit
+/// halves and its colour (zeros for a sweep without blocks).
+fn block_buffers(optional: &mut Optional<'_>, sweeps: &[Sweep]) -> Result<()> {
+    let (mut rows, mut nodes, mut corners) = (Vec::new(), Vec::new(), Vec::new());
+    for sweep in sweeps {
+        let Some(blocks) = &sweep.blocks else {
+            corners.resize(corners.len() + sweep.groups.members.items.len(), [0u32; 4]);
+            continue;
+        };
+        for b in 0..blocks.len() {
             let members = blocks.members(b);
-            let nodes = blocks.nodes.offsets[b]..blocks.nodes.offsets[b + 1];
-            [
+            let row = blocks.nodes.row(b);
+            let colours = blocks.colours[b] << 16;
+            rows.push([
                 members.start as u32,
                 members.len() as u32,
-                nodes.start,
-                (nodes.end - nodes.start) | (blocks.colours[b] << 16),
-            ]
-        })
-        .collect();
-    let corners: Vec<[u32; 4]> = (blocks.corners.iter().zip(&blocks.colour))
-        .map(|(c, &colour)| [c[0] | (c[1] << 16), c[2] | (c[3] << 16), colour, 0])
-        .collect();
-    let nodes: Vec<u32> = (blocks.nodes.items.iter())
-        .map(|&k| k | (u32::from(blocks.hub[k as usize]) << 31))
-        .collect();
+                nodes.len() as u32,
+                row.len() as u32 | colours,
+            ]);
+            nodes.extend(
+                row.iter()
+                    .map(|&k| k | (u32::from(blocks.hub[k as usize]) << 31)),
+            );
+        }
+        corners.extend(
+            (blocks.corners.iter().zip(&blocks.colour))
+                .map(|(c, &colour)| [c[0] | (c[1] << 16), c[2] | (c[3] << 16), colour, 0]),
+        );
+    }
+    if rows.is_empty() {
+        return Ok(());
+    }
     optional.data(BufferId::BlockRows, bytes(&rows))?;
     optional.data(BufferId::BlockNodes, bytes(&nodes))?;
     optional.data(BufferId::BlockCorners, bytes(&corners))

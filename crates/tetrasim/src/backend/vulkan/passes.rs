@@ -211,6 +211,7 @@ impl Recorder<'_> {
                 group_count: at.count,
                 member_first: offsets.member,
                 slot_first: offsets.slot,
+                block_first: offsets.block,
                 chebyshev_weight: schedule.chebyshev_weight(iteration) as f32,
                 iteration,
                 ..*step_push

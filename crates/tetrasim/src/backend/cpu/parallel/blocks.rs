@@ -1,15 +1,17 @@
 //! Block Gauss-Seidel on the `cpu` backend (docs/PHYSICS.md, "Block Gauss-Seidel"): each
-//! member of the team owns whole blocks of the volume sweep, and solves each block's tets
-//! one after another (in colour order, as `cpu-ref` and the GPU's workgroups) against its
-//! own copy of the block's nodes' forces. No fork-join per colour group: one wait per sweep.
+//! member of the team owns whole blocks of a sweep, and solves each block's constraints one
+//! after another (in colour order, as `cpu-ref` and the GPU's workgroups) against its own
+//! copy of the block's nodes' forces. No fork-join per colour group: one wait per sweep.
 
 use glam::Vec3A;
 
 use super::iterations::{Inputs, Outputs};
-use super::{compliant_multiplier, implicit_accumulate, ConstraintFamily, Family};
+use super::{
+    compliant_multiplier, implicit_accumulate, ConstraintFamily, Family, NodeForces, Sweep,
+};
 use crate::model::{ConstraintBlocks, Csr};
 
-/// A volume sweep's blocks in the backend's precision.
+/// A sweep's blocks in the backend's precision.
 #[derive(Debug, Clone)]
 pub(super) struct Blocks {
     /// Row `b`: member positions of block `b` (`blocks + 1` offsets).
@@ -42,7 +44,7 @@ impl Blocks {
     }
 }
 
-/// Solves the blocks `range` of the volume sweep `s` (its one group) against the forces.
+/// Solves the blocks `range` of sweep `s` (its one group) against the forces.
 ///
 /// # Safety
 /// No other thread may touch these blocks' results and multipliers, or write `f`, during
@@ -54,57 +56,112 @@ pub(super) unsafe fn solve(
     range: std::ops::Range<usize>,
 ) {
     let sweep = &inputs.sweeps[s];
-    let (Some(blocks), Family::Volumes(family)) = (&sweep.blocks, &sweep.family) else {
+    let Some(blocks) = &sweep.blocks else {
         return;
     };
     let positions = blocks.first[range.start] as usize..blocks.first[range.end] as usize;
     // SAFETY: nobody writes `f`; these blocks' results and multipliers are this thread's
-    // alone (the caller's promise).
-    let (f, out, so_far) = unsafe {
+    // alone (the caller's promise), here and below.
+    let (f, so_far) = unsafe {
         (
             outputs.f.whole(),
-            outputs.tet_out.part(positions.clone()),
             outputs.multipliers[s].part(positions.clone()),
         )
     };
-    let (x, v, w, k) = (inputs.x, inputs.v, inputs.inv_mass, inputs.k);
-    let a_scale = &sweep.a_scale[..sweep.nodes];
-    let mut local: Vec<Vec3A> = Vec::new();
-    for b in range {
-        local.clear();
-        local.extend(blocks.nodes.row(b).iter().map(|&i| f[i as usize]));
-        for p in blocks.first[b] as usize..blocks.first[b + 1] as usize {
-            let q = p - positions.start;
-            let e = sweep.members.items[p] as usize;
-            let ids = sweep.tet_nodes[p].map(|i| i as usize);
-            let corners = blocks.corners[p].map(|l| l as usize);
-            let (c, grad, softness, damping) = family.evaluate(e, ids.map(|i| x[i]));
-            let c = match softness > 0.0 {
-                true => c,
-                false => k.solve.hard(c),
-            };
-            let (mut a, mut bb) = (0.0, 0.0);
-            for j in 0..4 {
-                let i = ids[j];
-                let force = local[corners[j]];
-                implicit_accumulate(
-                    &mut a, &mut bb, grad[j], w[i], a_scale[i], v[i], force, k.dt,
-                );
+    let run = Run {
+        inputs,
+        sweep,
+        blocks,
+        f,
+        first: positions.start,
+    };
+    match &sweep.family {
+        Family::Springs(family) => {
+            // SAFETY: as above.
+            let out = unsafe { outputs.pair_out.part(positions) };
+            run.blocks(range, out, so_far, &sweep.pair_nodes, family);
+        }
+        Family::Distances(family) => {
+            // SAFETY: as above.
+            let out = unsafe { outputs.pair_out.part(positions) };
+            run.blocks(range, out, so_far, &sweep.pair_nodes, family);
+        }
+        Family::Volumes(family) => {
+            // SAFETY: as above.
+            let out = unsafe { outputs.tet_out.part(positions) };
+            run.blocks(range, out, so_far, &sweep.tet_nodes, family);
+        }
+    }
+}
+
+/// What one thread's run of blocks reads.
+struct Run<'a> {
+    inputs: &'a Inputs<'a>,
+    sweep: &'a Sweep,
+    blocks: &'a Blocks,
+    /// The iteration's forces.
+    f: &'a [Vec3A],
+    /// The member position of `out[0]`.
+    first: usize,
+}
+
+impl Run<'_> {
+    /// Blocks `range`, their results into `out` and multipliers so far in `so_far` (from
+    /// position `self.first`); `nodes`: each member's nodes.
+    fn blocks<const K: usize, R: NodeForces<K>, F: ConstraintFamily<f32, K>>(
+        &self,
+        range: std::ops::Range<usize>,
+        out: &mut [R],
+        so_far: &mut [f32],
+        nodes: &[[u32; K]],
+        family: &F,
+    ) {
+        let (x, v, w, k) = (
+            self.inputs.x,
+            self.inputs.v,
+            self.inputs.inv_mass,
+            self.inputs.k,
+        );
+        let (sweep, blocks) = (self.sweep, self.blocks);
+        let a_scale = &sweep.a_scale[..sweep.nodes];
+        let mut local: Vec<Vec3A> = Vec::new();
+        for b in range {
+            local.clear();
+            local.extend(blocks.nodes.row(b).iter().map(|&i| self.f[i as usize]));
+            let span = blocks.first[b] as usize..blocks.first[b + 1] as usize;
+            for (p, element) in span.clone().zip(&nodes[span]) {
+                let q = p - self.first;
+                let e = sweep.members.items[p] as usize;
+                let ids = element.map(|i| i as usize);
+                let corners: [usize; K] = std::array::from_fn(|j| blocks.corners[p][j] as usize);
+                let (c, grad, softness, damping) = family.evaluate(e, ids.map(|i| x[i]));
+                let c = match softness > 0.0 {
+                    true => c,
+                    false => k.solve.hard(c),
+                };
+                let (mut a, mut bb) = (0.0, 0.0);
+                for j in 0..K {
+                    let i = ids[j];
+                    let force = local[corners[j]];
+                    implicit_accumulate(
+                        &mut a, &mut bb, grad[j], w[i], a_scale[i], v[i], force, k.dt,
+                    );
+                }
+                let bb = bb - softness * so_far[q];
+                let Some(d) = compliant_multiplier(c, a, bb, k.dt, softness, damping, k.epsilon)
+                else {
+                    out[q] = R::from_forces([Vec3A::ZERO; K]);
+                    continue;
+                };
+                if softness > 0.0 {
+                    so_far[q] += k.omega * d;
+                }
+                let forces = grad.map(|g| g * -d);
+                for j in 0..K {
+                    local[corners[j]] += forces[j] * blocks.scale[ids[j]];
+                }
+                out[q] = R::from_forces(forces);
             }
-            let bb = bb - softness * so_far[q];
-            let delta = compliant_multiplier(c, a, bb, k.dt, softness, damping, k.epsilon);
-            let Some(d) = delta else {
-                out[q] = [Vec3A::ZERO; 4];
-                continue;
-            };
-            if softness > 0.0 {
-                so_far[q] += k.omega * d;
-            }
-            let forces = grad.map(|g| g * -d);
-            for j in 0..4 {
-                local[corners[j]] += forces[j] * blocks.scale[ids[j]];
-            }
-            out[q] = forces;
         }
     }
 }

@@ -79,7 +79,9 @@ pub(super) fn run(member: Member<'_>, inputs: &Inputs<'_>, outputs: &Outputs<'_>
     for dispatch in inputs.dispatches {
         let iteration = dispatch.iteration.unwrap_or(0) as usize;
         match (inputs.stages[dispatch.stage], dispatch.group) {
-            (PassKind::Volume, Some(at)) if inputs.sweeps[at.sweep].blocks.is_some() => {
+            (PassKind::SpringConstraint | PassKind::Distance | PassKind::Volume, Some(at))
+                if inputs.sweeps[at.sweep].blocks.is_some() =>
+            {
                 let blocks = inputs.sweeps[at.sweep]
                     .blocks
                     .as_ref()

@@ -1,43 +1,48 @@
 //! Block Gauss-Seidel on `cpu-ref` (docs/PHYSICS.md, "Block Gauss-Seidel"): every block
-//! from the iteration's forces, its tets one after another in colour order against the
-//! forces its earlier tets left, in double precision.
+//! from the iteration's forces, its constraints one after another in colour order against
+//! the forces its earlier constraints left, in double precision.
 
 use glam::DVec3;
 
-use super::step_forces::StepForces;
 use super::ReferenceBackend;
 use crate::model::ConstraintBlocks;
-use crate::schedule::family::{ConstraintFamily, Volumes};
+use crate::physics::Solve;
+use crate::schedule::family::ConstraintFamily;
 
 impl ReferenceBackend {
-    /// The per-node sums of the volume constraints' forces of one block sweep (`members`,
-    /// the sweep's one group in block order). Each block starts from the step's forces and
-    /// keeps its own copy of its nodes' forces: a tet's force `f` moves them by
-    /// `a_scale * weight * omega * f` (`factors`: the node's `(a_scale, weight)` for its
-    /// block degree), as the node will move when every block's forces are applied, so later
-    /// tets of the block see it; a hub's copy stays (Jacobi).
-    pub(super) fn sweep_blocks(
+    /// The per-node sums of the constraint forces of one block sweep (`members`, the sweep's
+    /// one group in block order) against the forces `f`; `lambda`: the compliant
+    /// multipliers so far, per constraint. Each block starts from `f` and keeps its own copy
+    /// of its nodes' forces: a constraint's force moves them by `a_scale * weight * omega`
+    /// times it (`factors`: the node's `(a_scale, weight)` for its block degree), as the
+    /// node will move when every block's forces are applied, so later constraints of the
+    /// block see it; a hub's copy stays (Jacobi).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn sweep_blocks<const K: usize, F: ConstraintFamily<f64, K>>(
         &self,
         members: &[u32],
         blocks: &ConstraintBlocks,
-        family: &Volumes<f64>,
-        step: &mut StepForces,
+        family: &F,
+        solve: Solve,
+        f: &[DVec3],
         factors: &[(f64, f64)],
+        lambda: &mut [f64],
     ) -> Vec<DVec3> {
         let (model, omega) = (&self.problem.model, self.problem.params.omega);
+        let elements = F::elements(model);
         let a_scale: Vec<f64> = factors.iter().map(|f| f.0).collect();
         let mut sum = vec![DVec3::ZERO; model.node_count()];
         for b in 0..blocks.len() {
             let nodes = blocks.nodes.row(b);
-            let mut local: Vec<DVec3> = nodes.iter().map(|&k| step.total[k as usize]).collect();
+            let mut local: Vec<DVec3> = nodes.iter().map(|&k| f[k as usize]).collect();
             for p in blocks.members(b) {
                 let e = members[p] as usize;
-                let ids = model.tets[e].map(|i| i as usize);
-                let corners = blocks.corners[p].map(|l| l as usize);
+                let ids = elements[e].map(|i| i as usize);
+                let corners: [usize; K] = std::array::from_fn(|k| blocks.corners[p][k] as usize);
                 let (c, grad, softness, damping) = family.evaluate(e, ids.map(|i| self.x[i]));
                 let (c, so_far) = match softness > 0.0 {
-                    true => (c, softness * step.volume_lambda[e]),
-                    false => (step.solve.hard(c), 0.0),
+                    true => (c, softness * lambda[e]),
+                    false => (solve.hard(c), 0.0),
                 };
                 let forces = corners.map(|l| local[l]);
                 let Some(delta) =
@@ -46,9 +51,9 @@ impl ReferenceBackend {
                     continue;
                 };
                 if softness > 0.0 {
-                    step.volume_lambda[e] += omega * delta;
+                    lambda[e] += omega * delta;
                 }
-                for k in 0..4 {
+                for k in 0..K {
                     let force = grad[k] * -delta;
                     let (scale, weight) = factors[ids[k]];
                     sum[ids[k]] += force;

@@ -260,12 +260,22 @@ impl ReferenceBackend {
             .map(|f| f.0)
             .collect();
         let members = sweep.groups.group(at.group);
-        if let (Some(blocks), Family::Volumes(f)) = (&sweep.blocks, &self.families[at.sweep]) {
-            let factors = &self.group_factors[at.sweep][at.group];
-            return self.sweep_blocks(members, blocks, f, step, factors);
-        }
         let (total, solve) = (&step.total, step.solve);
         let (springs, volumes) = (&mut step.spring_lambda, &mut step.volume_lambda);
+        if let Some(blocks) = &sweep.blocks {
+            let factors = &self.group_factors[at.sweep][at.group];
+            return match &self.families[at.sweep] {
+                Family::Springs(f) => {
+                    self.sweep_blocks(members, blocks, f, solve, total, factors, springs)
+                }
+                Family::Distances(f) => {
+                    self.sweep_blocks(members, blocks, f, solve, total, factors, springs)
+                }
+                Family::Volumes(f) => {
+                    self.sweep_blocks(members, blocks, f, solve, total, factors, volumes)
+                }
+            };
+        }
         match &self.families[at.sweep] {
             Family::Springs(f) => self.sweep(members, f, solve, total, &a_scale, springs),
             Family::Distances(f) => self.sweep(members, f, solve, total, &a_scale, springs),

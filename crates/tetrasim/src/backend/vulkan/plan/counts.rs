@@ -121,6 +121,8 @@ pub struct SweepOffsets {
     pub member: u32,
     /// Its first slot in the contributions.
     pub slot: u32,
+    /// Its first row in the block rows (block Gauss-Seidel).
+    pub block: u32,
 }
 
 /// Sizes of body contact ([`crate::contact::BodyContact`]) and its broad phase on the GPU.

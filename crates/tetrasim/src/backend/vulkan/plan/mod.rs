@@ -306,12 +306,16 @@ fn buffers(
         if !schedule.chebyshev.is_empty() {
             buffers.push((ChebyshevBefore, 16 * n, 0));
         }
-        for sweep in sweeps {
-            if let Some(shape) = sweep.blocks {
-                buffers.push((BlockRows, 16 * u64::from(shape.blocks), 0));
-                buffers.push((BlockNodes, 4 * u64::from(shape.nodes), 0));
-                buffers.push((BlockCorners, 16 * sweep.constraints(), 0));
-            }
+        // Block Gauss-Seidel: the blocked sweeps' rows and nodes one after another, and a
+        // uvec4 per member of every sweep (read from the sweep's `member_first`).
+        let shapes = sweeps.iter().filter_map(|w| w.blocks);
+        let (rows, block_nodes) = shapes.fold((0, 0), |(r, k), b| {
+            (r + u64::from(b.blocks), k + u64::from(b.nodes))
+        });
+        if rows > 0 {
+            buffers.push((BlockRows, 16 * rows, 0));
+            buffers.push((BlockNodes, 4 * block_nodes, 0));
+            buffers.push((BlockCorners, 16 * constraints, 0));
         }
         // The compliant constraints' multipliers so far in the step, one float per
         // constraint of a sweep that tracks them. Volume sweeps always get theirs: the
@@ -547,7 +551,9 @@ impl PassPlan {
         // Block Gauss-Seidel: one workgroup per block.
         let blocks = stage.sweep.and_then(|s| schedule.sweeps[s].blocks);
         let (variant, workgroup_size, elements) = match (stage.kind, blocks) {
-            (PassKind::Volume, Some(shape)) if schedule.gather => {
+            (PassKind::Volume | PassKind::SpringConstraint | PassKind::Distance, Some(shape))
+                if schedule.gather =>
+            {
                 let size = workgroups::for_blocks(shape);
                 (Variant::Named("block"), size, shape.blocks * size)
             }

@@ -88,6 +88,7 @@ impl EnginePlan {
             at.group += sweep.groups.len() as u32;
             at.member += sweep.constraints() as u32;
             at.slot += (sweep.corners() * sweep.constraints()) as u32;
+            at.block += sweep.blocks.map_or(0, |b| b.blocks);
         }
         at
     }

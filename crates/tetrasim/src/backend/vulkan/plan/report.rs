@@ -37,7 +37,9 @@ impl EnginePlan {
         let sized: Vec<String> = self
             .passes
             .iter()
-            .filter(|p| p.workgroup_size != self.workgroup_size || p.lanes() > 1)
+            .filter(|p| {
+                p.workgroup_size != self.workgroup_size || p.lanes() > 1 || p.solves_blocks()
+            })
             .map(|p| match (p.lanes(), self.block_shape(p)) {
                 (_, Some(b)) => format!(
                     "{} {} ({} blocks, {} colours at most)",

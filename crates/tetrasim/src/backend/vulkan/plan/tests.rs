@@ -70,7 +70,8 @@ fn implicit_springs_sweep_before_the_volumes_and_share_the_gather_buffers() {
         SweepOffsets {
             group: 2,
             member: 30,
-            slot: 60
+            slot: 60,
+            block: 0
         }
     );
     // Per iteration: 2 spring groups and 3 volume groups, each with its apply.
@@ -399,4 +400,67 @@ fn a_gather_over_many_slots_per_node_gets_lanes() {
         blocks: None,
     }];
     assert_eq!(apply(&six), (1, COUNTS.nodes, vec![1]));
+}
+
+#[test]
+fn block_sweeps_run_one_workgroup_per_block_with_their_rows_one_after_another() {
+    use crate::schedule::BlockShape;
+    let params = SimParams {
+        springs: SpringKind::Implicit,
+        global_volume: Some(false),
+        block_size: 40,
+        ..SimParams::default()
+    };
+    let shape = |blocks, nodes, largest| BlockShape {
+        blocks,
+        nodes,
+        largest,
+        colours: 7,
+    };
+    let sweeps = [
+        SweepPlan {
+            kind: ConstraintKind::Spring,
+            groups: vec![30],
+            blocks: Some(shape(1, 10, 30)),
+        },
+        SweepPlan {
+            kind: ConstraintKind::Volume,
+            groups: vec![12],
+            blocks: Some(shape(2, 14, 7)),
+        },
+    ];
+    let p = plan(&params, &sweeps);
+    assert_eq!(
+        p.pass_list(),
+        [
+            "10 x (spring_constraint#block, constraint_apply#gather[floor], volume#block, constraint_apply#gather[floor])",
+            "integrate[floor]",
+            "check"
+        ]
+    );
+    let volume = (p.passes.iter())
+        .find(|pass| pass.stage.kind == PassKind::Volume)
+        .unwrap();
+    // One invocation per tet of the largest block, a multiple of 32; one workgroup a block.
+    assert_eq!((volume.workgroup_size, volume.elements), (32, 64));
+    assert_eq!(p.block_shape(volume).map(|b| b.blocks), Some(2));
+    assert_eq!(p.elements_per_dispatch(volume), 64);
+    assert_eq!(
+        p.sweep_offsets(1).block,
+        1,
+        "the volumes' rows follow the springs'"
+    );
+    assert_eq!(p.buffer(BufferId::BlockRows).map(|b| b.bytes), Some(16 * 3));
+    assert_eq!(
+        p.buffer(BufferId::BlockNodes).map(|b| b.bytes),
+        Some(4 * 24)
+    );
+    assert_eq!(
+        p.buffer(BufferId::BlockCorners).map(|b| b.bytes),
+        Some(16 * 42)
+    );
+    // The cost model counts a block pass by its colours.
+    let h200 = gpu_profile("NVIDIA H200").unwrap();
+    let colour = h200.block_colour_ns * 1e-3;
+    assert!(h200.dispatch_us(&p, volume) >= h200.dispatch_us + 7.0 * colour);
 }
