@@ -11,7 +11,8 @@
 //! so that every compressed tet meets it: switching the sweeps off moves nodes by 5e-4 and
 //! 1.2e-3 m on `cpu-ref`; with Gauss-Seidel, with Jacobi and with split contact), block
 //! Gauss-Seidel (blocks of 64; of 40 with compliant volumes, implicit springs in blocks too
-//! and Anderson; of 48 with distance constraints; hubs in `tests/block_gauss_seidel.rs`),
+//! and Anderson; of 48 with distance constraints; of 64 with the inversion floor; hubs in
+//! `tests/block_gauss_seidel.rs`),
 //! each on a small
 //! ball dropped from 1 cm so that the floor is part of every run (60 frames).
 //!
@@ -324,6 +325,16 @@ fn cases() -> Vec<(&'static str, Model, SimParams)> {
             SimParams {
                 block_size: 48,
                 ..base(Method::Distance)
+            },
+        ),
+        (
+            "block gauss-seidel, blocks of 64, inversion floor at the rest volume, deformed",
+            gpu_support::jittered(&plain, 0.02, 0.3, 101),
+            SimParams {
+                block_size: 64,
+                inversion_sweeps: 2,
+                inversion_floor: 1.0,
+                ..base(Method::Volume)
             },
         ),
         ("two objects, two materials", two_materials(&mesh), {

@@ -12,12 +12,17 @@
 // @variant ext: ATOMICS_EXT
 // @variant cas: ATOMICS_CAS
 // @variant gather: GATHER
+// Variant `block` (block Gauss-Seidel, physics.md): one workgroup per block of the volume
+// sweep, colour after colour in shared memory (common/block_sweep.glsl), each tet measured
+// where the block's copies of its nodes end the step.
+// @variant block: GATHER BLOCK
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/volume.glsl"
 #include "physics/implicit.glsl"
 #include "physics/contact.glsl"
 #include "common/constraint_output.glsl"
+#include "common/block.glsl"
 
 // The fraction of the rest volume below which a tet is pushed back (the bits of a float).
 layout(constant_id = 1) const float INVERSION_FLOOR = 0.1;
@@ -29,6 +34,45 @@ layout(std430, set = 0, binding = B_TETS) readonly restrict buffer Tets { uvec4 
 layout(std430, set = 0, binding = B_REST_VOLUMES) readonly restrict buffer RestVolumes { float rest_volumes[]; };
 layout(std430, set = 0, binding = B_CONSTRAINT_DEGREE) readonly restrict buffer Degrees { float degrees[]; };
 
+// The floor's multiplier of tet t at the end positions q of its nodes (inverse masses w[k],
+// a-scales s[k]), and its gradients g there: 0 above the floor, and in split contact's
+// velocity solve (a position correction, no velocity).
+float floor_multiplier(uint t, vec3 q[4], float w[4], float s[4], out vec3 g[4]) {
+    float c = volume_constraint(q[0], q[1], q[2], q[3], INVERSION_FLOOR * rest_volumes[t], g[0], g[1], g[2], g[3]);
+    if (!(c < 0.0) || pc.phase == PHASE_VELOCITY) {
+        return 0.0;
+    }
+    float a = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        a += s[k] * w[k] * dot(g[k], g[k]);
+    }
+    return compliant_multiplier(c, a, 0.0, pc.dt, 0.0, 0.0, pc.epsilon);
+}
+
+#ifdef BLOCK
+#define BLOCK_ARITY 4u
+
+void block_prepare(uint t, uvec4 corner) {}
+
+float block_solve(uint t, uvec4 corner, out vec3 force[4]) {
+    vec3 q[4];
+    float w[4];
+    float s[4];
+    for (uint j = 0u; j < 4u; ++j) {
+        uint l = corner[j];
+        w[j] = s_x[l].w;
+        s[j] = s_v[l].w;
+        q[j] = end_position(s_x[l].xyz, s_v[l].xyz, s_f[l].xyz, w[j], pc.dt);
+    }
+    vec3 g[4];
+    float lambda = floor_multiplier(t, q, w, s, g);
+    for (uint j = 0u; j < 4u; ++j) {
+        force[j] = -lambda * g[j];
+    }
+    return lambda;
+}
+#include "common/block_sweep.glsl"
+#else
 void main() {
     uint position;
     uint t;
@@ -38,24 +82,18 @@ void main() {
     uvec4 tet = tets[t];
     vec3 q[4];
     float w[4];
+    float s[4];
     for (int k = 0; k < 4; ++k) {
         uint node = tet[k];
         vec4 x = positions[node];
         w[k] = x.w;
+        s[k] = combine_a_scale(pc.combine, degrees[group_node(node)]);
         q[k] = end_position(x.xyz, velocities[node].xyz, forces[node].xyz, x.w, pc.dt);
     }
     vec3 g[4];
-    float c = volume_constraint(q[0], q[1], q[2], q[3], INVERSION_FLOOR * rest_volumes[t], g[0], g[1], g[2], g[3]);
-    float lambda = 0.0;
-    // A position correction: none in split contact's velocity solve.
-    if (c < 0.0 && pc.phase != PHASE_VELOCITY) {
-        float a = 0.0;
-        for (int k = 0; k < 4; ++k) {
-            a += combine_a_scale(pc.combine, degrees[group_node(tet[k])]) * w[k] * dot(g[k], g[k]);
-        }
-        lambda = compliant_multiplier(c, a, 0.0, pc.dt, 0.0, 0.0, pc.epsilon);
-    }
+    float lambda = floor_multiplier(t, q, w, s, g);
     for (uint k = 0u; k < 4u; ++k) {
         constraint_output(position, 4u, k, tet[k], -lambda * g[k], lambda != 0.0);
     }
 }
+#endif

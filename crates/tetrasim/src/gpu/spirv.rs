@@ -209,13 +209,13 @@ mod tests {
         }
         // spring_scatter, spring_constraint, distance, volume, inversion_floor,
         // contact_solve: ext + cas each; spring_constraint, distance, volume,
-        // inversion_floor: gather; spring_constraint, distance, volume: block;
+        // inversion_floor: gather; spring_constraint, distance, volume, inversion_floor: block;
         // constraint_apply: sums, gather,
         // chebyshev, gather_chebyshev, sums_colliders, gather_colliders; global_volume,
         // integrate, contact_apply and anderson_mix: colliders (their `plain` variants keep
         // the shader's own key); integrate: split, colliders_split; split_velocity:
         // colliders; contact_measure: colliders, bodies, colliders_bodies.
-        assert_eq!(variants, 35);
+        assert_eq!(variants, 36);
     }
 
     #[test]

@@ -30,13 +30,6 @@ impl SimParams {
                 self.method
             ));
         }
-        if self.inversion_sweeps > 0 {
-            return refuse(
-                "does not combine with inversion_sweeps yet (the inversion floor sweeps \
-                 colour groups); use block_size 0 with inversion sweeps"
-                    .into(),
-            );
-        }
         Ok(())
     }
 }

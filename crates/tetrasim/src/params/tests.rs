@@ -143,13 +143,6 @@ fn blocks_need_gauss_seidel_constraints_and_at_most_a_workgroup() {
             },
             "method mss",
         ),
-        (
-            SimParams {
-                inversion_sweeps: 2,
-                ..on.clone()
-            },
-            "inversion_sweeps",
-        ),
     ];
     for (params, says) in cases {
         let message = params.validate().unwrap_err().to_string();

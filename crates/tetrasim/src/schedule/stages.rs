@@ -423,6 +423,9 @@ impl Schedule {
                     true => vec![(GroupMembers, Read), (Contributions, Write)],
                     false => vec![(ConstraintSum, ReadWrite)],
                 });
+                if sweeps[volumes].blocks.is_some() {
+                    bindings.extend([(BlockRows, Read), (BlockNodes, Read), (BlockCorners, Read)]);
+                }
                 stages.push(Stage {
                     sweep: Some(volumes),
                     ..stage(

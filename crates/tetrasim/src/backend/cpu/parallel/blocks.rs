@@ -15,14 +15,14 @@ use crate::model::{ConstraintBlocks, Csr};
 #[derive(Debug, Clone)]
 pub(super) struct Blocks {
     /// Row `b`: member positions of block `b` (`blocks + 1` offsets).
-    first: Vec<u32>,
+    pub(super) first: Vec<u32>,
     /// Row `b`: the global indices of block `b`'s nodes.
-    nodes: Csr,
+    pub(super) nodes: Csr,
     /// Per member position: its corners' local indices in its block.
-    corners: Vec<[u32; 4]>,
+    pub(super) corners: Vec<[u32; 4]>,
     /// Per node: how far a force moves it in its block's copy, `a_scale * omega * weight`
     /// (0 for a hub, whose copies stay).
-    scale: Vec<f32>,
+    pub(super) scale: Vec<f32>,
 }
 
 impl Blocks {

@@ -99,6 +99,17 @@ pub(super) fn run(member: Member<'_>, inputs: &Inputs<'_>, outputs: &Outputs<'_>
                 // and nobody writes `f`.
                 unsafe { solve(inputs, outputs, at.sweep, at.group, block) };
             }
+            (PassKind::InversionFloor, Some(at)) if inputs.sweeps[at.sweep].blocks.is_some() => {
+                let blocks = inputs.sweeps[at.sweep]
+                    .blocks
+                    .as_ref()
+                    .map_or(0, |b| b.len());
+                // SAFETY: solve phase: the members take disjoint runs of whole blocks (their
+                // results) and nobody writes `f`.
+                unsafe {
+                    super::inversion::floor_blocks(inputs, outputs, at.sweep, member.block(blocks))
+                };
+            }
             (PassKind::InversionFloor, Some(at)) => {
                 let range = inputs.sweeps[at.sweep].range(at.group);
                 let block = member.block(range.len());

@@ -1,6 +1,7 @@
 //! The inversion floor on `cpu-ref` (`inversion_floor`, docs/PHYSICS.md "Inversion floor"):
 //! each tet of a volume group measured where its nodes end the step, in double precision,
-//! tet after tet.
+//! tet after tet; in block Gauss-Seidel's blocks, against the block's copies of its nodes'
+//! forces, which each tet's force moves as the volume sweep's do.
 
 use glam::DVec3;
 
@@ -17,35 +18,65 @@ impl ReferenceBackend {
     /// split contact's velocity solve: the floor corrects positions, which the full solve
     /// keeps, and gives them no velocity.
     pub(super) fn inversion_group(&self, at: GroupAt, step: &StepForces) -> Vec<DVec3> {
-        let (model, params) = (&self.problem.model, &self.problem.params);
-        let dt = params.dt;
-        let a_scale = &self.group_factors[at.sweep][at.group];
+        let model = &self.problem.model;
+        let factors = &self.group_factors[at.sweep][at.group];
         let sweep = &self.problem.sweeps[at.sweep];
         let mut sum = vec![DVec3::ZERO; model.node_count()];
         // A position correction: none in split contact's velocity solve.
         if step.solve == Solve::Velocity {
             return sum;
         }
-        for &t in sweep.groups.group(at.group) {
-            let ids = model.tets[t as usize].map(|i| i as usize);
-            let w = ids.map(|i| model.inv_mass[i]);
-            let end = [0, 1, 2, 3].map(|k| {
-                let i = ids[k];
-                end_position(self.x[i], self.v[i], step.total[i], w[k], dt)
-            });
-            let rest = model.rest_volume[t as usize];
-            let Some((c, grad)) = inversion_floor(end, rest, params.inversion_floor) else {
-                continue;
-            };
-            let a: f64 = (0..4)
-                .map(|k| a_scale[ids[k]].0 * w[k] * grad[k].length_squared())
-                .sum();
-            if let Some(lambda) = implicit_multiplier(c, a, 0.0, dt, params.constraint_epsilon) {
+        let members = sweep.groups.group(at.group);
+        let Some(blocks) = &sweep.blocks else {
+            for &t in members {
+                let ids = model.tets[t as usize].map(|i| i as usize);
+                if let Some(force) = self.floor_force(t, ids.map(|i| step.total[i]), factors) {
+                    for k in 0..4 {
+                        sum[ids[k]] += force[k];
+                    }
+                }
+            }
+            return sum;
+        };
+        let omega = self.problem.params.omega;
+        for b in 0..blocks.len() {
+            let nodes = blocks.nodes.row(b);
+            let mut local: Vec<DVec3> = nodes.iter().map(|&k| step.total[k as usize]).collect();
+            for p in blocks.members(b) {
+                let t = members[p];
+                let ids = model.tets[t as usize].map(|i| i as usize);
+                let corners = blocks.corners[p].map(|l| l as usize);
+                let Some(force) = self.floor_force(t, corners.map(|l| local[l]), factors) else {
+                    continue;
+                };
                 for k in 0..4 {
-                    sum[ids[k]] -= grad[k] * lambda;
+                    sum[ids[k]] += force[k];
+                    if !blocks.hub[ids[k]] {
+                        let (scale, weight) = factors[ids[k]];
+                        local[corners[k]] += force[k] * (scale * weight * omega);
+                    }
                 }
             }
         }
         sum
+    }
+
+    /// The floor's forces on tet `t` whose nodes have the forces `f`, if it ends the step
+    /// below the floor (`factors`: each node's `(a_scale, weight)`).
+    fn floor_force(&self, t: u32, f: [DVec3; 4], factors: &[(f64, f64)]) -> Option<[DVec3; 4]> {
+        let (model, params) = (&self.problem.model, &self.problem.params);
+        let ids = model.tets[t as usize].map(|i| i as usize);
+        let w = ids.map(|i| model.inv_mass[i]);
+        let end = [0, 1, 2, 3].map(|k| {
+            let i = ids[k];
+            end_position(self.x[i], self.v[i], f[k], w[k], params.dt)
+        });
+        let rest = model.rest_volume[t as usize];
+        let (c, grad) = inversion_floor(end, rest, params.inversion_floor)?;
+        let a: f64 = (0..4)
+            .map(|k| factors[ids[k]].0 * w[k] * grad[k].length_squared())
+            .sum();
+        let lambda = implicit_multiplier(c, a, 0.0, params.dt, params.constraint_epsilon)?;
+        Some(grad.map(|g| g * -lambda))
     }
 }

@@ -548,12 +548,11 @@ impl PassPlan {
             (Domain::Surface, Some(g)) => g.objects * g.chunks(global_workgroup) * global_workgroup,
             (Domain::Surface, None) => 0,
         };
-        // Block Gauss-Seidel: one workgroup per block.
+        // Block Gauss-Seidel: a stage of a blocked sweep (its constraints, the inversion
+        // floor) runs one workgroup per block.
         let blocks = stage.sweep.and_then(|s| schedule.sweeps[s].blocks);
-        let (variant, workgroup_size, elements) = match (stage.kind, blocks) {
-            (PassKind::Volume | PassKind::SpringConstraint | PassKind::Distance, Some(shape))
-                if schedule.gather =>
-            {
+        let (variant, workgroup_size, elements) = match blocks {
+            Some(shape) if schedule.gather => {
                 let size = workgroups::for_blocks(shape);
                 (Variant::Named("block"), size, shape.blocks * size)
             }
