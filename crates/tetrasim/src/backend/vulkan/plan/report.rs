@@ -127,14 +127,22 @@ impl EnginePlan {
                 1e6 * self.bytes_per_frame() as f64 / bandwidth
             );
         }
+        let blocks = self.passes.iter().any(|p| p.solves_blocks());
         for gpu in GPU_PROFILES {
             let _ = writeln!(
                 out,
                 "predicted GPU time per frame on {} (cost model: {} us per dispatch, occupancy, \
-                 bytes, atomics; docs/GPU.md): {:.3} ms",
+                 bytes, atomics; docs/GPU.md): {:.3} ms{}",
                 gpu.name,
                 gpu.dispatch_us,
-                gpu.frame_ms(self)
+                gpu.frame_ms(self),
+                match blocks {
+                    true => format!(
+                        " (block passes at an assumed {} ns per colour, not yet measured)",
+                        gpu.block_colour_ns
+                    ),
+                    false => String::new(),
+                }
             );
         }
         out
