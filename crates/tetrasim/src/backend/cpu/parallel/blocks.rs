@@ -42,6 +42,17 @@ impl Blocks {
     pub(super) fn len(&self) -> usize {
         self.first.len() - 1
     }
+
+    /// The member positions of the blocks `range`.
+    pub(super) fn positions(&self, range: &std::ops::Range<usize>) -> std::ops::Range<usize> {
+        self.first[range.start] as usize..self.first[range.end] as usize
+    }
+
+    /// Block `b`'s copies of its nodes' forces `f`, into `local`.
+    pub(super) fn load(&self, b: usize, f: &[Vec3A], local: &mut Vec<Vec3A>) {
+        local.clear();
+        local.extend(self.nodes.row(b).iter().map(|&i| f[i as usize]));
+    }
 }
 
 /// Solves the blocks `range` of sweep `s` (its one group) against the forces.
@@ -59,7 +70,7 @@ pub(super) unsafe fn solve(
     let Some(blocks) = &sweep.blocks else {
         return;
     };
-    let positions = blocks.first[range.start] as usize..blocks.first[range.end] as usize;
+    let positions = blocks.positions(&range);
     // SAFETY: nobody writes `f`; these blocks' results and multipliers are this thread's
     // alone (the caller's promise), here and below.
     let (f, so_far) = unsafe {
@@ -126,8 +137,7 @@ impl Run<'_> {
         let a_scale = &sweep.a_scale[..sweep.nodes];
         let mut local: Vec<Vec3A> = Vec::new();
         for b in range {
-            local.clear();
-            local.extend(blocks.nodes.row(b).iter().map(|&i| self.f[i as usize]));
+            blocks.load(b, self.f, &mut local);
             let span = blocks.first[b] as usize..blocks.first[b + 1] as usize;
             for (p, element) in span.clone().zip(&nodes[span]) {
                 let q = p - self.first;

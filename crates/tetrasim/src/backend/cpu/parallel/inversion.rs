@@ -70,7 +70,7 @@ pub(super) unsafe fn floor_blocks(
     };
     let a_scale = &sweep.a_scale[..sweep.nodes];
     let (x, v, w, k) = (inputs.x, inputs.v, inputs.inv_mass, inputs.k);
-    let positions = blocks.first[range.start] as usize..blocks.first[range.end] as usize;
+    let positions = blocks.positions(&range);
     // SAFETY: nobody writes `f`; these blocks' results are this thread's alone (the
     // caller's promise).
     let (f, out) = unsafe { (outputs.f.whole(), outputs.tet_out.part(positions.clone())) };
@@ -81,8 +81,7 @@ pub(super) unsafe fn floor_blocks(
     }
     let mut local: Vec<Vec3A> = Vec::new();
     for b in range {
-        local.clear();
-        local.extend(blocks.nodes.row(b).iter().map(|&i| f[i as usize]));
+        blocks.load(b, f, &mut local);
         for p in blocks.first[b] as usize..blocks.first[b + 1] as usize {
             let t = sweep.members.items[p] as usize;
             let ids = sweep.tet_nodes[p].map(|i| i as usize);
