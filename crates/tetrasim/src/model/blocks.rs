@@ -114,6 +114,10 @@ impl ConstraintGroups {
         }
         cuts.push(elements.len());
         cuts.dedup();
+        // A sweep without constraints keeps one empty block: a block pass always has a row.
+        if cuts.len() < 2 {
+            cuts.push(0);
+        }
         let mut members = Vec::with_capacity(elements.len());
         let mut corners = Vec::with_capacity(elements.len());
         let mut colour = Vec::with_capacity(elements.len());
@@ -252,6 +256,12 @@ mod tests {
             assert!(blocks.nodes.row(b).len() <= MAX_BLOCK_NODES);
         }
         assert_eq!(blocks.most_colours(), 1);
+        let (none, empty) = ConstraintGroups::blocked::<4>(&[], 4, 64);
+        assert_eq!(
+            (none.members.items.len(), empty.len()),
+            (0, 1),
+            "one empty block"
+        );
     }
 
     #[test]
