@@ -73,6 +73,15 @@ impl ConstraintBlocks {
             .unwrap_or(0)
     }
 
+    /// How far a force moves node `k`'s copy in its block: `a_scale * weight * omega` of
+    /// its `factors` (`(a_scale, weight)` per node), 0 for a hub, whose copies stay.
+    pub fn copy_scale(&self, k: usize, factors: &[(f64, f64)], omega: f64) -> f64 {
+        match self.hub[k] {
+            true => 0.0,
+            false => factors[k].0 * factors[k].1 * omega,
+        }
+    }
+
     /// The most colours in one block.
     pub fn most_colours(&self) -> u32 {
         self.colours.iter().copied().max().unwrap_or(0)

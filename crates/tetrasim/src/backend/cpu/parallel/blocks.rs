@@ -28,13 +28,14 @@ pub(super) struct Blocks {
 impl Blocks {
     /// The blocks of `blocks` with each node's `(a_scale, weight)` and `omega`.
     pub(super) fn new(blocks: ConstraintBlocks, factors: &[(f64, f64)], omega: f64) -> Self {
+        let scale = (0..factors.len())
+            .map(|k| blocks.copy_scale(k, factors, omega) as f32)
+            .collect();
         Blocks {
             first: blocks.first,
             nodes: blocks.nodes,
             corners: blocks.corners,
-            scale: (factors.iter().zip(&blocks.hub))
-                .map(|(&(a, w), &hub)| if hub { 0.0 } else { (a * w * omega) as f32 })
-                .collect(),
+            scale,
         }
     }
 

@@ -105,17 +105,12 @@ impl Sweep {
         let n = model.node_count();
         let slots = ConstraintKind::node_slots(&sweep, model);
         let (kind, groups) = (sweep.kind, sweep.groups);
-        let blocks = (sweep.blocks).map(|b| {
-            let factors: Vec<(f64, f64)> = (groups.degree.iter())
-                .map(|&d| params.combine.node_factors(d))
-                .collect();
-            blocks::Blocks::new(b, &factors, params.omega)
-        });
         let factors: Vec<(f64, f64)> = groups
             .degree
             .iter()
             .map(|&d| params.combine.node_factors(d))
             .collect();
+        let blocks = (sweep.blocks).map(|b| blocks::Blocks::new(b, &factors, params.omega));
         let members = &groups.members.items;
         let (pair_nodes, tet_nodes) = match kind {
             ConstraintKind::Volume => (Vec::new(), in_group_order(members, &model.tets)),

@@ -55,11 +55,8 @@ impl ReferenceBackend {
                 }
                 for k in 0..K {
                     let force = grad[k] * -delta;
-                    let (scale, weight) = factors[ids[k]];
                     sum[ids[k]] += force;
-                    if !blocks.hub[ids[k]] {
-                        local[corners[k]] += force * (scale * weight * omega);
-                    }
+                    local[corners[k]] += force * blocks.copy_scale(ids[k], factors, omega);
                 }
             }
         }

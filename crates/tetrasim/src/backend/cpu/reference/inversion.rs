@@ -51,10 +51,7 @@ impl ReferenceBackend {
                 };
                 for k in 0..4 {
                     sum[ids[k]] += force[k];
-                    if !blocks.hub[ids[k]] {
-                        let (scale, weight) = factors[ids[k]];
-                        local[corners[k]] += force[k] * (scale * weight * omega);
-                    }
+                    local[corners[k]] += force[k] * blocks.copy_scale(ids[k], factors, omega);
                 }
             }
         }
