@@ -123,7 +123,7 @@ impl std::str::FromStr for SolverSetting {
 
     /// `NAME[:GROUPS|:blockB][+global][+andersonM][+inversionN]`, NAME `jacobi`,
     /// `chebyshev` or `gauss-seidel` (groups, for Gauss-Seidel only, default 8; or blocks of
-    /// B tets, 1 to 1024), M Anderson acceleration's memory (1 to 8), N the inversion
+    /// B tets, 1 to 16777216; above 1024 thread blocks, `cpu` backends only), M Anderson acceleration's memory (1 to 8), N the inversion
     /// sweeps (1 to 64).
     fn from_str(text: &str) -> Result<Self> {
         let limit = tetrasim::params::MAX_INVERSION_SWEEPS;

@@ -59,6 +59,8 @@ fn default_sweep_has_the_grid_and_the_omega_points() {
     );
     assert_eq!(blocked.label(), "gauss-seidel:block512+global+anderson5");
     assert_eq!(blocked.apply(&SimParams::default()).block_size, 512);
+    let thread_blocks = "gauss-seidel:block43000".parse::<SolverSetting>().unwrap();
+    assert_eq!(thread_blocks.apply(&SimParams::default()).block_size, 43000);
     // A setting with inversion sweeps is the volume method's alone.
     let with_floor = SweepSpec {
         methods: vec![Method::Distance, Method::Volume],
@@ -84,7 +86,7 @@ fn default_sweep_has_the_grid_and_the_omega_points() {
         "gauss-seidel+inversion0",
         "gauss-seidel+inversion65",
         "gauss-seidel:block0",
-        "gauss-seidel:block1025+global",
+        "gauss-seidel:block16777217+global",
         "jacobi:block64",
     ] {
         let err = bad.parse::<SolverSetting>().unwrap_err().to_string();

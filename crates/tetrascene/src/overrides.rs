@@ -40,9 +40,10 @@ pub struct SolverOverrides {
     /// Colour groups of the Gauss-Seidel solver (default 8).
     #[cfg_attr(feature = "clap", arg(long))]
     pub groups: Option<u32>,
-    /// Block Gauss-Seidel (solver gauss-seidel, method volume; 0, off, default, to 1024):
-    /// the tets cut in index order into blocks of this many, each swept colour by colour
-    /// while all blocks run at once, in place of the colour groups (docs/PHYSICS.md).
+    /// Block Gauss-Seidel (solver gauss-seidel; 0, off, default): the constraints cut in
+    /// index order into blocks of this many, each swept colour by colour while all blocks
+    /// run at once, in place of the colour groups; up to 1024 one GPU workgroup each, above
+    /// that thread blocks for the cpu backends (docs/PHYSICS.md).
     #[cfg_attr(feature = "clap", arg(long, value_name = "TETS"))]
     pub block_size: Option<u32>,
     /// One global volume constraint per object, solved after the local constraints in every

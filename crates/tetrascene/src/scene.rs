@@ -15,7 +15,7 @@
 //! solver = "gauss-seidel" # colour groups (default), "jacobi" (the paper's method), or
 //!                     # "chebyshev" (jacobi with chebyshev semi-iteration)
 //! groups = 8          # colour groups of gauss-seidel
-//! block_size = 0      # block gauss-seidel: tets per block (0 off, up to 1024; method volume)
+//! block_size = 0      # block gauss-seidel: constraints per block (0 off; >1024: cpu only)
 //! rho = 0.95          # spectral radius estimate of chebyshev (lowered below 6
 //!                     # iterations: 0.934 at 5, 0.899 at 4)
 //! anderson = 0        # anderson acceleration's memory (0 off, up to 8; 5 for stiff bodies)

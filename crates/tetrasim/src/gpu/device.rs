@@ -305,7 +305,9 @@ impl DeviceInfo {
             return Err(Error::param(
                 "block_size",
                 format!(
-                    "blocks of {asked} tets need workgroups of {size} invocations and {shared}                      bytes of shared memory; device `{}` allows {limit} and {} (use a                      smaller block_size)",
+                    "blocks of {asked} tets need workgroups of {size} invocations and {shared} \
+                     bytes of shared memory; device `{}` allows {limit} and {} (use a \
+                     smaller block_size)",
                     self.name, self.max_shared_memory
                 ),
             ));

@@ -14,6 +14,11 @@
 //! hubs: the colouring ignores them, so their constraints share colours, and they take
 //! the Jacobi scaling (their degree is their constraint count) and keep the iteration's
 //! forces within every block (no block's copy of them moves).
+//!
+//! Both limits are a GPU workgroup's. Blocks larger than
+//! [`crate::params::MAX_WORKGROUP_BLOCK`] are thread blocks, which only the `cpu` backends
+//! run (a thread solves a block in colour order, from its own copy of the block's nodes):
+//! they touch any number of nodes and have no hubs.
 
 use std::collections::HashMap;
 
@@ -26,6 +31,36 @@ pub const MAX_BLOCK_NODES: usize = 320;
 /// The most constraints a node may have and still be coloured within its blocks: busier
 /// nodes are hubs (see the module).
 pub const HUB_DEGREE: u32 = 64;
+
+/// What a block may hold: the limits of a workgroup block, none for a thread block.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BlockLimits {
+    /// The most constraints in one block.
+    pub constraints: usize,
+    /// The most nodes one block may touch.
+    pub nodes: usize,
+    /// The most constraints a node may have and still be coloured (busier nodes are hubs).
+    pub hub_degree: u32,
+}
+
+impl BlockLimits {
+    /// The limits of blocks of `block_size` constraints (see the module).
+    pub fn of(block_size: u32) -> Self {
+        let constraints = block_size.max(1) as usize;
+        match block_size <= crate::params::MAX_WORKGROUP_BLOCK {
+            true => BlockLimits {
+                constraints,
+                nodes: MAX_BLOCK_NODES,
+                hub_degree: HUB_DEGREE,
+            },
+            false => BlockLimits {
+                constraints,
+                nodes: usize::MAX,
+                hub_degree: u32::MAX,
+            },
+        }
+    }
+}
 
 /// A sweep's constraints cut into blocks (the members of its one group, in block order).
 #[derive(Debug, Clone, PartialEq)]
@@ -89,7 +124,7 @@ impl ConstraintBlocks {
 }
 
 impl ConstraintGroups {
-    /// `elements` in blocks of at most `block_size` (see the module): one group holding
+    /// `elements` in blocks of at most `block_size` within [`BlockLimits::of`] it (see the module): one group holding
     /// every constraint in block order, each block's by colour, with each node's degree the
     /// number of blocks touching it; and the blocks. `elements` have at most 4 nodes.
     pub fn blocked<const K: usize>(
@@ -97,22 +132,23 @@ impl ConstraintGroups {
         nodes: usize,
         block_size: u32,
     ) -> (Self, ConstraintBlocks) {
-        let size = block_size.max(1) as usize;
+        let limits = BlockLimits::of(block_size);
         let mut touching = vec![0u32; nodes];
         for element in elements {
             for &k in element {
                 touching[k as usize] += 1;
             }
         }
-        let hub: Vec<bool> = touching.iter().map(|&d| d > HUB_DEGREE).collect();
-        // Cut in index order: a block ends at `size` constraints or before its nodes would
-        // pass MAX_BLOCK_NODES.
+        let hub: Vec<bool> = touching.iter().map(|&d| d > limits.hub_degree).collect();
+        // Cut in index order: a block ends at its most constraints or before its nodes would
+        // pass their limit.
         let mut cuts = vec![0usize];
         let mut local: HashMap<u32, u32> = HashMap::new();
         for (e, element) in elements.iter().enumerate() {
             let fresh = element.iter().filter(|k| !local.contains_key(k)).count();
             let count = e - cuts[cuts.len() - 1];
-            if count > 0 && (count == size || local.len() + fresh > MAX_BLOCK_NODES) {
+            let full = count == limits.constraints || local.len() + fresh > limits.nodes;
+            if count > 0 && full {
                 cuts.push(e);
                 local.clear();
             }
@@ -288,5 +324,23 @@ mod tests {
         // The shader's shared memory holds as many nodes as blocks may touch.
         let glsl = include_str!("../../glsl/common/block.glsl");
         assert!(glsl.contains(&format!("#define MAX_BLOCK_NODES {MAX_BLOCK_NODES}\n")));
+    }
+
+    #[test]
+    fn thread_blocks_have_no_node_limit_and_no_hubs() {
+        // The fan of `hubs_are_left_out_of_the_colouring`, and tets with no shared node.
+        let fan = HUB_DEGREE + 20;
+        let tets: Vec<[u32; 4]> = (0..fan).map(|i| [0, 1, 2 + i, 3 + i]).collect();
+        let size = crate::params::MAX_WORKGROUP_BLOCK + 1;
+        let (groups, blocks) = ConstraintGroups::blocked(&tets, fan as usize + 3, size);
+        assert!(!blocks.hub.iter().any(|&h| h), "no hubs in a thread block");
+        assert_eq!((blocks.len(), groups.degree[0]), (1, 1));
+        assert_eq!(blocks.most_colours(), fan, "every fan tet its own colour");
+        let apart: Vec<[u32; 4]> = (0..2000u32)
+            .map(|i| [4 * i, 4 * i + 1, 4 * i + 2, 4 * i + 3])
+            .collect();
+        let (_, blocks) = ConstraintGroups::blocked(&apart, 8000, size);
+        assert_eq!(blocks.len(), 2);
+        assert_eq!(blocks.nodes.row(0).len(), 4 * size as usize);
     }
 }

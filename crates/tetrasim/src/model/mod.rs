@@ -7,7 +7,7 @@ mod global;
 mod groups;
 mod material;
 
-pub use blocks::{ConstraintBlocks, HUB_DEGREE, MAX_BLOCK_NODES};
+pub use blocks::{BlockLimits, ConstraintBlocks, HUB_DEGREE, MAX_BLOCK_NODES};
 pub use builder::ModelBuilder;
 
 pub use global::{GlobalObject, GlobalVolume};

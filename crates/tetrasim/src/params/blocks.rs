@@ -1,7 +1,18 @@
 //! The checks of block Gauss-Seidel's key ([`SimParams::block_size`]).
 
-use super::{SimParams, Solver, MAX_BLOCK_SIZE};
+use super::{SimParams, Solver};
 use crate::error::{Error, Result};
+
+/// The largest block a GPU workgroup solves ([`SimParams::block_size`]): one invocation per
+/// constraint, and 1024 invocations is what GPUs offer. Blocks up to this size are
+/// workgroup blocks (at most [`crate::model::MAX_BLOCK_NODES`] nodes, busy nodes as hubs);
+/// larger ones are thread blocks, for the `cpu` backends only (docs/PHYSICS.md, "Thread
+/// blocks").
+pub const MAX_WORKGROUP_BLOCK: u32 = 1024;
+
+/// The largest [`SimParams::block_size`]: more constraints than any mesh the engine runs (a
+/// block larger than a sweep is the whole sweep, Gauss-Seidel in one order).
+pub const MAX_BLOCK_SIZE: u32 = 1 << 24;
 
 impl SimParams {
     /// Checks `block_size`: at most [`MAX_BLOCK_SIZE`], only with what sweeps in blocks.
@@ -12,7 +23,7 @@ impl SimParams {
         let refuse = |message: String| Err(Error::param("block_size", message));
         if self.block_size > MAX_BLOCK_SIZE {
             return refuse(format!(
-                "must be at most {MAX_BLOCK_SIZE} (a block is one GPU workgroup), got {}",
+                "must be at most {MAX_BLOCK_SIZE}, got {}",
                 self.block_size
             ));
         }
@@ -31,5 +42,22 @@ impl SimParams {
             ));
         }
         Ok(())
+    }
+
+    /// Checks that the blocks fit a GPU workgroup (the `vulkan` backend's plan asks): thread
+    /// blocks, larger than [`MAX_WORKGROUP_BLOCK`], run on the `cpu` backends only.
+    pub fn check_workgroup_blocks(&self) -> Result<()> {
+        let size = self.block_size;
+        if !self.solves_in_blocks() || size <= MAX_WORKGROUP_BLOCK {
+            return Ok(());
+        }
+        Err(Error::param(
+            "block_size",
+            format!(
+                "{size} makes thread blocks, which only the cpu backends run; on vulkan a \
+                 block is one workgroup of at most {MAX_WORKGROUP_BLOCK} constraints (use a \
+                 block_size of at most {MAX_WORKGROUP_BLOCK}, or backend cpu)"
+            ),
+        ))
     }
 }

@@ -6,6 +6,7 @@
 use serde::{Deserialize, Serialize};
 
 mod blocks;
+pub use blocks::{MAX_BLOCK_SIZE, MAX_WORKGROUP_BLOCK};
 mod contact;
 pub use contact::ContactMode;
 mod inversion;
@@ -248,9 +249,11 @@ pub struct SimParams {
     #[serde(default = "default_groups")]
     pub groups: u32,
     /// Block Gauss-Seidel (docs/PHYSICS.md, "Block Gauss-Seidel"; 0: off): each sweep's
-    /// constraints (tets, springs) cut into blocks of at most `block_size` (at most
-    /// [`MAX_BLOCK_SIZE`]), each swept colour by colour within an iteration while the blocks
-    /// run at once, in place of the colour groups (solver `gauss-seidel`).
+    /// constraints (tets, springs) cut into blocks of at most `block_size`, each swept colour
+    /// by colour within an iteration while the blocks run at once, in place of the colour
+    /// groups (solver `gauss-seidel`). Up to [`MAX_WORKGROUP_BLOCK`] a block is one GPU
+    /// workgroup on `vulkan`; larger blocks (up to [`MAX_BLOCK_SIZE`]) are thread blocks,
+    /// for `cpu` and `cpu-ref` only: fewer, larger blocks converge further per sweep.
     #[serde(default)]
     pub block_size: u32,
     /// One global volume constraint per object, solved after the local constraints in
@@ -548,11 +551,6 @@ pub const DEFAULT_DAMPING_TIME: f64 = 15.0 / 5000.0;
 pub fn default_solver() -> Solver {
     Solver::GaussSeidel
 }
-
-/// The most constraints in one block of block Gauss-Seidel ([`SimParams::block_size`]): a
-/// block is one GPU workgroup, one invocation per constraint, and 1024 invocations is what
-/// GPUs offer.
-pub const MAX_BLOCK_SIZE: u32 = 1024;
 
 /// Default of [`SimParams::rho`] (physics.md's prototype: 0.95 on the bunny).
 pub fn default_rho() -> f64 {

@@ -114,20 +114,27 @@ fn inversion_sweeps_need_the_volume_method_and_a_floor_in_range() {
 }
 
 #[test]
-fn blocks_need_gauss_seidel_constraints_and_at_most_a_workgroup() {
+fn blocks_need_gauss_seidel_and_constraints() {
     let on = SimParams {
         block_size: 256,
         ..SimParams::default()
     };
     on.validate().expect("blocks with the defaults");
     assert!(on.solves_in_blocks());
+    let thread_blocks = SimParams {
+        block_size: MAX_WORKGROUP_BLOCK * 40,
+        ..on.clone()
+    };
+    thread_blocks
+        .validate()
+        .expect("thread blocks (cpu backends)");
     let cases = [
         (
             SimParams {
                 block_size: MAX_BLOCK_SIZE + 1,
                 ..on.clone()
             },
-            "at most 1024",
+            "at most 16777216",
         ),
         (
             SimParams {

@@ -96,6 +96,7 @@ impl EnginePlan {
         workgroup_size: u32,
         metrics: bool,
     ) -> crate::Result<Self> {
+        problem.params.check_workgroup_blocks()?;
         let sweeps: Vec<SweepPlan> = problem.sweeps.iter().map(SweepPlan::of).collect();
         let compliant = problem
             .material
