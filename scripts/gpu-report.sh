@@ -6,11 +6,13 @@
 #   bench     the default solver, jacobi, chebyshev and 1 and 2 groups on bunny20k and horse86m (new, and old beside it
 #             when the bundle holds bin/tetrasim-old), the pass breakdown included
 #   blocks    block Gauss-Seidel (--block-size) beside the default on bunny20k and horse86m: blocks of
-#             1024, 512 and 256, with Anderson at 10 and 7 iterations, the pass breakdown included;
+#             1024, 512 and 256, swept 2 and 3 times, with Anderson at 10 and 7 iterations, the
+#             pass breakdown included;
 #             the real-size horse with implicit springs in blocks; the cpu backend's threads in blocks
 #   implicit  the real-size horse with implicit springs (issue 13's scene), 400 frames
 #   stiff     issue 26: the real-size horse (1000 kg/m^3, ks 5000) with Anderson acceleration,
-#             more colour groups, substeps and inversion sweeps, 400 frames each; what those
+#             more colour groups, substeps, inversion sweeps and blocks swept twice, 400 frames
+#             each; what those
 #             options cost on bunny20k and horse86m at the seed preset (bench)
 #   tests     the GPU test binaries, one at a time, default test threads, CI=true
 #   threads   the cpu backend on 1..all cores (new: bin/tetrasim-cpu when bundled; old
@@ -79,7 +81,9 @@ for step in $steps; do
     "$B/tetrasim" plan --mesh "$M/horse86m" --method volume > "$R/plan_horse.txt" 2>&1 ;;
   blocks)
     for s in gauss-seidel:8+global gauss-seidel:block1024+global gauss-seidel:block512+global \
-             gauss-seidel:block256+global gauss-seidel:block1024+global+anderson5; do
+             gauss-seidel:block256+global gauss-seidel:block1024+global+anderson5 \
+             gauss-seidel:block1024x2+global gauss-seidel:block1024x3+global \
+             gauss-seidel:block1024x2+global+anderson5; do
       f="$R/blocks_bench_${s//[:+]/-}"
       timeout 90 "$B/tetrasim" bench --mesh "$M/bunny20k" --mesh "$M/horse86m" --no-bundled --method volume \
         --backend vulkan --solver "$s" --json "$f.json" > "$f.txt" 2>&1
@@ -129,6 +133,10 @@ anderson5_substeps2 --anderson 5 --substeps 2 --dt 0.0005
 anderson5_substeps2_inversion4 --anderson 5 --substeps 2 --dt 0.0005 --inversion-sweeps 4
 anderson5_7x2_inversion4 --anderson 5 --iterations 7 --substeps 2 --dt 0.0005 --inversion-sweeps 4
 anderson5_groups16_5x2_inversion4 --anderson 5 --groups 16 --iterations 5 --substeps 2 --dt 0.0005 --inversion-sweeps 4
+blocks1024_anderson5_substeps2_inversion4 --block-size 1024 --anderson 5 --substeps 2 --dt 0.0005 --inversion-sweeps 4
+blocks1024x2_anderson5_substeps2_inversion4 --block-size 1024 --block-sweeps 2 --anderson 5 --substeps 2 --dt 0.0005 --inversion-sweeps 4
+blocks1024x2_anderson5_15it_inversion4 --block-size 1024 --block-sweeps 2 --anderson 5 --iterations 15 --inversion-sweeps 4
+blocks1024x3_anderson5_15it_inversion4 --block-size 1024 --block-sweeps 3 --anderson 5 --iterations 15 --inversion-sweeps 4
 SETTINGS
     for s in gauss-seidel:8+global gauss-seidel:8+global+anderson5 gauss-seidel:8+global+inversion4 \
              gauss-seidel:16+global+anderson5; do

@@ -320,6 +320,17 @@ fn cases() -> Vec<(&'static str, Model, SimParams)> {
             },
         ),
         (
+            "block gauss-seidel, blocks of 40, 3 sweeps each, compliant volumes, implicit springs",
+            gpu_support::jittered(&dense, 0.01, 0.3, 91),
+            SimParams {
+                block_size: 40,
+                block_sweeps: 3,
+                springs: SpringKind::Implicit,
+                inversion_sweeps: 2,
+                ..elastic(Method::Volume, 0.45)
+            },
+        ),
+        (
             "block gauss-seidel, blocks of 48, distance",
             gpu_support::jittered(&plain, 0.01, 0.3, 97),
             SimParams {

@@ -27,6 +27,8 @@ pub struct SolverSetting {
     pub groups: u32,
     /// Block Gauss-Seidel's tets per block (0: colour groups).
     pub block_size: u32,
+    /// Sweeps of each block per iteration (1 but with blocks).
+    pub block_sweeps: u32,
     /// Whether the global volume constraint is solved too.
     pub global_volume: bool,
     /// Anderson acceleration's memory (0: off).
@@ -54,6 +56,7 @@ impl SolverSetting {
             solver,
             groups,
             block_size: 0,
+            block_sweeps: 1,
             global_volume,
             anderson: 0,
             inversion_sweeps: 0,
@@ -76,6 +79,14 @@ impl SolverSetting {
         }
     }
 
+    /// The same block Gauss-Seidel setting with `sweeps` sweeps of each block.
+    pub const fn with_block_sweeps(self, sweeps: u32) -> Self {
+        SolverSetting {
+            block_sweeps: sweeps,
+            ..self
+        }
+    }
+
     /// The same setting with `sweeps` inversion sweeps.
     pub const fn with_inversion(self, sweeps: u32) -> Self {
         SolverSetting {
@@ -89,6 +100,9 @@ impl SolverSetting {
         let mut out = self.solver.name().to_string();
         if self.solver == Solver::GaussSeidel && self.block_size > 0 {
             out += &format!(":block{}", self.block_size);
+            if self.block_sweeps > 1 {
+                out += &format!("x{}", self.block_sweeps);
+            }
         } else if self.solver == Solver::GaussSeidel {
             out += &format!(":{}", self.groups);
         }
@@ -110,6 +124,7 @@ impl SolverSetting {
             solver: self.solver,
             groups: self.groups,
             block_size: self.block_size,
+            block_sweeps: self.block_sweeps,
             global_volume: Some(self.global_volume),
             anderson: self.anderson,
             inversion_sweeps: self.inversion_sweeps,
@@ -121,7 +136,7 @@ impl SolverSetting {
 impl std::str::FromStr for SolverSetting {
     type Err = Error;
 
-    /// `NAME[:GROUPS|:blockB][+global][+andersonM][+inversionN]`, NAME `jacobi`,
+    /// `NAME[:GROUPS|:blockB[xS]][+global][+andersonM][+inversionN]`, NAME `jacobi`,
     /// `chebyshev` or `gauss-seidel` (groups, for Gauss-Seidel only, default 8; or blocks of
     /// B tets, 1 to 16777216; above 1024 thread blocks, `cpu` backends only), M Anderson acceleration's memory (1 to 8), N the inversion
     /// sweeps (1 to 64).
@@ -134,13 +149,22 @@ impl std::str::FromStr for SolverSetting {
             Some(rest) => (rest, true),
             None => (rest, false),
         };
-        let (rest, block_size) = match rest.split_once(":block") {
-            Some((name, _)) => {
+        let (rest, block_size, block_sweeps) = match rest.split_once(":block") {
+            Some((name, blocks)) => {
+                let (blocks, sweeps) = match blocks.split_once('x') {
+                    Some((tets, sweeps)) => {
+                        let limit = tetrasim::params::MAX_BLOCK_SWEEPS;
+                        let x = format!("x{sweeps}");
+                        (tets, counted_suffix(text, &x, "x", "S", limit)?.1)
+                    }
+                    None => (blocks, 1),
+                };
                 let limit = tetrasim::params::MAX_BLOCK_SIZE;
-                let (_, tets) = counted_suffix(text, &rest[name.len()..], ":block", "B", limit)?;
-                (name, tets)
+                let blocks = format!(":block{blocks}");
+                let (_, tets) = counted_suffix(text, &blocks, ":block", "B", limit)?;
+                (name, tets, sweeps)
             }
-            None => (rest, 0),
+            None => (rest, 0, 1),
         };
         let (name, groups) = match rest.split_once(':') {
             Some((name, g)) => {
@@ -188,6 +212,7 @@ impl std::str::FromStr for SolverSetting {
         }
         Ok(SolverSetting::new(solver, groups, global_volume)
             .with_blocks(block_size)
+            .with_block_sweeps(block_sweeps)
             .with_anderson(anderson)
             .with_inversion(inversion))
     }

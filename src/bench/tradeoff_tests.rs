@@ -61,6 +61,12 @@ fn default_sweep_has_the_grid_and_the_omega_points() {
     assert_eq!(blocked.apply(&SimParams::default()).block_size, 512);
     let thread_blocks = "gauss-seidel:block43000".parse::<SolverSetting>().unwrap();
     assert_eq!(thread_blocks.apply(&SimParams::default()).block_size, 43000);
+    let twice = "gauss-seidel:block1024x2+global"
+        .parse::<SolverSetting>()
+        .unwrap();
+    assert_eq!(twice.label(), "gauss-seidel:block1024x2+global");
+    let params = twice.apply(&SimParams::default());
+    assert_eq!((params.block_size, params.block_sweeps), (1024, 2));
     // A setting with inversion sweeps is the volume method's alone.
     let with_floor = SweepSpec {
         methods: vec![Method::Distance, Method::Volume],
@@ -87,6 +93,8 @@ fn default_sweep_has_the_grid_and_the_omega_points() {
         "gauss-seidel+inversion65",
         "gauss-seidel:block0",
         "gauss-seidel:block16777217+global",
+        "gauss-seidel:block1024x9",
+        "gauss-seidel:block1024x",
         "jacobi:block64",
     ] {
         let err = bad.parse::<SolverSetting>().unwrap_err().to_string();

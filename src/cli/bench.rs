@@ -83,7 +83,7 @@ pub struct BenchArgs {
     #[arg(long)]
     pub substeps: Option<u32>,
     /// Solver of the constraint methods, `jacobi`, `chebyshev` or
-    /// `gauss-seidel[:GROUPS|:blockB]` (blocks of B tets), optionally with `+global`, `+andersonM` and `+inversionN` (default: the engine's,
+    /// `gauss-seidel[:GROUPS|:blockB[xS]]` (blocks of B tets, each swept S times), optionally with `+global`, `+andersonM` and `+inversionN` (default: the engine's,
     /// gauss-seidel:8+global).
     #[arg(long)]
     pub solver: Option<crate::bench::tradeoff::SolverSetting>,

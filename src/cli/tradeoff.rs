@@ -39,7 +39,7 @@ pub struct TradeoffArgs {
     #[arg(long, value_delimiter = ',')]
     pub iterations: Vec<u32>,
     /// Solvers of the constraint methods, comma-separated, each `jacobi`, `chebyshev` or
-    /// `gauss-seidel[:GROUPS|:blockB]` (blocks of B tets: block Gauss-Seidel), optionally
+    /// `gauss-seidel[:GROUPS|:blockB[xS]]` (blocks of B tets swept S times: block Gauss-Seidel), optionally
     /// with `+global`, `+andersonM` (Anderson
     /// acceleration of memory M) and `+inversionN` (N inversion sweeps; the volume method's
     /// points only); default: jacobi, jacobi+global, gauss-seidel:8, gauss-seidel:8+global,

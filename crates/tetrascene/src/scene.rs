@@ -16,6 +16,7 @@
 //!                     # "chebyshev" (jacobi with chebyshev semi-iteration)
 //! groups = 8          # colour groups of gauss-seidel
 //! block_size = 0      # block gauss-seidel: constraints per block (0 off; >1024: cpu only)
+//! block_sweeps = 1    # sweeps of each block per iteration (1 to 8)
 //! rho = 0.95          # spectral radius estimate of chebyshev (lowered below 6
 //!                     # iterations: 0.934 at 5, 0.899 at 4)
 //! anderson = 0        # anderson acceleration's memory (0 off, up to 8; 5 for stiff bodies)

@@ -3,9 +3,9 @@
 // nodes are loaded into shared memory (common/block.glsl); then its colours are solved one
 // after another, each constraint against the copies its block's earlier colours moved (a
 // constraint's force f moves its node's copy by a_scale omega weight f, the node's degree
-// counted in blocks; a hub's copy stays), with a barrier between colours. Every constraint
-// writes its forces into its slots as the `gather` variant does, and
-// `constraint_apply#gather` sums them per node over all blocks.
+// counted in blocks; a hub's copy stays), with a barrier between colours, BLOCK_SWEEPS
+// times. Every constraint writes its forces, summed over the sweeps, into its slots as the
+// `gather` variant does, and `constraint_apply#gather` sums them per node over all blocks.
 //
 // The pass declares positions, velocities, forces and degrees, defines BLOCK_ARITY (its
 // nodes per constraint) and, before including this file:
@@ -46,21 +46,31 @@ void main() {
         block_prepare(constraint, corner);
     }
     uint colours = row.w >> 16;
-    for (uint k = 0u; k < colours; ++k) {
-        if (colour == k) {
-            vec3 force[4];
-            float lambda = block_solve(constraint, corner, force);
-            for (uint j = 0u; j < BLOCK_ARITY; ++j) {
-                uint l = corner[j];
-                // A hub's copy stays (constraints of one colour may share it).
-                if (s_f[l].w != 0.0) {
-                    s_f[l].xyz += s_f[l].w * force[j];
+    vec3 total[4] = vec3[4](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+    bool acted = false;
+    for (b_sweep = 0u; b_sweep < BLOCK_SWEEPS; ++b_sweep) {
+        for (uint k = 0u; k < colours; ++k) {
+            if (colour == k) {
+                vec3 force[4];
+                float lambda = block_solve(constraint, corner, force);
+                acted = acted || lambda != 0.0;
+                for (uint j = 0u; j < BLOCK_ARITY; ++j) {
+                    uint l = corner[j];
+                    // A hub's copy stays (constraints of one colour may share it).
+                    if (s_f[l].w != 0.0) {
+                        s_f[l].xyz += s_f[l].w * force[j];
+                    }
+                    total[j] += force[j];
                 }
-                // The gather path writes slots; the node (an atomics path's) is not read.
-                constraint_output(position, BLOCK_ARITY, j, 0u, force[j], lambda != 0.0);
             }
+            barrier();
         }
-        barrier();
+    }
+    if (mine) {
+        // The gather path writes slots; the node (an atomics path's) is not read.
+        for (uint j = 0u; j < BLOCK_ARITY; ++j) {
+            constraint_output(position, BLOCK_ARITY, j, 0u, total[j], acted);
+        }
     }
 }
 

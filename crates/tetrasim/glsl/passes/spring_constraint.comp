@@ -77,6 +77,8 @@ float block_solve(uint s, uvec4 corner, out vec3 force[4]) {
         f[j] = s_f[l].xyz;
     }
     float lambda = spring_multiplier(s, b_c, b_damping, b_softness, b_so_far, b_g, w, sc, v, f);
+    // The block's next sweep starts from the multiplier this one left.
+    b_so_far += pc.omega * lambda;
     force[0] = -lambda * b_g[0];
     force[1] = -lambda * b_g[1];
     force[2] = vec3(0.0);

@@ -41,7 +41,11 @@ float tet_multiplier(uint t, float c, float softness, vec3 g[4], float w[4], flo
     }
     float so_far = 0.0;
     if (softness > 0.0) {
+#ifdef BLOCK
+        so_far = multiplier_so_far(volume_multipliers[t], block_iteration(), 0u);
+#else
         so_far = multiplier_so_far(volume_multipliers[t], pc.iteration, 0u);
+#endif
     } else {
         c = solve_hard(pc.phase, c);
     }

@@ -14,9 +14,30 @@ pub const MAX_WORKGROUP_BLOCK: u32 = 1024;
 /// block larger than a sweep is the whole sweep, Gauss-Seidel in one order).
 pub const MAX_BLOCK_SIZE: u32 = 1 << 24;
 
+/// The most sweeps of a block per iteration ([`SimParams::block_sweeps`]).
+pub const MAX_BLOCK_SWEEPS: u32 = 8;
+
+/// Serde default of [`SimParams::block_sweeps`].
+pub fn default_block_sweeps() -> u32 {
+    1
+}
+
 impl SimParams {
     /// Checks `block_size`: at most [`MAX_BLOCK_SIZE`], only with what sweeps in blocks.
     pub(super) fn validate_blocks(&self) -> Result<()> {
+        let sweeps = self.block_sweeps;
+        if !(1..=MAX_BLOCK_SWEEPS).contains(&sweeps) {
+            return Err(Error::param(
+                "block_sweeps",
+                format!("must be 1 to {MAX_BLOCK_SWEEPS}, got {sweeps}"),
+            ));
+        }
+        if sweeps > 1 && self.block_size == 0 {
+            return Err(Error::param(
+                "block_sweeps",
+                format!("{sweeps} sweeps per block need blocks: set block_size too"),
+            ));
+        }
         if self.block_size == 0 {
             return Ok(());
         }

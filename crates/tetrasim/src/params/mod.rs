@@ -6,7 +6,7 @@
 use serde::{Deserialize, Serialize};
 
 mod blocks;
-pub use blocks::{MAX_BLOCK_SIZE, MAX_WORKGROUP_BLOCK};
+pub use blocks::{default_block_sweeps, MAX_BLOCK_SIZE, MAX_BLOCK_SWEEPS, MAX_WORKGROUP_BLOCK};
 mod contact;
 pub use contact::ContactMode;
 mod inversion;
@@ -248,14 +248,17 @@ pub struct SimParams {
     /// Jacobi).
     #[serde(default = "default_groups")]
     pub groups: u32,
-    /// Block Gauss-Seidel (docs/PHYSICS.md, "Block Gauss-Seidel"; 0: off): each sweep's
-    /// constraints (tets, springs) cut into blocks of at most `block_size`, each swept colour
-    /// by colour within an iteration while the blocks run at once, in place of the colour
-    /// groups (solver `gauss-seidel`). Up to [`MAX_WORKGROUP_BLOCK`] a block is one GPU
-    /// workgroup on `vulkan`; larger blocks (up to [`MAX_BLOCK_SIZE`]) are thread blocks,
-    /// for `cpu` and `cpu-ref` only: fewer, larger blocks converge further per sweep.
+    /// Block Gauss-Seidel (docs/PHYSICS.md, "Block Gauss-Seidel"; 0: off): each sweep cut
+    /// into blocks of at most `block_size` constraints, swept colour by colour while the
+    /// blocks run at once, in place of the colour groups (solver `gauss-seidel`). Up to
+    /// [`MAX_WORKGROUP_BLOCK`] a block is one GPU workgroup; larger blocks (to
+    /// [`MAX_BLOCK_SIZE`]) are thread blocks, `cpu` and `cpu-ref` only.
     #[serde(default)]
     pub block_size: u32,
+    /// Sweeps of each block per iteration (block Gauss-Seidel; 1 to [`MAX_BLOCK_SWEEPS`]): on
+    /// the GPU they cost barriers in the same dispatch, not dispatches.
+    #[serde(default = "default_block_sweeps")]
+    pub block_sweeps: u32,
     /// One global volume constraint per object, solved after the local constraints in
     /// every iteration (methods `distance` and `volume`; ignored by the springs-only ones).
     /// `None`: the solver's default, on for Gauss-Seidel and off for Jacobi (the paper's
@@ -319,6 +322,7 @@ impl Default for SimParams {
             solver: default_solver(),
             groups: default_groups(),
             block_size: 0,
+            block_sweeps: 1,
             global_volume: None,
             rho: default_rho(),
             anderson: 0,

@@ -128,6 +128,33 @@ fn blocks_need_gauss_seidel_and_constraints() {
     thread_blocks
         .validate()
         .expect("thread blocks (cpu backends)");
+    let swept = SimParams {
+        block_sweeps: MAX_BLOCK_SWEEPS,
+        ..on.clone()
+    };
+    swept.validate().expect("blocks swept 8 times");
+    for (params, says) in [
+        (
+            SimParams {
+                block_sweeps: 0,
+                ..on.clone()
+            },
+            "1 to 8",
+        ),
+        (
+            SimParams {
+                block_sweeps: 2,
+                ..SimParams::default()
+            },
+            "set block_size",
+        ),
+    ] {
+        let message = params.validate().unwrap_err().to_string();
+        assert!(
+            message.contains("block_sweeps") && message.contains(says),
+            "{message}"
+        );
+    }
     let cases = [
         (
             SimParams {

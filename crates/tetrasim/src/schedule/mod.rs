@@ -191,6 +191,8 @@ pub struct Schedule {
     pub inversion_sweeps: u32,
     /// The fraction of the rest volume the inversion sweeps restore.
     pub inversion_floor: f64,
+    /// Sweeps of each block per iteration (block Gauss-Seidel; 1 otherwise).
+    pub block_sweeps: u32,
     /// Whether the step has a floor.
     pub floor: bool,
     /// Kinematic colliders, solved with the floor (0: none).
@@ -211,6 +213,15 @@ fn before(stages: &[Stage], kind: PassKind) -> usize {
 }
 
 impl Schedule {
+    /// Sweeps of each block per iteration in a pass of `kind` (block Gauss-Seidel): the
+    /// step's `block_sweeps` for a constraint pass, 1 for the inversion floor's.
+    pub fn block_sweeps_of(&self, kind: PassKind) -> u32 {
+        match kind {
+            PassKind::InversionFloor => 1,
+            _ => self.block_sweeps,
+        }
+    }
+
     /// The schedule of a prepared problem, with the per-frame volume stage when `metrics`.
     pub fn of(problem: &Problem, metrics: bool) -> Self {
         let sweeps = problem.sweeps.iter().map(SweepPlan::of).collect();

@@ -234,8 +234,7 @@ impl Schedule {
         use BufferId::*;
         let method = params.method;
         let constrained = !sweeps.is_empty();
-        // Only the paper's Jacobi sums constraint forces with float atomics; Gauss-Seidel and
-        // Chebyshev gather them per node in a fixed order (bit-identical reruns).
+        // Only Jacobi sums forces with float atomics; the others gather per node, in order.
         let gather = constrained && params.solver != Solver::Jacobi;
         let chebyshev = match constrained && params.solver == Solver::Chebyshev {
             true => chebyshev_weights(params.rho, params.iterations),
@@ -488,6 +487,7 @@ impl Schedule {
             anderson_volumes: constrained && params.anderson > 0,
             inversion_sweeps,
             inversion_floor: params.inversion_floor,
+            block_sweeps: params.block_sweeps,
             floor: params.floor,
             colliders: 0,
             grabs: false,

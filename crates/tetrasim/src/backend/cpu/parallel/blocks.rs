@@ -10,6 +10,7 @@ use super::{
     compliant_multiplier, implicit_accumulate, ConstraintFamily, Family, NodeForces, Sweep,
 };
 use crate::model::{ConstraintBlocks, Csr};
+use crate::SimParams;
 
 /// A sweep's blocks in the backend's precision.
 #[derive(Debug, Clone)]
@@ -23,19 +24,27 @@ pub(super) struct Blocks {
     /// Per node: how far a force moves it in its block's copy, `a_scale * omega * weight`
     /// (0 for a hub, whose copies stay).
     pub(super) scale: Vec<f32>,
+    /// Sweeps of each block per iteration (`block_sweeps`).
+    pub(super) sweeps: usize,
 }
 
 impl Blocks {
-    /// The blocks of `blocks` with each node's `(a_scale, weight)` and `omega`.
-    pub(super) fn new(blocks: ConstraintBlocks, factors: &[(f64, f64)], omega: f64) -> Self {
+    /// The blocks of `blocks` with each node's `(a_scale, weight)`, under `params` (its
+    /// `omega` and `block_sweeps`).
+    pub(super) fn new(
+        blocks: ConstraintBlocks,
+        factors: &[(f64, f64)],
+        params: &SimParams,
+    ) -> Self {
         let scale = (0..factors.len())
-            .map(|k| blocks.copy_scale(k, factors, omega) as f32)
+            .map(|k| blocks.copy_scale(k, factors, params.omega) as f32)
             .collect();
         Blocks {
             first: blocks.first,
             nodes: blocks.nodes,
             corners: blocks.corners,
             scale,
+            sweeps: params.block_sweeps as usize,
         }
     }
 
@@ -137,11 +146,15 @@ impl Run<'_> {
         let (sweep, blocks) = (self.sweep, self.blocks);
         let a_scale = &sweep.a_scale[..sweep.nodes];
         let mut local: Vec<Vec3A> = Vec::new();
+        // Per member of the block: its forces summed over the block's sweeps.
+        let mut total: Vec<[Vec3A; K]> = Vec::new();
         for b in range {
             blocks.load(b, self.f, &mut local);
             let span = blocks.first[b] as usize..blocks.first[b + 1] as usize;
-            for (p, element) in span.clone().zip(&nodes[span]) {
-                let q = p - self.first;
+            total.clear();
+            total.resize(span.len(), [Vec3A::ZERO; K]);
+            for p in (0..blocks.sweeps).flat_map(|_| span.clone()) {
+                let (element, i, q) = (&nodes[p], p - span.start, p - self.first);
                 let e = sweep.members.items[p] as usize;
                 let ids = element.map(|i| i as usize);
                 let corners: [usize; K] = std::array::from_fn(|j| blocks.corners[p][j] as usize);
@@ -161,7 +174,6 @@ impl Run<'_> {
                 let bb = bb - softness * so_far[q];
                 let Some(d) = compliant_multiplier(c, a, bb, k.dt, softness, damping, k.epsilon)
                 else {
-                    out[q] = R::from_forces([Vec3A::ZERO; K]);
                     continue;
                 };
                 if softness > 0.0 {
@@ -170,8 +182,11 @@ impl Run<'_> {
                 let forces = grad.map(|g| g * -d);
                 for j in 0..K {
                     local[corners[j]] += forces[j] * blocks.scale[ids[j]];
+                    total[i][j] += forces[j];
                 }
-                out[q] = R::from_forces(forces);
+            }
+            for (p, forces) in span.zip(&total) {
+                out[p - self.first] = R::from_forces(*forces);
             }
         }
     }

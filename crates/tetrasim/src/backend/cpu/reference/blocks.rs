@@ -16,7 +16,7 @@ impl ReferenceBackend {
     /// of its nodes' forces: a constraint's force moves them by `a_scale * weight * omega`
     /// times it (`factors`: the node's `(a_scale, weight)` for its block degree), as the
     /// node will move when every block's forces are applied, so later constraints of the
-    /// block see it; a hub's copy stays (Jacobi).
+    /// block see it; a hub's copy stays (Jacobi). A block is swept `block_sweeps` times.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn sweep_blocks<const K: usize, F: ConstraintFamily<f64, K>>(
         &self,
@@ -28,14 +28,15 @@ impl ReferenceBackend {
         factors: &[(f64, f64)],
         lambda: &mut [f64],
     ) -> Vec<DVec3> {
-        let (model, omega) = (&self.problem.model, self.problem.params.omega);
+        let (model, params) = (&self.problem.model, &self.problem.params);
+        let (omega, sweeps) = (params.omega, params.block_sweeps);
         let elements = F::elements(model);
         let a_scale: Vec<f64> = factors.iter().map(|f| f.0).collect();
         let mut sum = vec![DVec3::ZERO; model.node_count()];
         for b in 0..blocks.len() {
             let nodes = blocks.nodes.row(b);
             let mut local: Vec<DVec3> = nodes.iter().map(|&k| f[k as usize]).collect();
-            for p in blocks.members(b) {
+            for p in (0..sweeps).flat_map(|_| blocks.members(b)) {
                 let e = members[p] as usize;
                 let ids = elements[e].map(|i| i as usize);
                 let corners: [usize; K] = std::array::from_fn(|k| blocks.corners[p][k] as usize);

@@ -68,11 +68,12 @@ impl GpuProfile {
     pub fn dispatch_us(&self, plan: &EnginePlan, pass: &PassPlan) -> f64 {
         if let Some(shape) = plan.block_shape(pass) {
             // Blocks resident together run their colours side by side: the dispatch takes
-            // the colours of its rounds of blocks one after another.
+            // the colours of its rounds of blocks one after another, once per block sweep.
             let wg = pass.workgroup_size.max(1);
             let resident = (self.threads_per_multiprocessor / wg).max(1) * self.multiprocessors;
             let rounds = shape.blocks.div_ceil(resident.max(1));
-            let colours = f64::from(rounds) * f64::from(shape.colours);
+            let sweeps = plan.schedule.block_sweeps_of(pass.stage.kind);
+            let colours = f64::from(rounds * sweeps) * f64::from(shape.colours);
             let bytes = plan.pass_bytes(pass) as f64;
             return self.dispatch_us
                 + colours * self.block_colour_ns * 1e-3

@@ -555,6 +555,8 @@ impl PassPlan {
         let (variant, workgroup_size, elements) = match blocks {
             Some(shape) if schedule.gather => {
                 let size = workgroups::for_blocks(shape);
+                constants.resize(1, 0); // BLOCK_SWEEPS is constant 2, after the floor's
+                constants.push(schedule.block_sweeps_of(stage.kind));
                 (Variant::Named("block"), size, shape.blocks * size)
             }
             _ => (variant, workgroup_size, elements),

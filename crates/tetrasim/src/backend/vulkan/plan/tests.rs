@@ -459,8 +459,27 @@ fn block_sweeps_run_one_workgroup_per_block_with_their_rows_one_after_another() 
         p.buffer(BufferId::BlockCorners).map(|b| b.bytes),
         Some(16 * 42)
     );
-    // The cost model counts a block pass by its colours.
+    // The cost model counts a block pass by its colours; one sweep per block, constant 2.
     let h200 = gpu_profile("NVIDIA H200").unwrap();
     let colour = h200.block_colour_ns * 1e-3;
-    assert!(h200.dispatch_us(&p, volume) >= h200.dispatch_us + 7.0 * colour);
+    let once = h200.dispatch_us(&p, volume);
+    assert!(once >= h200.dispatch_us + 7.0 * colour);
+    assert_eq!(volume.constants, vec![0, 1]);
+    // Swept three times: the constant says so, and the colours count three times.
+    let thrice = plan(
+        &SimParams {
+            block_sweeps: 3,
+            ..params
+        },
+        &sweeps,
+    );
+    let volume = (thrice.passes.iter())
+        .find(|pass| pass.stage.kind == PassKind::Volume)
+        .unwrap();
+    assert_eq!(volume.constants, vec![0, 3]);
+    let swept = h200.dispatch_us(&thrice, volume);
+    assert!(
+        (swept - once - 14.0 * colour).abs() < 1e-9,
+        "{swept} against {once}"
+    );
 }
