@@ -20,8 +20,8 @@ layout(std430, set = 0, binding = B_BLOCK_CORNERS) readonly restrict buffer Bloc
 // The block's nodes by local index: position and inverse mass; velocity and a_scale; force
 // and how far a force moves the node's copy (a_scale omega weight; 0 for a hub).
 // Sweeps of each block per iteration (`block_sweeps`; the inversion floor's: 1), and the
-// one running: a compliant constraint's multiplier so far restarts only in an iteration's
-// first (block_iteration).
+// one running (a compliant constraint's multiplier so far restarts only in the first sweep
+// of the step's first iteration: block_iteration).
 layout(constant_id = 2) const uint BLOCK_SWEEPS = 1u;
 uint b_sweep = 0u;
 
