@@ -123,6 +123,36 @@ impl ConstraintBlocks {
     }
 }
 
+/// The cuts of `elements` into workgroup blocks in index order: a block ends at
+/// `limits.constraints` or before its nodes would pass `limits.nodes` (without the last
+/// cut, `elements.len()`).
+fn workgroup_cuts<const K: usize>(elements: &[[u32; K]], limits: &BlockLimits) -> Vec<usize> {
+    let mut cuts = vec![0usize];
+    let mut local: HashMap<u32, u32> = HashMap::new();
+    for (e, element) in elements.iter().enumerate() {
+        let fresh = element.iter().filter(|k| !local.contains_key(k)).count();
+        let count = e - cuts[cuts.len() - 1];
+        let full = count == limits.constraints || local.len() + fresh > limits.nodes;
+        if count > 0 && full {
+            cuts.push(e);
+            local.clear();
+        }
+        for &k in element {
+            let next = local.len() as u32;
+            local.entry(k).or_insert(next);
+        }
+    }
+    cuts
+}
+
+/// The cuts of `n` constraints into `ceil(n / size)` blocks whose sizes differ by at most
+/// one (thread blocks: the threads that own them get equal work; without the last cut,
+/// `n`).
+fn even_cuts(n: usize, size: usize) -> Vec<usize> {
+    let blocks = n.div_ceil(size.max(1)).max(1);
+    (0..blocks).map(|b| b * n / blocks).collect()
+}
+
 impl ConstraintGroups {
     /// `elements` in blocks of at most `block_size` within [`BlockLimits::of`] it (see the module): one group holding
     /// every constraint in block order, each block's by colour, with each node's degree the
@@ -140,23 +170,12 @@ impl ConstraintGroups {
             }
         }
         let hub: Vec<bool> = touching.iter().map(|&d| d > limits.hub_degree).collect();
-        // Cut in index order: a block ends at its most constraints or before its nodes would
-        // pass their limit.
-        let mut cuts = vec![0usize];
-        let mut local: HashMap<u32, u32> = HashMap::new();
-        for (e, element) in elements.iter().enumerate() {
-            let fresh = element.iter().filter(|k| !local.contains_key(k)).count();
-            let count = e - cuts[cuts.len() - 1];
-            let full = count == limits.constraints || local.len() + fresh > limits.nodes;
-            if count > 0 && full {
-                cuts.push(e);
-                local.clear();
-            }
-            for &k in element {
-                let next = local.len() as u32;
-                local.entry(k).or_insert(next);
-            }
-        }
+        // Cut in index order: a workgroup block ends at its most constraints or before its
+        // nodes would pass their limit; thread blocks are equal shares.
+        let mut cuts = match limits.nodes {
+            usize::MAX => even_cuts(elements.len(), limits.constraints),
+            _ => workgroup_cuts(elements, &limits),
+        };
         cuts.push(elements.len());
         cuts.dedup();
         // A sweep without constraints keeps one empty block: a block pass always has a row.
@@ -339,8 +358,33 @@ mod tests {
         let apart: Vec<[u32; 4]> = (0..2000u32)
             .map(|i| [4 * i, 4 * i + 1, 4 * i + 2, 4 * i + 3])
             .collect();
+        // 2000 in blocks of at most 1025: two equal shares (a team's threads get equal
+        // work), not 1025 and 975.
         let (_, blocks) = ConstraintGroups::blocked(&apart, 8000, size);
         assert_eq!(blocks.len(), 2);
-        assert_eq!(blocks.nodes.row(0).len(), 4 * size as usize);
+        assert_eq!(
+            (blocks.nodes.row(0).len(), blocks.nodes.row(1).len()),
+            (4000, 4000)
+        );
+    }
+
+    #[test]
+    fn thread_blocks_are_equal_shares() {
+        // 10 in blocks of at most 3: 4 blocks of 2 or 3, never one of 1.
+        assert_eq!(even_cuts(10, 3), [0, 2, 5, 7]);
+        assert_eq!(even_cuts(134_091, 43_000).len(), 4);
+        for (n, size) in [
+            (134_091, 43_000),
+            (85_638, 43_000),
+            (7, 7),
+            (7, 100),
+            (0, 5),
+        ] {
+            let mut cuts = even_cuts(n, size);
+            cuts.push(n);
+            let sizes: Vec<usize> = cuts.windows(2).map(|w| w[1] - w[0]).collect();
+            let (least, most) = (sizes.iter().min(), sizes.iter().max());
+            assert!(most.unwrap() - least.unwrap() <= 1 && *most.unwrap() <= size);
+        }
     }
 }
