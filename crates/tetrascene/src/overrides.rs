@@ -50,6 +50,11 @@ pub struct SolverOverrides {
     /// converge further within each block; on the GPU they cost barriers, not dispatches.
     #[cfg_attr(feature = "clap", arg(long, value_name = "N"))]
     pub block_sweeps: Option<u32>,
+    /// Sweeps of each block of implicit springs per iteration (0, default: as
+    /// block_sweeps): the volume constraints gain more from a second sweep than the
+    /// springs, which are the larger sweep.
+    #[cfg_attr(feature = "clap", arg(long, value_name = "N"))]
+    pub spring_block_sweeps: Option<u32>,
     /// One global volume constraint per object, solved after the local constraints in every
     /// iteration: `true` (`--global-volume` alone) or `false`; default: on for
     /// `gauss-seidel`, off for `jacobi` (the paper's method) and `chebyshev`.
@@ -113,6 +118,7 @@ impl SolverOverrides {
         set(&mut params.groups, self.groups);
         set(&mut params.block_size, self.block_size);
         set(&mut params.block_sweeps, self.block_sweeps);
+        set(&mut params.spring_block_sweeps, self.spring_block_sweeps);
         set(&mut params.global_volume, self.global_volume.map(Some));
         set(&mut params.rho, self.rho);
         set(&mut params.anderson, self.anderson);
@@ -126,7 +132,7 @@ impl SolverOverrides {
     }
 
     /// Every key (a `[solver]` key, a flag's id).
-    pub const KEYS: [&'static str; 20] = [
+    pub const KEYS: [&'static str; 21] = [
         "dt",
         "substeps",
         "iterations",
@@ -136,6 +142,7 @@ impl SolverOverrides {
         "groups",
         "block_size",
         "block_sweeps",
+        "spring_block_sweeps",
         "global_volume",
         "springs",
         "warm_start",
@@ -164,6 +171,11 @@ impl SolverOverrides {
             (
                 "block_sweeps",
                 self.block_sweeps.is_some(),
+                Solver::GaussSeidel,
+            ),
+            (
+                "spring_block_sweeps",
+                self.spring_block_sweeps.is_some(),
                 Solver::GaussSeidel,
             ),
             ("rho", self.rho.is_some(), Solver::Chebyshev),

@@ -17,6 +17,7 @@
 //! groups = 8          # colour groups of gauss-seidel
 //! block_size = 0      # block gauss-seidel: constraints per block (0 off; >1024: cpu only)
 //! block_sweeps = 1    # sweeps of each block per iteration (1 to 8)
+//! spring_block_sweeps = 0  # the same for implicit springs' blocks (0: as block_sweeps)
 //! rho = 0.95          # spectral radius estimate of chebyshev (lowered below 6
 //!                     # iterations: 0.934 at 5, 0.899 at 4)
 //! anderson = 0        # anderson acceleration's memory (0 off, up to 8; 5 for stiff bodies)

@@ -276,6 +276,18 @@ pub enum ConstraintKind {
     Volume,
 }
 
+impl ConstraintKind {
+    /// Sweeps of each block per iteration of this kind under `params` (block Gauss-Seidel):
+    /// the implicit springs' [`SimParams::spring_sweeps`], every other kind's
+    /// `block_sweeps`.
+    pub fn block_sweeps(self, params: &SimParams) -> u32 {
+        match self {
+            ConstraintKind::Spring => params.spring_sweeps(),
+            _ => params.block_sweeps,
+        }
+    }
+}
+
 /// One kind of constraint in the groups solved one after another.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sweep {

@@ -9,6 +9,8 @@ mod blocks;
 pub use blocks::{default_block_sweeps, MAX_BLOCK_SIZE, MAX_BLOCK_SWEEPS, MAX_WORKGROUP_BLOCK};
 mod contact;
 pub use contact::ContactMode;
+mod placement;
+pub use placement::Placement;
 mod inversion;
 pub use inversion::{default_inversion_floor, MAX_INVERSION_SWEEPS};
 
@@ -259,6 +261,9 @@ pub struct SimParams {
     /// the GPU they cost barriers in the same dispatch, not dispatches.
     #[serde(default = "default_block_sweeps")]
     pub block_sweeps: u32,
+    /// The same for the implicit springs' blocks (0: `block_sweeps`; [`Self::spring_sweeps`]).
+    #[serde(default)]
+    pub spring_block_sweeps: u32,
     /// One global volume constraint per object, solved after the local constraints in
     /// every iteration (methods `distance` and `volume`; ignored by the springs-only ones).
     /// `None`: the solver's default, on for Gauss-Seidel and off for Jacobi (the paper's
@@ -323,6 +328,7 @@ impl Default for SimParams {
             groups: default_groups(),
             block_size: 0,
             block_sweeps: 1,
+            spring_block_sweeps: 0,
             global_volume: None,
             rho: default_rho(),
             anderson: 0,
@@ -573,27 +579,6 @@ pub fn default_groups() -> u32 {
 /// `seed` scale (about 1e-7 for a tet of 20k at 1 m), representable in f32.
 pub fn default_constraint_epsilon() -> f64 {
     1e-20
-}
-
-/// Where the mesh is put before the run (physics.md, preset `seed`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Placement {
-    /// Uniformly scale so the bounding box's largest side is this many metres
-    /// (`None` keeps the mesh's own size).
-    pub fit_size: Option<f64>,
-    /// Put the lowest node this high above `y = 0`, and, when the mesh is fitted, centre it
-    /// over the origin in X and Z (`None` keeps the mesh where it is).
-    pub drop_height: Option<f64>,
-}
-
-impl Default for Placement {
-    fn default() -> Self {
-        Placement {
-            fit_size: Some(1.0),
-            drop_height: Some(0.1),
-        }
-    }
 }
 
 /// Frames of the `seed` preset.

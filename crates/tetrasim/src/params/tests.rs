@@ -148,6 +148,29 @@ fn blocks_need_gauss_seidel_and_constraints() {
             },
             "set block_size",
         ),
+        (
+            SimParams {
+                spring_block_sweeps: 9,
+                ..on.clone()
+            },
+            "0 to 8",
+        ),
+        (
+            SimParams {
+                spring_block_sweeps: 2,
+                springs: SpringKind::Implicit,
+                ..SimParams::default()
+            },
+            "set block_size",
+        ),
+        (
+            SimParams {
+                spring_block_sweeps: 1,
+                springs: SpringKind::Explicit,
+                ..on.clone()
+            },
+            "springs = explicit",
+        ),
     ] {
         let message = params.validate().unwrap_err().to_string();
         assert!(
@@ -155,6 +178,22 @@ fn blocks_need_gauss_seidel_and_constraints() {
             "{message}"
         );
     }
+    // The springs' blocks take their own sweeps when given, the others' otherwise.
+    let springs = SimParams {
+        block_sweeps: 3,
+        spring_block_sweeps: 1,
+        springs: SpringKind::Implicit,
+        ..on.clone()
+    };
+    springs
+        .validate()
+        .expect("volumes swept 3 times, springs once");
+    assert_eq!((springs.spring_sweeps(), springs.block_sweeps), (1, 3));
+    let same = SimParams {
+        spring_block_sweeps: 0,
+        ..springs.clone()
+    };
+    assert_eq!(same.spring_sweeps(), 3, "0: as block_sweeps");
     let cases = [
         (
             SimParams {

@@ -193,6 +193,8 @@ pub struct Schedule {
     pub inversion_floor: f64,
     /// Sweeps of each block per iteration (block Gauss-Seidel; 1 otherwise).
     pub block_sweeps: u32,
+    /// The same for the implicit springs' blocks ([`crate::SimParams::spring_sweeps`]).
+    pub spring_block_sweeps: u32,
     /// Whether the step has a floor.
     pub floor: bool,
     /// Kinematic colliders, solved with the floor (0: none).
@@ -214,10 +216,12 @@ fn before(stages: &[Stage], kind: PassKind) -> usize {
 
 impl Schedule {
     /// Sweeps of each block per iteration in a pass of `kind` (block Gauss-Seidel): the
-    /// step's `block_sweeps` for a constraint pass, 1 for the inversion floor's.
+    /// step's `block_sweeps` for a constraint pass (`spring_block_sweeps` for the implicit
+    /// springs'), 1 for the inversion floor's.
     pub fn block_sweeps_of(&self, kind: PassKind) -> u32 {
         match kind {
             PassKind::InversionFloor => 1,
+            PassKind::SpringConstraint => self.spring_block_sweeps,
             _ => self.block_sweeps,
         }
     }

@@ -35,8 +35,7 @@ pub enum PassKind {
     /// and the contact degrees cleared. GPU only (no-op arms on the CPU backends).
     ContactScan,
     /// Body contact's broad phase, last third: every triangle writes its index into the
-    /// buckets' ranges (counting sort; the counts return to 0). GPU only (no-op arms on the
-    /// CPU backends).
+    /// buckets' ranges (counting sort; the counts return to 0). GPU only (no-op on CPUs).
     ContactFill,
     /// Contact between bodies: each surface node's nearest triangle of another body (or a
     /// non-adjacent one of its own, with self-contact) within the margin, once per step.
@@ -488,6 +487,7 @@ impl Schedule {
             inversion_sweeps,
             inversion_floor: params.inversion_floor,
             block_sweeps: params.block_sweeps,
+            spring_block_sweeps: params.spring_sweeps(),
             floor: params.floor,
             colliders: 0,
             grabs: false,

@@ -9,7 +9,7 @@ use super::iterations::{Inputs, Outputs};
 use super::{
     compliant_multiplier, implicit_accumulate, ConstraintFamily, Family, NodeForces, Sweep,
 };
-use crate::model::{ConstraintBlocks, Csr};
+use crate::model::{ConstraintBlocks, ConstraintKind, Csr};
 use crate::SimParams;
 
 /// A sweep's blocks in the backend's precision.
@@ -24,15 +24,16 @@ pub(super) struct Blocks {
     /// Per node: how far a force moves it in its block's copy, `a_scale * omega * weight`
     /// (0 for a hub, whose copies stay).
     pub(super) scale: Vec<f32>,
-    /// Sweeps of each block per iteration (`block_sweeps`).
+    /// Sweeps of each block per iteration ([`ConstraintKind::block_sweeps`]).
     pub(super) sweeps: usize,
 }
 
 impl Blocks {
-    /// The blocks of `blocks` with each node's `(a_scale, weight)`, under `params` (its
-    /// `omega` and `block_sweeps`).
+    /// The blocks of `blocks`, a sweep of `kind`, with each node's `(a_scale, weight)`,
+    /// under `params` (its `omega` and [`ConstraintKind::block_sweeps`] of `kind`).
     pub(super) fn new(
         blocks: ConstraintBlocks,
+        kind: ConstraintKind,
         factors: &[(f64, f64)],
         params: &SimParams,
     ) -> Self {
@@ -44,7 +45,7 @@ impl Blocks {
             nodes: blocks.nodes,
             corners: blocks.corners,
             scale,
-            sweeps: params.block_sweeps as usize,
+            sweeps: kind.block_sweeps(params) as usize,
         }
     }
 
@@ -148,21 +149,29 @@ impl Run<'_> {
         let mut local: Vec<Vec3A> = Vec::new();
         // Per member of the block: its forces summed over the block's sweeps.
         let mut total: Vec<[Vec3A; K]> = Vec::new();
+        // Per member of the block: its value, gradients, softness and damping at `x(t)`,
+        // evaluated in the first sweep and kept for the others.
+        let mut evaluated: Vec<(f32, [Vec3A; K], f32, f32)> = Vec::new();
         for b in range {
             blocks.load(b, self.f, &mut local);
             let span = blocks.first[b] as usize..blocks.first[b + 1] as usize;
             total.clear();
             total.resize(span.len(), [Vec3A::ZERO; K]);
-            for p in (0..blocks.sweeps).flat_map(|_| span.clone()) {
+            evaluated.clear();
+            for (s, p) in (0..blocks.sweeps).flat_map(|s| span.clone().map(move |p| (s, p))) {
                 let (element, i, q) = (&nodes[p], p - span.start, p - self.first);
-                let e = sweep.members.items[p] as usize;
                 let ids = element.map(|i| i as usize);
                 let corners: [usize; K] = std::array::from_fn(|j| blocks.corners[p][j] as usize);
-                let (c, grad, softness, damping) = family.evaluate(e, ids.map(|i| x[i]));
-                let c = match softness > 0.0 {
-                    true => c,
-                    false => k.solve.hard(c),
-                };
+                if s == 0 {
+                    let e = sweep.members.items[p] as usize;
+                    let (c, grad, softness, damping) = family.evaluate(e, ids.map(|i| x[i]));
+                    let c = match softness > 0.0 {
+                        true => c,
+                        false => k.solve.hard(c),
+                    };
+                    evaluated.push((c, grad, softness, damping));
+                }
+                let (c, grad, softness, damping) = evaluated[i];
                 let (mut a, mut bb) = (0.0, 0.0);
                 for j in 0..K {
                     let i = ids[j];

@@ -110,7 +110,7 @@ impl Sweep {
             .iter()
             .map(|&d| params.combine.node_factors(d))
             .collect();
-        let blocks = (sweep.blocks).map(|b| blocks::Blocks::new(b, &factors, params));
+        let blocks = (sweep.blocks).map(|b| blocks::Blocks::new(b, kind, &factors, params));
         let members = &groups.members.items;
         let (pair_nodes, tet_nodes) = match kind {
             ConstraintKind::Volume => (Vec::new(), in_group_order(members, &model.tets)),

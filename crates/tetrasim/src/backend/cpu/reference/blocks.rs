@@ -16,7 +16,8 @@ impl ReferenceBackend {
     /// of its nodes' forces: a constraint's force moves them by `a_scale * weight * omega`
     /// times it (`factors`: the node's `(a_scale, weight)` for its block degree), as the
     /// node will move when every block's forces are applied, so later constraints of the
-    /// block see it; a hub's copy stays (Jacobi). A block is swept `block_sweeps` times.
+    /// block see it; a hub's copy stays (Jacobi). A block is swept `block_sweeps` times
+    /// ([`crate::model::ConstraintKind::block_sweeps`] of its kind).
     #[allow(clippy::too_many_arguments)]
     pub(super) fn sweep_blocks<const K: usize, F: ConstraintFamily<f64, K>>(
         &self,
@@ -29,7 +30,7 @@ impl ReferenceBackend {
         lambda: &mut [f64],
     ) -> Vec<DVec3> {
         let (model, params) = (&self.problem.model, &self.problem.params);
-        let (omega, sweeps) = (params.omega, params.block_sweeps);
+        let (omega, sweeps) = (params.omega, F::KIND.block_sweeps(params));
         let elements = F::elements(model);
         let a_scale: Vec<f64> = factors.iter().map(|f| f.0).collect();
         let mut sum = vec![DVec3::ZERO; model.node_count()];

@@ -469,10 +469,31 @@ fn block_sweeps_run_one_workgroup_per_block_with_their_rows_one_after_another() 
     let thrice = plan(
         &SimParams {
             block_sweeps: 3,
+            ..params.clone()
+        },
+        &sweeps,
+    );
+    let constants = |p: &EnginePlan, kind| {
+        (p.passes.iter())
+            .find(|pass| pass.stage.kind == kind)
+            .map(|pass| pass.constants.clone())
+            .unwrap()
+    };
+    assert_eq!(constants(&thrice, PassKind::SpringConstraint), vec![0, 3]);
+    // The springs' blocks swept once while the volumes' are swept three times.
+    let springs_once = plan(
+        &SimParams {
+            block_sweeps: 3,
+            spring_block_sweeps: 1,
             ..params
         },
         &sweeps,
     );
+    assert_eq!(
+        constants(&springs_once, PassKind::SpringConstraint),
+        vec![0, 1]
+    );
+    assert_eq!(constants(&springs_once, PassKind::Volume), vec![0, 3]);
     let volume = (thrice.passes.iter())
         .find(|pass| pass.stage.kind == PassKind::Volume)
         .unwrap();
