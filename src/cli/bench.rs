@@ -178,6 +178,9 @@ pub fn execute(args: BenchArgs) -> anyhow::Result<()> {
         match params.anderson {
             0 => String::new(),
             m => format!(" + anderson {m}"),
+        } + &match params.minres {
+            0 => String::new(),
+            k => format!(" + minres {k}"),
         } + &match params.inversion_sweeps {
             0 => String::new(),
             n => format!(" + {n} inversion sweeps"),

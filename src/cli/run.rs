@@ -281,7 +281,8 @@ pub struct BadScene(pub tetrasim::Error);
 pub struct DivergedRun(pub String);
 
 /// `jacobi`, or `gauss-seidel (8 groups)`, with ` + global volume` when it is solved and
-/// ` + anderson M` with Anderson acceleration, and the inversion sweeps when they run.
+/// ` + anderson M` with Anderson acceleration, ` + minres K` with MINRES after the sweeps,
+/// and the inversion sweeps when they run.
 fn solver_label(params: &SimParams) -> String {
     let mut out = match params.solver {
         SolverKind::Jacobi => "jacobi".to_string(),
@@ -302,6 +303,9 @@ fn solver_label(params: &SimParams) -> String {
     }
     if params.anderson > 0 {
         out += &format!(" + anderson {}", params.anderson);
+    }
+    if params.minres > 0 {
+        out += &format!(" + minres {}", params.minres);
     }
     if params.inversion_sweeps > 0 {
         out += &format!(

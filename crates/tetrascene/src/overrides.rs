@@ -80,6 +80,13 @@ pub struct SolverOverrides {
     /// slow modes of a stiff body (about 5 % more per iteration on cpu; docs/PHYSICS.md).
     #[cfg_attr(feature = "clap", arg(long, value_name = "MEMORY"))]
     pub anderson: Option<u32>,
+    /// MINRES iterations after each step's sweeps, 0 (off, default) to 200, backend cpu and
+    /// cpu-ref: converges the slow modes of a stiff body that the sweeps leave (a rigid
+    /// body's rebound off the floor), the sweeps finding who touches the floor; 40 after 2
+    /// sweeps cost 3.5x the default's step on the bundled sphere on cpu (docs/PHYSICS.md,
+    /// "MINRES after the sweeps").
+    #[cfg_attr(feature = "clap", arg(long, value_name = "ITERATIONS"))]
+    pub minres: Option<u32>,
     /// Inversion sweeps after each step's iterations (method volume; 0, off, default, to
     /// 64): each sweeps the volume constraints' groups once more, pushing every tet whose
     /// volume at the step's end would be below `inversion_floor` of its rest volume back up
@@ -122,6 +129,7 @@ impl SolverOverrides {
         set(&mut params.global_volume, self.global_volume.map(Some));
         set(&mut params.rho, self.rho);
         set(&mut params.anderson, self.anderson);
+        set(&mut params.minres, self.minres);
         set(&mut params.inversion_sweeps, self.inversion_sweeps);
         set(&mut params.inversion_floor, self.inversion_floor);
         set(&mut params.springs, self.springs);
@@ -132,7 +140,7 @@ impl SolverOverrides {
     }
 
     /// Every key (a `[solver]` key, a flag's id).
-    pub const KEYS: [&'static str; 21] = [
+    pub const KEYS: [&'static str; 22] = [
         "dt",
         "substeps",
         "iterations",
@@ -148,6 +156,7 @@ impl SolverOverrides {
         "warm_start",
         "rho",
         "anderson",
+        "minres",
         "inversion_sweeps",
         "inversion_floor",
         "contact",

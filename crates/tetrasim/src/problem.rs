@@ -57,6 +57,15 @@ impl Problem {
                     .into(),
             });
         }
+        let bodies = BodyContact::new(model);
+        if params.minres > 0 && bodies.is_some() {
+            return Err(Error::Param {
+                key: "minres".into(),
+                message: "does not solve contact between bodies (their contacts are found and \
+                          solved by the sweeps only); use minres 0 with body contact"
+                    .into(),
+            });
+        }
         let material = model.element_material(params).into_owned();
         let global = params
             .solves_global_volume()
@@ -69,7 +78,7 @@ impl Problem {
             sweeps,
             material,
             global,
-            bodies: BodyContact::new(model),
+            bodies,
         })))
     }
 

@@ -12,11 +12,13 @@ pub use contact::ContactMode;
 mod placement;
 pub use placement::Placement;
 mod inversion;
+mod minres;
 pub use inversion::{default_inversion_floor, MAX_INVERSION_SWEEPS};
 
 use crate::error::{Error, Result};
 pub use crate::physics::{
     chebyshev_rho, chebyshev_rho_limit, chebyshev_weights, ANDERSON_MAX_MEMORY,
+    MINRES_MAX_ITERATIONS,
 };
 
 /// The simulation method (physics.md, "Methods").
@@ -281,6 +283,12 @@ pub struct SimParams {
     /// "Anderson acceleration"); 5 is a good memory.
     #[serde(default)]
     pub anderson: u32,
+    /// MINRES iterations on the step's linearised constraints after the sweeps (0: off, at
+    /// most [`MINRES_MAX_ITERATIONS`]; the `cpu` backends only). The sweeps find who touches
+    /// the floor and colliders; MINRES then converges the slow modes they leave, a stiff
+    /// body squashing on the floor (docs/PHYSICS.md, "MINRES after the sweeps").
+    #[serde(default)]
+    pub minres: u32,
     /// Inversion sweeps after the constraint iterations of every step (method `volume`;
     /// 0: off): each sweeps the volume constraints' groups once more with the one-sided
     /// floor `V >= inversion_floor V0` measured at the positions the step is about to
@@ -332,6 +340,7 @@ impl Default for SimParams {
             global_volume: None,
             rho: default_rho(),
             anderson: 0,
+            minres: 0,
             inversion_sweeps: 0,
             inversion_floor: default_inversion_floor(),
             contact: ContactMode::Combined,
@@ -461,6 +470,7 @@ impl SimParams {
                 ));
             }
         }
+        self.validate_minres()?;
         self.validate_inversion()?;
         if let Some(e) = self.youngs_modulus {
             positive_finite("youngs_modulus", e)?;

@@ -225,3 +225,43 @@ fn blocks_need_gauss_seidel_and_constraints() {
         );
     }
 }
+
+#[test]
+fn minres_needs_constraints_and_at_most_its_limit() {
+    let on = SimParams {
+        minres: 40,
+        ..SimParams::default()
+    };
+    on.validate().expect("minres with the defaults");
+    let cases = [
+        (
+            SimParams {
+                minres: MINRES_MAX_ITERATIONS + 1,
+                ..on.clone()
+            },
+            "at most 200",
+        ),
+        (
+            SimParams {
+                method: Method::Mss,
+                ..on.clone()
+            },
+            "explicit springs has none",
+        ),
+    ];
+    for (params, says) in cases {
+        let message = params.validate().unwrap_err().to_string();
+        assert!(
+            message.contains("minres") && message.contains(says),
+            "{message}"
+        );
+    }
+    let gpu = on.check_gpu_minres().unwrap_err().to_string();
+    assert!(
+        gpu.contains("minres") && gpu.contains("cpu backends only"),
+        "{gpu}"
+    );
+    SimParams::default()
+        .check_gpu_minres()
+        .expect("no minres, no refusal");
+}

@@ -141,7 +141,7 @@ pub fn compliant_multiplier<R: Real>(
     epsilon: R,
 ) -> Option<R> {
     if a > epsilon && a.is_finite() {
-        Some((c / (dt * dt) + b - damping * softness * c / dt) / (a + softness))
+        Some(super::compliant_residual(c, b, dt, softness, damping) / (a + softness))
     } else {
         None
     }

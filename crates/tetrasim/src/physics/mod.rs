@@ -28,6 +28,7 @@ mod chebyshev;
 mod constraint;
 mod contact;
 mod integrate;
+mod minres;
 mod spring;
 
 pub use anderson::{
@@ -45,6 +46,9 @@ pub use constraint::{
 pub use contact::{contact_push, end_position, surface_friction, Solve};
 pub use integrate::{
     coulomb_friction, floor_force, floor_friction, floor_solve, integrate_node, symplectic_euler,
+};
+pub use minres::{
+    compliant_residual, minres, Mobility, StepRows, HELD_SHARE, MINRES_MAX_ITERATIONS,
 };
 pub use spring::spring_force;
 pub use tetmesh::geometry::{tet_volume, Real, Vector};

@@ -21,6 +21,7 @@ use crate::schedule::{Dispatch, GroupAt, PassKind, Schedule};
 mod anderson;
 mod blocks;
 mod inversion;
+mod minres;
 mod step_forces;
 mod surfaces;
 
@@ -163,12 +164,22 @@ impl ReferenceBackend {
     /// value, contacts for no deeper penetration).
     pub fn forces_of(&self, solve: Solve) -> Forces {
         let mut step = StepForces::new(self, solve);
+        let iterations = self.problem.params.iterations;
+        let mut minres_done = false;
         for dispatch in self.dispatches.iter().filter(|d| d.solve == solve) {
             let kind = self.schedule.stages[dispatch.stage].kind;
             if matches!(kind, PassKind::Integrate | PassKind::SplitVelocity) {
                 break;
             }
+            // MINRES after the iterations, before the inversion sweeps.
+            if !minres_done && dispatch.iteration.is_some_and(|k| k >= iterations) {
+                self.minres_solve(&mut step);
+                minres_done = true;
+            }
             self.run(dispatch, &mut step);
+        }
+        if !minres_done {
+            self.minres_solve(&mut step);
         }
         self.contact_solve(&mut step);
         let n = self.problem.model.node_count();

@@ -97,6 +97,7 @@ impl EnginePlan {
         metrics: bool,
     ) -> crate::Result<Self> {
         problem.params.check_workgroup_blocks()?;
+        problem.params.check_gpu_minres()?;
         let sweeps: Vec<SweepPlan> = problem.sweeps.iter().map(SweepPlan::of).collect();
         let compliant = problem
             .material

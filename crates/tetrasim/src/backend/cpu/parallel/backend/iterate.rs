@@ -6,7 +6,8 @@ use super::*;
 impl ParallelBackend {
     /// The step's constraint iterations, the dispatches `range`: the sweeps' multipliers
     /// (the warm start's for the springs) and the Chebyshev state set, the dispatches run by
-    /// `team`, the springs' multipliers kept for the next step's warm start.
+    /// `team` with MINRES between the iterations and the inversion sweeps (`minres > 0`), the
+    /// springs' multipliers kept for the next step's warm start.
     pub(super) fn iterations(
         &mut self,
         team: &Team,
@@ -30,7 +31,17 @@ impl ParallelBackend {
                 _ => sweep.multipliers.fill(0.0),
             }
         }
-        self.iterate(team, &mut sweeps, global.as_ref(), range, at);
+        // MINRES after the iterations, before the inversion sweeps.
+        let split = (range.clone())
+            .find(|&d| self.dispatches[d].iteration >= Some(self.iterations))
+            .unwrap_or(range.end);
+        self.iterate(team, &mut sweeps, global.as_ref(), range.start..split, at);
+        if self.minres > 0 {
+            self.minres_solve(self.minres, &mut sweeps, global.as_ref());
+        }
+        if split < range.end {
+            self.iterate(team, &mut sweeps, global.as_ref(), split..range.end, at);
+        }
         if !self.spring_warm.is_empty() {
             for sweep in sweeps.iter().filter(|s| s.kind == ConstraintKind::Spring) {
                 for (&m, &s) in sweep.multipliers.iter().zip(&sweep.members.items) {

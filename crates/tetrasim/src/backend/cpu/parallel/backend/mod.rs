@@ -6,6 +6,7 @@ use super::collide;
 use super::iterations::{self, Inputs, Outputs};
 
 mod iterate;
+mod minres;
 use super::shared::SharedSlice;
 use super::team::Team;
 use super::*;
@@ -22,6 +23,9 @@ pub struct ParallelBackend {
     /// Whether the springs act as explicit forces (else they are solved in the sweeps).
     explicit_springs: bool,
     substeps: u32,
+    /// Constraint iterations per step, and MINRES iterations after them (0: off).
+    iterations: u32,
+    minres: u32,
     floor: bool,
     k: Coefficients,
     mass: Vec<f32>,
@@ -140,6 +144,8 @@ impl ParallelBackend {
             method: params.method,
             explicit_springs,
             substeps: params.substeps,
+            iterations: params.iterations,
+            minres: params.minres,
             floor: params.floor,
             k: Coefficients {
                 dt: params.dt as f32,

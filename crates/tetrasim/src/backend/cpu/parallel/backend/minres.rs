@@ -1,0 +1,130 @@
+//! MINRES after the sweeps on `cpu` ([`crate::physics::minres`], in double precision on
+//! one thread): the step's constraint rows at the forces the team left, solved, and their
+//! increments applied to the forces and the compliant multipliers. The floor and colliders
+//! are solved again by the passes that follow (the inversion sweeps' or `integrate`).
+
+use glam::DVec3;
+
+use super::ParallelBackend;
+use crate::backend::cpu::parallel::{ConstraintFamily, Family, Global, Sweep};
+use crate::physics::{compliant_residual, minres, Mobility, StepRows, Vector};
+
+/// Where a row's increment goes: its sweep and position (compliant constraints), or nowhere.
+type Slot = Option<(usize, usize)>;
+
+impl ParallelBackend {
+    /// `minres` iterations of MINRES on every constraint of `sweeps` (each kind once) and
+    /// the global volume constraints at the forces so far, the nodes the floor, colliders
+    /// and grabs push held.
+    pub(super) fn minres_solve(
+        &mut self,
+        minres_iterations: u32,
+        sweeps: &mut [Sweep],
+        global: Option<&Global>,
+    ) {
+        let mut rows = StepRows::new();
+        let mut slots: Vec<Slot> = Vec::new();
+        let mut kinds = Vec::new();
+        for (s, sweep) in sweeps.iter().enumerate() {
+            if kinds.contains(&sweep.kind) {
+                continue;
+            }
+            kinds.push(sweep.kind);
+            match &sweep.family {
+                Family::Springs(f) => {
+                    self.rows_of(f, s, sweep, &sweep.pair_nodes, &mut rows, &mut slots)
+                }
+                Family::Distances(f) => {
+                    self.rows_of(f, s, sweep, &sweep.pair_nodes, &mut rows, &mut slots)
+                }
+                Family::Volumes(f) => {
+                    self.rows_of(f, s, sweep, &sweep.tet_nodes, &mut rows, &mut slots)
+                }
+            }
+        }
+        if let Some(global) = global {
+            self.global_rows(global, &mut rows, &mut slots);
+        }
+        let delta = minres(&rows, &self.mobility(), minres_iterations);
+        for (j, i, g) in rows.entries() {
+            self.f[i] -= (g * delta[j]).as_vec3a();
+        }
+        for (&d, slot) in delta.iter().zip(&slots) {
+            if let Some((s, p)) = *slot {
+                sweeps[s].multipliers[p] += d as f32;
+            }
+        }
+    }
+
+    /// Each node's mobility ([`Mobility::held_by`] the floor, colliders and grabs).
+    fn mobility(&self) -> Vec<Mobility> {
+        (0..self.x.len())
+            .map(|i| {
+                let grabbed = self.attached.get(i).is_some_and(|a| a.is_some());
+                let collider = self.contact.get(i).map_or(DVec3::ZERO, |c| c.to_dvec3());
+                let (w, floor) = (f64::from(self.inv_mass[i]), self.floor_force[i] > 0.0);
+                Mobility::held_by(w, floor, collider, grabbed)
+            })
+            .collect()
+    }
+
+    /// The rows of sweep `s`'s constraints (`nodes` in group order) at the forces so far.
+    fn rows_of<const K: usize, F: ConstraintFamily<f32, K>>(
+        &self,
+        family: &F,
+        s: usize,
+        sweep: &Sweep,
+        nodes: &[[u32; K]],
+        rows: &mut StepRows,
+        slots: &mut Vec<Slot>,
+    ) {
+        for (p, (&e, ids)) in sweep.members.items.iter().zip(nodes).enumerate() {
+            let (c, grad, softness, damping) =
+                family.evaluate(e as usize, ids.map(|i| self.x[i as usize]));
+            let grad = grad.map(|g| g.to_dvec3());
+            let (softness, damping) = (f64::from(softness), f64::from(damping));
+            let (c, so_far, slot) = match softness > 0.0 {
+                false => (self.k.solve.hard(f64::from(c)), 0.0, None),
+                true => (
+                    f64::from(c),
+                    softness * f64::from(sweep.multipliers[p]),
+                    Some((s, p)),
+                ),
+            };
+            let b = self.numerator_sum(ids.iter().copied().zip(grad)) - so_far;
+            let residual = compliant_residual(c, b, self.dt, softness, damping);
+            rows.push(ids, &grad, softness, residual);
+            slots.push(slot);
+        }
+    }
+
+    /// The rows of the global volume constraints (hard) at the forces so far.
+    fn global_rows(&self, global: &Global, rows: &mut StepRows, slots: &mut Vec<Slot>) {
+        for (object, &(c, _)) in global.data.objects.iter().zip(&global.c_and_a) {
+            let range =
+                object.node_first as usize..(object.node_first + object.node_count) as usize;
+            let nodes = &global.data.nodes[range.clone()];
+            let grads: Vec<DVec3> = global.grad[range].iter().map(|g| g.to_dvec3()).collect();
+            let b = self.numerator_sum(nodes.iter().copied().zip(grads.iter().copied()));
+            let c = self.k.solve.hard(f64::from(c));
+            rows.push(
+                nodes,
+                &grads,
+                0.0,
+                compliant_residual(c, b, self.dt, 0.0, 0.0),
+            );
+            slots.push(None);
+        }
+    }
+
+    /// `sum_k grad_k . (v_k / dt + w_k F_k)` of a row's entries at the forces so far.
+    fn numerator_sum(&self, entries: impl Iterator<Item = (u32, DVec3)>) -> f64 {
+        entries
+            .map(|(i, g)| {
+                let i = i as usize;
+                let (v, f) = (self.v[i].to_dvec3(), self.f[i].to_dvec3());
+                g.dot(v / self.dt + f * f64::from(self.inv_mass[i]))
+            })
+            .sum()
+    }
+}
