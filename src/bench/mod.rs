@@ -18,6 +18,7 @@ pub mod plot;
 pub mod report;
 pub mod scaling;
 pub mod simulate;
+pub mod solver_setting;
 pub mod stability_map;
 pub mod stats;
 pub mod suite;

@@ -1,6 +1,7 @@
 //! `tradeoff`'s unit tests: the sweep's points and the solver settings' syntax.
 
 use super::*;
+use tetrasim::params::Solver;
 
 #[test]
 fn default_sweep_has_the_grid_and_the_omega_points() {
@@ -43,6 +44,21 @@ fn default_sweep_has_the_grid_and_the_omega_points() {
     assert_eq!(swept.label(), "gauss-seidel:16+global+anderson5+inversion8");
     assert_eq!(swept.label().parse::<SolverSetting>().unwrap(), swept);
     assert_eq!(swept.apply(&SimParams::default()).inversion_sweeps, 8);
+    let solved = SolverSetting::new(Solver::GaussSeidel, 8, true).with_minres(40);
+    assert_eq!(solved.label(), "gauss-seidel:8+global+minres40");
+    assert_eq!(solved.label().parse::<SolverSetting>().unwrap(), solved);
+    assert_eq!(solved.apply(&SimParams::default()).minres, 40);
+    for bad in [
+        "gauss-seidel+minres0",
+        "jacobi+minres201",
+        "gauss-seidel+minres",
+    ] {
+        let message = bad.parse::<SolverSetting>().unwrap_err().to_string();
+        assert!(
+            message.contains("+minresK needs K from 1 to 200"),
+            "{bad}: {message}"
+        );
+    }
     assert_eq!(
         "gauss-seidel:8+global+inversion4"
             .parse::<SolverSetting>()
