@@ -83,8 +83,8 @@ pub struct SolverOverrides {
     /// MINRES iterations after each step's sweeps, 0 (off, default) to 200, backend cpu and
     /// cpu-ref: converges the slow modes of a stiff body that the sweeps leave (a rigid
     /// body's rebound off the floor), the sweeps finding who touches the floor; 40 after 2
-    /// sweeps cost 3.5x the default's step on the bundled sphere on cpu (docs/PHYSICS.md,
-    /// "MINRES after the sweeps").
+    /// sweeps cost about 2.5x the default's step on the bundled sphere on cpu
+    /// (docs/PHYSICS.md, "MINRES after the sweeps").
     #[cfg_attr(feature = "clap", arg(long, value_name = "ITERATIONS"))]
     pub minres: Option<u32>,
     /// Inversion sweeps after each step's iterations (method volume; 0, off, default, to

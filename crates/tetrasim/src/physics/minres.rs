@@ -30,7 +30,7 @@
 
 use glam::DVec3;
 
-use super::Real;
+use super::{Real, Vector};
 
 /// How a node moves under a force in the solve: its inverse mass, less the direction a
 /// contact holds.
@@ -68,10 +68,38 @@ impl Mobility {
     fn apply(&self, u: DVec3) -> DVec3 {
         (u - self.held * self.held.dot(u)) * self.inv_mass
     }
+
+    /// The same in the rows' precision.
+    fn rounded<V: Vector>(&self) -> (V::Real, V) {
+        (V::Real::from_f64(self.inv_mass), V::from_dvec3(self.held))
+    }
 }
 
-/// Independent partial sums of a dot product (they hide the additions' latency).
-const LANES: usize = 4;
+/// [`Mobility::apply`] in precision `V`.
+#[inline]
+fn apply_rounded<V: Vector>((inv_mass, held): (V::Real, V), u: V) -> V {
+    (u - held * held.dot(u)) * inv_mass
+}
+
+/// `sum_j f(j)` over `0..m` in four independent partial sums, which hide the additions'
+/// latency.
+#[inline(always)]
+fn lanes_sum(m: usize, mut f: impl FnMut(usize) -> f64) -> f64 {
+    let (mut a, mut b, mut c, mut d) = (0.0, 0.0, 0.0, 0.0);
+    let mut j = 0;
+    while j + 4 <= m {
+        a += f(j);
+        b += f(j + 1);
+        c += f(j + 2);
+        d += f(j + 3);
+        j += 4;
+    }
+    while j < m {
+        a += f(j);
+        j += 1;
+    }
+    (a + b) + (c + d)
+}
 
 /// The most MINRES iterations a step may run.
 pub const MINRES_MAX_ITERATIONS: u32 = 200;
@@ -90,21 +118,31 @@ pub fn compliant_residual<R: Real>(c: R, b: R, dt: R, softness: R, damping: R) -
 }
 
 /// Rows of `K` entries each: their indices, nodes and gradients.
-#[derive(Debug, Clone, Default)]
-struct Fixed<const K: usize> {
+#[derive(Debug, Clone)]
+struct Fixed<const K: usize, V> {
     row: Vec<u32>,
     nodes: Vec<[u32; K]>,
-    grads: Vec<[DVec3; K]>,
+    grads: Vec<[V; K]>,
 }
 
-impl<const K: usize> Fixed<K> {
+impl<const K: usize, V> Default for Fixed<K, V> {
+    fn default() -> Self {
+        Fixed {
+            row: Vec::new(),
+            nodes: Vec::new(),
+            grads: Vec::new(),
+        }
+    }
+}
+
+impl<const K: usize, V: Vector> Fixed<K, V> {
     /// Adds row `row` if it has `K` entries; gives it back if not.
     fn take(&mut self, row: u32, nodes: &[u32], grads: &[DVec3]) -> bool {
         match (<[u32; K]>::try_from(nodes), <[DVec3; K]>::try_from(grads)) {
             (Ok(n), Ok(g)) => {
                 self.row.push(row);
                 self.nodes.push(n);
-                self.grads.push(g);
+                self.grads.push(g.map(V::from_dvec3));
                 true
             }
             _ => false,
@@ -114,17 +152,16 @@ impl<const K: usize> Fixed<K> {
     /// Every `(row, node, gradient)` entry.
     fn entries(&self) -> impl Iterator<Item = (usize, usize, DVec3)> + '_ {
         (self.row.iter().zip(&self.nodes).zip(&self.grads)).flat_map(|((&j, n), g)| {
-            n.iter()
-                .zip(g)
-                .map(move |(&i, &g)| (j as usize, i as usize, g))
+            (n.iter().zip(g)).map(move |(&i, &g)| (j as usize, i as usize, g.to_dvec3()))
         })
     }
 
     /// `u += grad p` on each row's nodes.
-    fn scatter(&self, p: &[f64], u: &mut [DVec3]) {
+    fn scatter(&self, p: &[f64], u: &mut [V]) {
         for ((&j, n), g) in self.row.iter().zip(&self.nodes).zip(&self.grads) {
             let pj = p[j as usize];
             if pj != 0.0 {
+                let pj = V::Real::from_f64(pj);
                 for k in 0..K {
                     u[n[k] as usize] += g[k] * pj;
                 }
@@ -133,10 +170,13 @@ impl<const K: usize> Fixed<K> {
     }
 
     /// `q += grad . u` over each row's nodes.
-    fn gather(&self, u: &[DVec3], q: &mut [f64]) {
+    fn gather(&self, u: &[V], q: &mut [f64]) {
         for ((&j, n), g) in self.row.iter().zip(&self.nodes).zip(&self.grads) {
-            let sum: f64 = (0..K).map(|k| g[k].dot(u[n[k] as usize])).sum();
-            q[j as usize] += sum;
+            let mut sum = V::Real::ZERO;
+            for k in 0..K {
+                sum += g[k].dot(u[n[k] as usize]);
+            }
+            q[j as usize] += sum.to_f64();
         }
     }
 }
@@ -144,26 +184,39 @@ impl<const K: usize> Fixed<K> {
 /// A step's constraint rows: each one's nodes, its gradient on each, its softness and its
 /// residual at the forces so far. Rows of two and four entries (springs and distance
 /// constraints, tets) are kept apart from the wide ones (the global volume constraints),
-/// so that the solve's products run fixed-size loops.
-#[derive(Debug, Clone, Default)]
-pub struct StepRows {
-    pairs: Fixed<2>,
-    tets: Fixed<4>,
+/// so that the solve's products run fixed-size loops. The gradients and the product's node
+/// sums are kept in precision `V` (the backend's); the solve's vectors are `f64`.
+#[derive(Debug, Clone)]
+pub struct StepRows<V = DVec3> {
+    pairs: Fixed<2, V>,
+    tets: Fixed<4, V>,
     /// The other rows: their indices, and their entries from `wide_first[k]` on.
     wide_row: Vec<u32>,
     wide_first: Vec<usize>,
     wide_nodes: Vec<u32>,
-    wide_grads: Vec<DVec3>,
+    wide_grads: Vec<V>,
     softness: Vec<f64>,
     residual: Vec<f64>,
 }
 
-impl StepRows {
+impl<V: Vector> Default for StepRows<V> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<V: Vector> StepRows<V> {
     /// No rows.
     pub fn new() -> Self {
         StepRows {
+            pairs: Fixed::default(),
+            tets: Fixed::default(),
+            wide_row: Vec::new(),
             wide_first: vec![0],
-            ..Default::default()
+            wide_nodes: Vec::new(),
+            wide_grads: Vec::new(),
+            softness: Vec::new(),
+            residual: Vec::new(),
         }
     }
 
@@ -174,11 +227,29 @@ impl StepRows {
         if !self.pairs.take(row, nodes, grads) && !self.tets.take(row, nodes, grads) {
             self.wide_row.push(row);
             self.wide_nodes.extend_from_slice(nodes);
-            self.wide_grads.extend_from_slice(grads);
+            self.wide_grads
+                .extend(grads.iter().map(|&g| V::from_dvec3(g)));
             self.wide_first.push(self.wide_nodes.len());
         }
         self.softness.push(softness);
         self.residual.push(residual);
+    }
+
+    /// No rows, the memory kept for the next step's.
+    pub fn clear(&mut self) {
+        self.pairs.row.clear();
+        self.pairs.nodes.clear();
+        self.pairs.grads.clear();
+        self.tets.row.clear();
+        self.tets.nodes.clear();
+        self.tets.grads.clear();
+        self.wide_row.clear();
+        self.wide_first.clear();
+        self.wide_first.push(0);
+        self.wide_nodes.clear();
+        self.wide_grads.clear();
+        self.softness.clear();
+        self.residual.clear();
     }
 
     /// The number of rows.
@@ -198,7 +269,7 @@ impl StepRows {
             (self.wide_nodes[range.clone()]
                 .iter()
                 .zip(&self.wide_grads[range]))
-            .map(move |(&i, &g)| (j as usize, i as usize, g))
+            .map(move |(&i, &g)| (j as usize, i as usize, g.to_dvec3()))
         });
         self.pairs.entries().chain(self.tets.entries()).chain(wide)
     }
@@ -214,30 +285,31 @@ impl StepRows {
         (held, free)
     }
 
-    /// `q = (J M J^T + S) p` over the rows `live` leaves in (`u`: scratch per node); `p` is 0
-    /// on the others.
+    /// `q = (J M J^T + S) p` over the rows `live` leaves in (`u`: scratch per node, `mobility`
+    /// rounded to `V`); `p` is 0 on the others.
     fn product(
         &self,
-        mobility: &[Mobility],
+        mobility: &[(V::Real, V)],
         live: &[bool],
         p: &[f64],
-        u: &mut [DVec3],
+        u: &mut [V],
         q: &mut [f64],
     ) {
-        u.fill(DVec3::ZERO);
+        u.fill(V::ZERO);
         self.pairs.scatter(p, u);
         self.tets.scatter(p, u);
         for (k, &j) in self.wide_row.iter().enumerate() {
             let range = self.wide_first[k]..self.wide_first[k + 1];
+            let pj = V::Real::from_f64(p[j as usize]);
             for (&i, &g) in self.wide_nodes[range.clone()]
                 .iter()
                 .zip(&self.wide_grads[range])
             {
-                u[i as usize] += g * p[j as usize];
+                u[i as usize] += g * pj;
             }
         }
-        for (ui, m) in u.iter_mut().zip(mobility) {
-            *ui = m.apply(*ui);
+        for (ui, &m) in u.iter_mut().zip(mobility) {
+            *ui = apply_rounded(m, *ui);
         }
         for ((qj, &s), &pj) in q.iter_mut().zip(&self.softness).zip(p) {
             *qj = s * pj;
@@ -249,7 +321,8 @@ impl StepRows {
             let entries = self.wide_nodes[range.clone()]
                 .iter()
                 .zip(&self.wide_grads[range]);
-            q[j as usize] += entries.map(|(&i, g)| g.dot(u[i as usize])).sum::<f64>();
+            let sum = entries.fold(V::Real::ZERO, |a, (&i, &g)| a + g.dot(u[i as usize]));
+            q[j as usize] += sum.to_f64();
         }
         for (qj, &l) in q.iter_mut().zip(live) {
             if !l {
@@ -262,7 +335,7 @@ impl StepRows {
 /// The multiplier increments after `iterations` of preconditioned MINRES on `rows`, each
 /// node moving with its `mobility` (what the floor, colliders and grabs hold taken out).
 /// Rows the holding leaves less than [`HELD_SHARE`] of their mobility, or none, get 0.
-pub fn minres(rows: &StepRows, mobility: &[Mobility], iterations: u32) -> Vec<f64> {
+pub fn minres<V: Vector>(rows: &StepRows<V>, mobility: &[Mobility], iterations: u32) -> Vec<f64> {
     let m = rows.len();
     let (held, full) = rows.diagonals(mobility);
     let live: Vec<bool> = (held.iter().zip(&full))
@@ -291,27 +364,32 @@ pub fn minres(rows: &StepRows, mobility: &[Mobility], iterations: u32) -> Vec<f6
     let (mut cs, mut sn) = (-1.0f64, 0.0f64);
     let (mut w, mut w1) = (vec![0.0; m], vec![0.0; m]);
     let mut av = vec![0.0; m];
-    let mut u = vec![DVec3::ZERO; mobility.len()];
+    let rounded: Vec<(V::Real, V)> = mobility.iter().map(Mobility::rounded).collect();
+    let mut u = vec![V::ZERO; mobility.len()];
     for _ in 0..iterations {
-        rows.product(mobility, &live, &v, &mut u, &mut av);
+        rows.product(&rounded, &live, &v, &mut u, &mut av);
         // av = A v - (beta / old_beta) r1, alpha = v . av
         let back = if old_beta > 0.0 { beta / old_beta } else { 0.0 };
-        let mut sums = [0.0; LANES];
-        for (k, ((a, r), vj)) in av.iter_mut().zip(&r1).zip(&v).enumerate() {
-            *a -= back * r;
-            sums[k % LANES] += vj * *a;
-        }
-        let alpha: f64 = sums.iter().sum();
+        let alpha = {
+            let (av, r1, v) = (&mut av[..m], &r1[..m], &v[..m]);
+            lanes_sum(m, |j| {
+                av[j] -= back * r1[j];
+                v[j] * av[j]
+            })
+        };
         // The next Lanczos vector: r1 <- r2, r2 <- av - (alpha / beta) r2, y = M^-1 r2.
-        let (along, mut sums) = (alpha / beta, [0.0; LANES]);
-        for j in 0..m {
-            let a = av[j] - along * r2[j];
-            r1[j] = r2[j];
-            r2[j] = a;
-            y[j] = a * inverse[j];
-            sums[j % LANES] += a * y[j];
-        }
-        let next: f64 = sums.iter().sum();
+        let along = alpha / beta;
+        let next = {
+            let (av, r1, r2) = (&av[..m], &mut r1[..m], &mut r2[..m]);
+            let (y, inverse) = (&mut y[..m], &inverse[..m]);
+            lanes_sum(m, |j| {
+                let a = av[j] - along * r2[j];
+                r1[j] = r2[j];
+                r2[j] = a;
+                y[j] = a * inverse[j];
+                a * y[j]
+            })
+        };
         old_beta = beta;
         beta = next.max(0.0).sqrt();
         // The QR factorisation of the tridiagonal matrix, one Givens rotation per iteration.
@@ -330,6 +408,7 @@ pub fn minres(rows: &StepRows, mobility: &[Mobility], iterations: u32) -> Vec<f6
         // The search direction w (from the last two), the solution, the next v.
         let scale = if beta > 0.0 { 1.0 / beta } else { 0.0 };
         let over = 1.0 / gamma;
+        let (v, w, w1, x, y) = (&mut v[..m], &mut w[..m], &mut w1[..m], &mut x[..m], &y[..m]);
         for j in 0..m {
             let wj = (v[j] - old_epsilon * w1[j] - delta * w[j]) * over;
             w1[j] = w[j];
@@ -368,11 +447,12 @@ mod tests {
 
     /// The residual's norm in the preconditioner's metric, which MINRES minimises.
     fn residual_after(rows: &StepRows, mobility: &[Mobility], x: &[f64]) -> f64 {
+        let rounded: Vec<(f64, DVec3)> = mobility.iter().map(Mobility::rounded).collect();
         let live = vec![true; rows.len()];
         let diagonal = rows.diagonals(mobility).0;
         let mut q = vec![0.0; rows.len()];
         let mut u = vec![DVec3::ZERO; mobility.len()];
-        rows.product(mobility, &live, x, &mut u, &mut q);
+        rows.product(&rounded, &live, x, &mut u, &mut q);
         let terms = rows
             .residual
             .iter()

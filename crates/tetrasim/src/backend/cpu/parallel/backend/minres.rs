@@ -3,7 +3,7 @@
 //! increments applied to the forces and the compliant multipliers. The floor and colliders
 //! are solved again by the passes that follow (the inversion sweeps' or `integrate`).
 
-use glam::DVec3;
+use glam::{DVec3, Vec3A};
 
 use super::ParallelBackend;
 use crate::backend::cpu::parallel::{ConstraintFamily, Family, Global, Sweep};
@@ -11,6 +11,14 @@ use crate::physics::{compliant_residual, minres, Mobility, StepRows, Vector};
 
 /// Where a row's increment goes: its sweep and position (compliant constraints), or nowhere.
 type Slot = Option<(usize, usize)>;
+
+/// The rows of the last step and where their increments went, kept so that each step reuses
+/// their memory (the sphere's rows are 200 kB: allocated anew, each step paid for its pages).
+#[derive(Debug, Clone, Default)]
+pub(super) struct MinresRows {
+    rows: StepRows<Vec3A>,
+    slots: Vec<Slot>,
+}
 
 impl ParallelBackend {
     /// `minres` iterations of MINRES on every constraint of `sweeps` (each kind once) and
@@ -22,8 +30,12 @@ impl ParallelBackend {
         sweeps: &mut [Sweep],
         global: Option<&Global>,
     ) {
-        let mut rows = StepRows::new();
-        let mut slots: Vec<Slot> = Vec::new();
+        let MinresRows {
+            mut rows,
+            mut slots,
+        } = std::mem::take(&mut self.minres_rows);
+        rows.clear();
+        slots.clear();
         let mut kinds = Vec::new();
         for (s, sweep) in sweeps.iter().enumerate() {
             if kinds.contains(&sweep.kind) {
@@ -54,6 +66,7 @@ impl ParallelBackend {
                 sweeps[s].multipliers[p] += d as f32;
             }
         }
+        self.minres_rows = MinresRows { rows, slots };
     }
 
     /// Each node's mobility ([`Mobility::held_by`] the floor, colliders and grabs).
@@ -75,7 +88,7 @@ impl ParallelBackend {
         s: usize,
         sweep: &Sweep,
         nodes: &[[u32; K]],
-        rows: &mut StepRows,
+        rows: &mut StepRows<Vec3A>,
         slots: &mut Vec<Slot>,
     ) {
         for (p, (&e, ids)) in sweep.members.items.iter().zip(nodes).enumerate() {
@@ -99,7 +112,7 @@ impl ParallelBackend {
     }
 
     /// The rows of the global volume constraints (hard) at the forces so far.
-    fn global_rows(&self, global: &Global, rows: &mut StepRows, slots: &mut Vec<Slot>) {
+    fn global_rows(&self, global: &Global, rows: &mut StepRows<Vec3A>, slots: &mut Vec<Slot>) {
         for (object, &(c, _)) in global.data.objects.iter().zip(&global.c_and_a) {
             let range =
                 object.node_first as usize..(object.node_first + object.node_count) as usize;

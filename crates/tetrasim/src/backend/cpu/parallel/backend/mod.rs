@@ -26,6 +26,8 @@ pub struct ParallelBackend {
     /// Constraint iterations per step, and MINRES iterations after them (0: off).
     iterations: u32,
     minres: u32,
+    /// MINRES's rows, kept from step to step.
+    minres_rows: minres::MinresRows,
     floor: bool,
     k: Coefficients,
     mass: Vec<f32>,
@@ -146,6 +148,7 @@ impl ParallelBackend {
             substeps: params.substeps,
             iterations: params.iterations,
             minres: params.minres,
+            minres_rows: Default::default(),
             floor: params.floor,
             k: Coefficients {
                 dt: params.dt as f32,
