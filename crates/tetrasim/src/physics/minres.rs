@@ -1,5 +1,6 @@
 //! MINRES on a step's linearised constraints (docs/PHYSICS.md, "MINRES after the sweeps"):
-//! the host-side solver both CPU backends share, in double precision.
+//! the host-side solver both CPU backends share. Its vectors are in double precision; the
+//! gradients and the matrix product are in the backend's ([`StepRows`]).
 //!
 //! Every constraint of a step is linear in the step's forces: its gradients are taken at
 //! `x(t)`, and its multiplier increment solves `A delta = B` (physics.md, "Implicit

@@ -1,5 +1,5 @@
-//! MINRES after the sweeps on `cpu` ([`crate::physics::minres`], in double precision on
-//! one thread): the step's constraint rows at the forces the team left, solved, and their
+//! MINRES after the sweeps on `cpu` ([`crate::physics::minres`], on one thread, the product
+//! in single precision): the step's constraint rows at the forces the team left, solved, and their
 //! increments applied to the forces and the compliant multipliers. The floor and colliders
 //! are solved again by the passes that follow (the inversion sweeps' or `integrate`).
 
