@@ -9,7 +9,7 @@
 //!   (issue 26's bar; measured 0.00 mm on `cpu` and `cpu-ref`), where the same two sweeps
 //!   alone let it rise 75.7 mm and the default's ten 62.9 mm.
 //! - `cpu` follows `cpu-ref` with it, on the floor, for every constraint method.
-//! - `vulkan` refuses it, naming the key.
+//! - `vulkan` refuses it, and so does a scene with contact between bodies, naming the key.
 //!
 //! Each would fail with MINRES switched off: the comparisons are against the same runs
 //! without it.
@@ -199,4 +199,24 @@ fn vulkan_refuses_minres_naming_the_key() {
         message.contains("minres") && message.contains("cpu"),
         "{message}"
     );
+}
+
+#[test]
+fn minres_refuses_contact_between_bodies_naming_the_key() {
+    let model = ModelBuilder::new(&ball_mesh(2.0))
+        .self_contact(true)
+        .build()
+        .unwrap();
+    let params = SimParams {
+        minres: 10,
+        ..SimParams::default()
+    };
+    let refused = ParallelBackend::new(&model, &params).err();
+    let message = refused.expect("minres with contact refused").to_string();
+    assert!(
+        message.contains("minres") && message.contains("between bodies"),
+        "{message}"
+    );
+    let without = SimParams::default();
+    ParallelBackend::new(&model, &without).expect("self contact without minres");
 }
