@@ -7,7 +7,7 @@ use glam::{DVec3, Vec3A};
 
 use super::ParallelBackend;
 use crate::backend::cpu::parallel::{ConstraintFamily, Family, Global, Sweep};
-use crate::physics::{compliant_residual, minres, Mobility, StepRows, Vector};
+use crate::physics::{compliant_residual, implicit_accumulate, minres, Mobility, StepRows, Vector};
 
 /// Where a row's increment goes: its sweep and position (compliant constraints), or nowhere.
 type Slot = Option<(usize, usize)>;
@@ -21,15 +21,10 @@ pub(super) struct MinresRows {
 }
 
 impl ParallelBackend {
-    /// `minres` iterations of MINRES on every constraint of `sweeps` (each kind once) and
-    /// the global volume constraints at the forces so far, the nodes the floor, colliders
-    /// and grabs push held.
-    pub(super) fn minres_solve(
-        &mut self,
-        minres_iterations: u32,
-        sweeps: &mut [Sweep],
-        global: Option<&Global>,
-    ) {
+    /// `self.minres` iterations of MINRES on every constraint of `sweeps` (each kind once)
+    /// and the global volume constraints at the forces so far, the nodes the floor,
+    /// colliders and grabs push held.
+    pub(super) fn minres_solve(&mut self, sweeps: &mut [Sweep], global: Option<&Global>) {
         let MinresRows {
             mut rows,
             mut slots,
@@ -57,7 +52,7 @@ impl ParallelBackend {
         if let Some(global) = global {
             self.global_rows(global, &mut rows, &mut slots);
         }
-        let delta = minres(&rows, &self.mobility(), minres_iterations);
+        let delta = minres(&rows, &self.mobility(), self.minres);
         for (j, i, g) in rows.entries() {
             self.f[i] -= (g * delta[j]).as_vec3a();
         }
@@ -132,12 +127,12 @@ impl ParallelBackend {
 
     /// `sum_k grad_k . (v_k / dt + w_k F_k)` of a row's entries at the forces so far.
     fn numerator_sum(&self, entries: impl Iterator<Item = (u32, DVec3)>) -> f64 {
-        entries
-            .map(|(i, g)| {
-                let i = i as usize;
-                let (v, f) = (self.v[i].to_dvec3(), self.f[i].to_dvec3());
-                g.dot(v / self.dt + f * f64::from(self.inv_mass[i]))
-            })
-            .sum()
+        let (mut a, mut b) = (0.0, 0.0);
+        for (i, g) in entries {
+            let i = i as usize;
+            let (v, f, w) = (self.v[i].to_dvec3(), self.f[i].to_dvec3(), self.inv_mass[i]);
+            implicit_accumulate(&mut a, &mut b, g, f64::from(w), 1.0, v, f, self.dt);
+        }
+        b
     }
 }
