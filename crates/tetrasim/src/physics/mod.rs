@@ -48,7 +48,7 @@ pub use integrate::{
     coulomb_friction, floor_force, floor_friction, floor_solve, integrate_node, symplectic_euler,
 };
 pub use minres::{
-    compliant_residual, minres, Mobility, StepRows, HELD_SHARE, MINRES_MAX_ITERATIONS,
+    compliant_residual, Held, Mobility, NodeRows, StepRows, HELD_SHARE, MINRES_MAX_ITERATIONS,
 };
 pub use spring::spring_force;
 pub use tetmesh::geometry::{tet_volume, Real, Vector};

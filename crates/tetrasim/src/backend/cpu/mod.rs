@@ -2,8 +2,12 @@
 //! backend is tested against) and [`ParallelBackend`] (`cpu`: f32, every core, the fast CPU
 //! competitor of the Vulkan engine). Both call the same math in [`crate::physics`].
 
+mod barrier;
+mod minres;
 mod parallel;
 mod reference;
+mod shared;
+mod team;
 
 pub use parallel::ParallelBackend;
 pub use reference::{Forces, ReferenceBackend};

@@ -6,8 +6,8 @@
 //! the multipliers, and solves its nodes' floor and colliders again.
 
 use super::iterations::{Inputs, Outputs};
-use super::team::Member;
 use super::*;
+use crate::backend::cpu::team::Member;
 use crate::physics::{
     anderson_weights, floor_solve, gram_index, gram_terms, AndersonIteration, ANDERSON_MAX_MEMORY,
 };
@@ -82,7 +82,7 @@ fn mixed_count(inputs: &Inputs<'_>, outputs: &Outputs<'_>) -> usize {
         .sum()
 }
 
-type SharedSliceF32<'a> = super::shared::SharedSlice<'a, f32>;
+type SharedSliceF32<'a> = crate::backend::cpu::shared::SharedSlice<'a, f32>;
 
 /// The multipliers' part of `anderson_sum`: their last values and history column.
 ///

@@ -1,13 +1,13 @@
-//! A step's constraint iterations on a [`Team`](super::team::Team): every member runs the
+//! A step's constraint iterations on a [`Team`](crate::backend::cpu::team::Team): every member runs the
 //! schedule's per-iteration dispatches ([`crate::schedule::Schedule::step`]) in order, its
 //! share of each (its block of a group's constraints, its block of nodes, its chunks of the
 //! surfaces), and waits for the others after each. Each result is computed by one member
 //! with the same arithmetic and in the same order as on one thread, so the states are
 //! bit-identical for any team size.
 
-use super::shared::SharedSlice;
-use super::team::Member;
 use super::*;
+use crate::backend::cpu::shared::SharedSlice;
+use crate::backend::cpu::team::Member;
 use crate::contact::{BodyContact, Contact};
 
 /// What the constraints of a step read and never write.

@@ -6,9 +6,9 @@
 //!
 //! The step is the schedule's ([`crate::schedule::Schedule::step`]), dispatch after
 //! dispatch. Its constraint iterations (every colour group of every sweep, ten times over,
-//! and the global volume constraint) run on a persistent [`team`] woken once per step: each
+//! and the global volume constraint) run on a persistent [`team`](super::team) woken once per step: each
 //! thread solves a fixed block of each group's constraints ([`solve_block`]), waits at a
-//! [`barrier`] (spin, yield, then sleep), applies the group's results to a fixed block of
+//! [`barrier`](super::barrier) (spin, yield, then sleep), applies the group's results to a fixed block of
 //! nodes ([`apply_block`]), waits, and so on ([`iterations`]). The step's other stages
 //! (springs, the global constraints' gradients, integration) are rayon loops in chunks of
 //! at least [`CHUNK`] on the same threads. Every result is computed
@@ -34,12 +34,9 @@ use crate::schedule::{Dispatch, PassKind, Schedule};
 
 mod anderson;
 mod backend;
-mod barrier;
 mod blocks;
 mod inversion;
 mod iterations;
-mod shared;
-mod team;
 #[cfg(test)]
 mod tests;
 

@@ -1,8 +1,8 @@
 //! The team's result does not depend on its size: states after a drop onto the floor are
-//! bit-identical for teams of 1, 2, 3 and 4 threads (every solver, implicit and explicit
-//! springs), and the 4-thread run follows the `cpu-ref` backend within the tolerance of
+//! bit-identical for teams of 1, 2, 3 and 4 threads (every solver, MINRES, implicit and
+//! explicit springs), and the 4-thread run follows the `cpu-ref` backend within the tolerance of
 //! `tests/cpu_matches_reference.rs`. The teams are built with their size given, past the
-//! cap on small meshes ([`super::team::Team::for_work`]).
+//! cap on small meshes ([`crate::backend::cpu::team::Team::for_work`]).
 
 use super::*;
 use crate::backend::cpu::ReferenceBackend;
@@ -90,6 +90,14 @@ fn teams_of_any_size_give_the_same_bits() {
             "block gauss-seidel, blocks of 96",
             SimParams {
                 block_size: 96,
+                ..params.clone()
+            },
+        ),
+        (
+            "2 sweeps, then MINRES 20",
+            SimParams {
+                iterations: 2,
+                minres: 20,
                 ..params.clone()
             },
         ),

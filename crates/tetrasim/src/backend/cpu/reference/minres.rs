@@ -1,10 +1,13 @@
-//! MINRES after the sweeps on `cpu-ref` ([`crate::physics::minres`]): the step's constraint
-//! rows at the forces the sweeps left, solved, and their increments applied.
+//! MINRES after the sweeps on `cpu-ref` ([`crate::backend::cpu::minres`], on a team of one):
+//! the step's constraint rows at the forces the sweeps left, solved, and their increments
+//! applied.
 
 use glam::DVec3;
 
 use super::{ReferenceBackend, StepForces};
-use crate::physics::{compliant_residual, implicit_accumulate, minres, Mobility, StepRows};
+use crate::backend::cpu::minres::Minres;
+use crate::backend::cpu::team::Team;
+use crate::physics::{compliant_residual, implicit_accumulate, Mobility, StepRows};
 use crate::schedule::family::{ConstraintFamily, Family};
 
 /// Which multipliers a row's increment adds to.
@@ -45,9 +48,11 @@ impl ReferenceBackend {
             }
         }
         self.global_rows(step, &mut rows, &mut slots);
-        let delta = minres(&rows, &self.mobility(step), iterations);
-        for (j, i, g) in rows.entries() {
-            step.total[i] -= g * delta[j];
+        let mut minres = Minres::default();
+        minres.solve(&Team::default(), &rows, &self.mobility(step), iterations);
+        let delta = minres.increments();
+        for (i, total) in step.total.iter_mut().enumerate() {
+            *total -= minres.node_force(i);
         }
         for (&d, slot) in delta.iter().zip(&slots) {
             match *slot {

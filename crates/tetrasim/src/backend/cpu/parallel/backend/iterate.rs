@@ -37,7 +37,7 @@ impl ParallelBackend {
             .unwrap_or(range.end);
         self.iterate(team, &mut sweeps, global.as_ref(), range.start..split, at);
         if self.minres > 0 {
-            self.minres_solve(&mut sweeps, global.as_ref());
+            self.minres_solve(team, &mut sweeps, global.as_ref());
         }
         if split < range.end {
             self.iterate(team, &mut sweeps, global.as_ref(), split..range.end, at);

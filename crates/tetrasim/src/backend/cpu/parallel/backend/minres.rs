@@ -1,33 +1,43 @@
-//! MINRES after the sweeps on `cpu` ([`crate::physics::minres`], on one thread, the product
-//! in single precision): the step's constraint rows at the forces the team left, solved, and their
+//! MINRES after the sweeps on `cpu` ([`crate::backend::cpu::minres`], on the team, the
+//! product in single precision): the step's constraint rows at the forces the team left, solved, and their
 //! increments applied to the forces and the compliant multipliers. The floor and colliders
 //! are solved again by the passes that follow (the inversion sweeps' or `integrate`).
 
 use glam::{DVec3, Vec3A};
 
 use super::ParallelBackend;
+use crate::backend::cpu::minres::Minres;
 use crate::backend::cpu::parallel::{ConstraintFamily, Family, Global, Sweep};
-use crate::physics::{compliant_residual, implicit_accumulate, minres, Mobility, StepRows, Vector};
+use crate::backend::cpu::team::Team;
+use crate::physics::{compliant_residual, implicit_accumulate, Mobility, StepRows, Vector};
 
 /// Where a row's increment goes: its sweep and position (compliant constraints), or nowhere.
 type Slot = Option<(usize, usize)>;
 
-/// The rows of the last step and where their increments went, kept so that each step reuses
-/// their memory (the sphere's rows are 200 kB: allocated anew, each step paid for its pages).
+/// The rows of the last step, where their increments went and the solve's memory, kept so
+/// that each step reuses them (the sphere's rows are 200 kB: allocated anew, each step paid
+/// for its pages).
 #[derive(Debug, Clone, Default)]
 pub(super) struct MinresRows {
     rows: StepRows<Vec3A>,
     slots: Vec<Slot>,
+    solver: Minres<Vec3A>,
 }
 
 impl ParallelBackend {
     /// `self.minres` iterations of MINRES on every constraint of `sweeps` (each kind once)
     /// and the global volume constraints at the forces so far, the nodes the floor,
-    /// colliders and grabs push held.
-    pub(super) fn minres_solve(&mut self, sweeps: &mut [Sweep], global: Option<&Global>) {
+    /// colliders and grabs push held, solved by `team`.
+    pub(super) fn minres_solve(
+        &mut self,
+        team: &Team,
+        sweeps: &mut [Sweep],
+        global: Option<&Global>,
+    ) {
         let MinresRows {
             mut rows,
             mut slots,
+            mut solver,
         } = std::mem::take(&mut self.minres_rows);
         rows.clear();
         slots.clear();
@@ -52,16 +62,21 @@ impl ParallelBackend {
         if let Some(global) = global {
             self.global_rows(global, &mut rows, &mut slots);
         }
-        let delta = minres(&rows, &self.mobility(), self.minres);
-        for (j, i, g) in rows.entries() {
-            self.f[i] -= (g * delta[j]).as_vec3a();
+        solver.solve(team, &rows, &self.mobility(), self.minres);
+        let delta = solver.increments();
+        for (i, f) in self.f.iter_mut().enumerate() {
+            *f -= solver.node_force(i);
         }
         for (&d, slot) in delta.iter().zip(&slots) {
             if let Some((s, p)) = *slot {
                 sweeps[s].multipliers[p] += d as f32;
             }
         }
-        self.minres_rows = MinresRows { rows, slots };
+        self.minres_rows = MinresRows {
+            rows,
+            slots,
+            solver,
+        };
     }
 
     /// Each node's mobility ([`Mobility::held_by`] the floor, colliders and grabs).
@@ -89,7 +104,6 @@ impl ParallelBackend {
         for (p, (&e, ids)) in sweep.members.items.iter().zip(nodes).enumerate() {
             let (c, grad, softness, damping) =
                 family.evaluate(e as usize, ids.map(|i| self.x[i as usize]));
-            let grad = grad.map(|g| g.to_dvec3());
             let (softness, damping) = (f64::from(softness), f64::from(damping));
             let (c, so_far, slot) = match softness > 0.0 {
                 false => (self.k.solve.hard(f64::from(c)), 0.0, None),
@@ -99,7 +113,8 @@ impl ParallelBackend {
                     Some((s, p)),
                 ),
             };
-            let b = self.numerator_sum(ids.iter().copied().zip(grad)) - so_far;
+            let b =
+                self.numerator_sum(ids.iter().copied().zip(grad.map(|g| g.to_dvec3()))) - so_far;
             let residual = compliant_residual(c, b, self.dt, softness, damping);
             rows.push(ids, &grad, softness, residual);
             slots.push(slot);
@@ -112,12 +127,17 @@ impl ParallelBackend {
             let range =
                 object.node_first as usize..(object.node_first + object.node_count) as usize;
             let nodes = &global.data.nodes[range.clone()];
-            let grads: Vec<DVec3> = global.grad[range].iter().map(|g| g.to_dvec3()).collect();
-            let b = self.numerator_sum(nodes.iter().copied().zip(grads.iter().copied()));
+            let grads = &global.grad[range];
+            let b = self.numerator_sum(
+                nodes
+                    .iter()
+                    .copied()
+                    .zip(grads.iter().map(|g| g.to_dvec3())),
+            );
             let c = self.k.solve.hard(f64::from(c));
             rows.push(
                 nodes,
-                &grads,
+                grads,
                 0.0,
                 compliant_residual(c, b, self.dt, 0.0, 0.0),
             );

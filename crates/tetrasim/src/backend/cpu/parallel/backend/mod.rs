@@ -7,9 +7,9 @@ use super::iterations::{self, Inputs, Outputs};
 
 mod iterate;
 mod minres;
-use super::shared::SharedSlice;
-use super::team::Team;
 use super::*;
+use crate::backend::cpu::shared::SharedSlice;
+use crate::backend::cpu::team::Team;
 use crate::backend::ContactSample;
 use crate::collider::{Clamp, Collider, Grab};
 use crate::contact::{deepest, Contact};

@@ -1,0 +1,541 @@
+//! MINRES on a step's constraint rows ([`StepRows`]; docs/PHYSICS.md, "MINRES after the
+//! sweeps"), run by a [`Team`]: the solve both CPU backends run after the sweeps, `cpu` on
+//! its team of threads, `cpu-ref` on a team of one. Its vectors are in double precision;
+//! the gradients and the matrix product in the rows' ([`StepRows`]).
+//!
+//! The sweeps converge the step's system one constraint at a time, so a body's slowest
+//! modes (a stiff body squashing on the floor) take hundreds of sweeps. MINRES (Paige and
+//! Saunders 1975) converges them in tens of iterations, each one product with the matrix:
+//! a pass over the constraints to the nodes and one back. MINRES, not conjugate gradients:
+//! both minimise over the same Krylov space, but MINRES the residual `r` (each
+//! constraint's violation), which never grows from one iteration to the next. Conjugate
+//! gradients minimise the error in the forces' energy norm, and cut short at a single-node
+//! contact their intermediate forces threw the rigid sphere off the floor (measured;
+//! docs/PHYSICS.md). The preconditioner is the rows' diagonal `A + s`.
+//!
+//! An iteration is three phases between the team's barriers:
+//! 1. the product's pass to the nodes, each member its block of nodes, through the rows'
+//!    transpose ([`NodeRows`]), so that no two members add to one node;
+//! 2. each member's chunks of [`CHUNK`] rows: the last iteration's update of the search
+//!    direction and the solution, the product's pass back to the rows, and the first dot
+//!    product;
+//! 3. the next Lanczos vector and the second dot product (its norm). Every member then
+//!    computes the same scalars: the QR factorisation's rotation.
+//!
+//! A dot product is summed per chunk, and every member adds the chunks' sums in order, so
+//! the solve gives the same bits on a team of any size. (The norm of phase 3 also follows
+//! from phase 2's sums in exact arithmetic, `|av|^2 - alpha^2`, which would save a phase;
+//! in floating point its error grew tenfold per iteration, so it is computed.)
+
+use crate::backend::cpu::shared::SharedSlice;
+use crate::backend::cpu::team::{Member, Team};
+use crate::physics::{Held, Mobility, NodeRows, Real, StepRows, Vector, HELD_SHARE};
+
+/// Rows per chunk of a dot product's partial sums; fixed, so that the sums do not depend
+/// on the team's size.
+const CHUNK: usize = 256;
+
+/// A MINRES solve's memory, kept from one step to the next (a step's vectors, allocated
+/// anew, paid for their pages).
+#[derive(Debug, Clone, Default)]
+pub(super) struct Minres<V: Vector> {
+    transpose: NodeRows<V>,
+    mobility: Vec<Held<V>>,
+    /// The preconditioner: `1 / (A + s)` of each row, 0 on those left to the sweeps
+    /// (whose increments stay 0).
+    inverse: Vec<f64>,
+    /// The solution.
+    x: Vec<f64>,
+    /// The last two Lanczos vectors `r1`, `r2`, which swap storage each iteration.
+    r: [Vec<f64>; 2],
+    /// The preconditioned Lanczos vector `y = M^-1 r2`, and the last iteration's
+    /// `v = y / beta`.
+    y: Vec<f64>,
+    v: Vec<f64>,
+    /// The last two search directions `w1`, `w`, which swap storage each iteration.
+    w: [Vec<f64>; 2],
+    /// The product `A v` less the last-but-one Lanczos vector.
+    av: Vec<f64>,
+    /// The product's node vector `W J^T v`.
+    u: Vec<V>,
+    /// Per chunk, the partial sums `v . av` and `r2 . M^-1 r2` of an iteration.
+    sums: [Vec<f64>; 2],
+}
+
+/// The solve's data every member reads.
+struct Data<'a, V: Vector> {
+    rows: &'a StepRows<V>,
+    transpose: &'a NodeRows<V>,
+    mobility: &'a [Held<V>],
+    inverse: &'a [f64],
+    iterations: u32,
+}
+
+/// The solve's vectors, written by the members in parts ([`SharedSlice`]).
+struct Vectors<'a, V> {
+    x: SharedSlice<'a, f64>,
+    r: [SharedSlice<'a, f64>; 2],
+    y: SharedSlice<'a, f64>,
+    v: SharedSlice<'a, f64>,
+    w: [SharedSlice<'a, f64>; 2],
+    av: SharedSlice<'a, f64>,
+    u: SharedSlice<'a, V>,
+    sums: [SharedSlice<'a, f64>; 2],
+}
+
+impl<V: Vector + Send + Sync> Minres<V> {
+    /// `iterations` of preconditioned MINRES on `rows`, each node moving with its
+    /// `mobility` (what the floor, colliders and grabs hold taken out), solved by `team`:
+    /// the multiplier increments ([`Minres::increments`]). Rows the holding leaves less than
+    /// [`HELD_SHARE`] of their mobility, or none, get 0.
+    pub(super) fn solve(
+        &mut self,
+        team: &Team,
+        rows: &StepRows<V>,
+        mobility: &[Mobility],
+        iterations: u32,
+    ) {
+        let m = rows.len();
+        let (held, free) = rows.diagonals(mobility);
+        self.inverse.clear();
+        self.inverse.extend(
+            (held.iter().zip(&free).zip(rows.softness())).map(|((&h, &f), &s)| {
+                match h > 0.0 && h >= HELD_SHARE * f {
+                    true => 1.0 / (h + s),
+                    false => 0.0,
+                }
+            }),
+        );
+        rows.transpose(mobility.len(), &mut self.transpose);
+        self.mobility.clear();
+        self.mobility.extend(mobility.iter().map(Mobility::rounded));
+        // The solution, the first r1 and the search directions start at 0; the others are
+        // written before they are read.
+        let [r1, r2] = &mut self.r;
+        let [w1, w2] = &mut self.w;
+        for vector in [&mut self.x, r1, w1, w2] {
+            vector.clear();
+            vector.resize(m, 0.0);
+        }
+        for vector in [r2, &mut self.y, &mut self.v, &mut self.av] {
+            vector.resize(m, 0.0);
+        }
+        self.u.resize(mobility.len(), V::ZERO);
+        for sums in &mut self.sums {
+            sums.clear();
+            sums.resize(m.div_ceil(CHUNK), 0.0);
+        }
+        let Minres {
+            transpose,
+            mobility,
+            inverse,
+            x,
+            r: [r1, r2],
+            y,
+            v,
+            w: [w1, w2],
+            av,
+            u,
+            sums: [sums_a, sums_b],
+        } = self;
+        let data = Data {
+            rows,
+            transpose,
+            mobility,
+            inverse,
+            iterations,
+        };
+        let vectors = Vectors {
+            x: SharedSlice::new(x),
+            r: [SharedSlice::new(r1), SharedSlice::new(r2)],
+            y: SharedSlice::new(y),
+            v: SharedSlice::new(v),
+            w: [SharedSlice::new(w1), SharedSlice::new(w2)],
+            av: SharedSlice::new(av),
+            u: SharedSlice::new(u),
+            sums: [SharedSlice::new(sums_a), SharedSlice::new(sums_b)],
+        };
+        // SAFETY: every member runs `iterate` once, with the same data.
+        team.run(|member| unsafe { iterate(member, &data, &vectors) });
+    }
+
+    /// Each row's multiplier increment after [`Minres::solve`].
+    pub(super) fn increments(&self) -> &[f64] {
+        &self.x
+    }
+
+    /// Node `i`'s share of `J^T delta` after [`Minres::solve`] (the force the increments
+    /// take off the node, in the rows' precision).
+    pub(super) fn node_force(&self, i: usize) -> V {
+        self.transpose.sum(i, &self.x)
+    }
+}
+
+/// The scalars of MINRES's recurrence: the Lanczos coefficients and the QR factorisation of
+/// their tridiagonal matrix, one Givens rotation per iteration. Every member keeps its own,
+/// the same.
+struct Recurrence {
+    beta: f64,
+    old_beta: f64,
+    dbar: f64,
+    epsilon: f64,
+    phibar: f64,
+    cs: f64,
+    sn: f64,
+}
+
+/// One iteration's update of the search directions and the solution:
+/// `w_new = (v - old_epsilon w1 - delta w) / gamma`, `x += phi w_new`.
+struct Update {
+    old_epsilon: f64,
+    delta: f64,
+    over_gamma: f64,
+    phi: f64,
+}
+
+impl Update {
+    /// Applies it to a member's rows, the new direction written over `w1` (so that `w`
+    /// becomes the next `w1`).
+    fn apply(&self, v: &[f64], w1: &mut [f64], w: &[f64], x: &mut [f64]) {
+        for (((v, w1), w), x) in v.iter().zip(w1).zip(w).zip(x) {
+            let next = (v - self.old_epsilon * *w1 - self.delta * w) * self.over_gamma;
+            *w1 = next;
+            *x += self.phi * next;
+        }
+    }
+}
+
+impl Recurrence {
+    /// The start, from the first Lanczos vector's norm `beta`.
+    fn new(beta: f64) -> Self {
+        Recurrence {
+            beta,
+            old_beta: 0.0,
+            dbar: 0.0,
+            epsilon: 0.0,
+            phibar: beta,
+            cs: -1.0,
+            sn: 0.0,
+        }
+    }
+
+    /// The factor of the last-but-one Lanczos vector taken off the product.
+    fn back(&self) -> f64 {
+        if self.old_beta > 0.0 {
+            self.beta / self.old_beta
+        } else {
+            0.0
+        }
+    }
+
+    /// The next rotation, from the iteration's `alpha` and next `beta`: the update, or
+    /// `None` where the factorisation breaks down.
+    fn advance(&mut self, alpha: f64, beta: f64) -> Option<Update> {
+        self.old_beta = self.beta;
+        self.beta = beta;
+        let old_epsilon = self.epsilon;
+        let delta = self.cs * self.dbar + self.sn * alpha;
+        let gbar = self.sn * self.dbar - self.cs * alpha;
+        self.epsilon = self.sn * beta;
+        self.dbar = -self.cs * beta;
+        let gamma = gbar.hypot(beta);
+        if !(gamma > 0.0 && gamma.is_finite()) {
+            return None;
+        }
+        (self.cs, self.sn) = (gbar / gamma, beta / gamma);
+        let phi = self.cs * self.phibar;
+        self.phibar *= self.sn;
+        Some(Update {
+            old_epsilon,
+            delta,
+            over_gamma: 1.0 / gamma,
+            phi,
+        })
+    }
+}
+
+/// The sum of a dot product's partial sums, in chunk order.
+///
+/// # Safety
+/// Nobody may write `sums` during the call.
+unsafe fn total(sums: &SharedSlice<'_, f64>) -> f64 {
+    // SAFETY: the caller's promise.
+    unsafe { sums.whole() }.iter().sum()
+}
+
+/// One member's part of the solve: its chunks of rows and its block of nodes, phase by
+/// phase (the module docs).
+///
+/// # Safety
+/// Every member of the team calls it at once, with the same `data` and `vectors`.
+unsafe fn iterate<V: Vector>(member: Member<'_>, data: &Data<'_, V>, vectors: &Vectors<'_, V>) {
+    let m = data.rows.len();
+    let chunks = member.block(m.div_ceil(CHUNK));
+    let own = (chunks.start * CHUNK).min(m)..(chunks.end * CHUNK).min(m);
+    let nodes = member.block(data.transpose.nodes());
+    let (inverse, softness) = (
+        &data.inverse[own.clone()],
+        &data.rows.softness()[own.clone()],
+    );
+    let chunk = |c: usize| c * CHUNK..((c + 1) * CHUNK).min(own.len());
+    // Between two barriers each member writes only its own rows `own` of the row vectors,
+    // its own `chunks` of the sums and its own `nodes` of `u`; what it reads of the
+    // others' (`y` in phase 1, `u` in phase 2, the sums after their phase) nobody writes
+    // until the next barrier.
+    let [alphas, norms] = &vectors.sums;
+    // The first Lanczos vector: r2 = r (r1 = 0), y = M^-1 r2, beta^2 = r2 . y.
+    {
+        // SAFETY: above.
+        let (r2, y, norms) = unsafe {
+            (
+                vectors.r[1].part(own.clone()),
+                vectors.y.part(own.clone()),
+                norms.part(chunks.clone()),
+            )
+        };
+        let residual = &data.rows.residual()[own.clone()];
+        for (c, norm) in (0..chunks.len()).zip(norms) {
+            let mut sum = 0.0;
+            let range = chunk(c);
+            let (r2, y) = (&mut r2[range.clone()], &mut y[range.clone()]);
+            let (inverse, residual) = (&inverse[range.clone()], &residual[range]);
+            for (((r2, y), &inverse), &residual) in r2.iter_mut().zip(y).zip(inverse).zip(residual)
+            {
+                *r2 = if inverse > 0.0 { residual } else { 0.0 };
+                *y = *r2 * inverse;
+                sum += *r2 * *y;
+            }
+            *norm = sum;
+        }
+    }
+    member.wait();
+    // SAFETY: above.
+    let beta = unsafe { total(norms) };
+    if !(beta > 0.0 && beta.is_finite()) {
+        return;
+    }
+    let mut recurrence = Recurrence::new(beta.sqrt());
+    // The last iteration's update of the search directions and the solution, made in the
+    // next iteration's pass over the rows (or after the last).
+    let mut pending: Option<Update> = None;
+    // r1 is `r[r_at]`, r2 the other; w1 is `w[w_at]`, w the other.
+    let (mut r_at, mut w_at) = (0, 0);
+    for _ in 0..data.iterations {
+        let over_beta = 1.0 / recurrence.beta;
+        // 1. u = W J^T v on the member's nodes, v = y / beta.
+        {
+            // SAFETY: above.
+            let (y, u) = unsafe { (vectors.y.whole(), vectors.u.part(nodes.clone())) };
+            let scale = V::Real::from_f64(over_beta);
+            for (i, u) in nodes.clone().zip(u) {
+                *u = data.mobility[i].apply(data.transpose.sum(i, y) * scale);
+            }
+        }
+        member.wait();
+        // 2. The last iteration's update (with its v), then v = y / beta, av = (J u + s v)
+        // on the live rows - back r1, and per chunk v . av.
+        let back = recurrence.back();
+        {
+            // SAFETY: above.
+            let (u, y, v, r1, av, w1, w, x, alphas) = unsafe {
+                (
+                    vectors.u.whole(),
+                    vectors.y.part(own.clone()),
+                    vectors.v.part(own.clone()),
+                    vectors.r[r_at].part(own.clone()),
+                    vectors.av.part(own.clone()),
+                    vectors.w[w_at].part(own.clone()),
+                    vectors.w[1 - w_at].part(own.clone()),
+                    vectors.x.part(own.clone()),
+                    alphas.part(chunks.clone()),
+                )
+            };
+            if let Some(update) = pending.take() {
+                update.apply(v, w1, w, x);
+                w_at = 1 - w_at;
+            }
+            av.fill(0.0);
+            data.rows.gather(own.clone(), u, av);
+            for (c, alpha) in (0..chunks.len()).zip(alphas) {
+                let mut sum = 0.0;
+                let range = chunk(c);
+                let (v, av) = (&mut v[range.clone()], &mut av[range.clone()]);
+                let (y, r1) = (&y[range.clone()], &r1[range.clone()]);
+                let (inverse, softness) = (&inverse[range.clone()], &softness[range]);
+                let rows = (v.iter_mut().zip(av).zip(y).zip(r1)).zip(inverse.iter().zip(softness));
+                for ((((v, av), &y), &r1), (&inverse, &softness)) in rows {
+                    *v = y * over_beta;
+                    let product = match inverse > 0.0 {
+                        true => *av + softness * *v,
+                        false => 0.0,
+                    };
+                    *av = product - back * r1;
+                    sum += *v * *av;
+                }
+                *alpha = sum;
+            }
+        }
+        member.wait();
+        // 3. The next Lanczos vector r2' = av - (alpha / beta) r2 (in r1's storage: r2
+        // becomes the next r1), y = M^-1 r2', and per chunk r2' . y.
+        // SAFETY: above.
+        let alpha = unsafe { total(alphas) };
+        let along = alpha / recurrence.beta;
+        {
+            // SAFETY: above.
+            let (av, r1, r2, y, norms) = unsafe {
+                (
+                    vectors.av.part(own.clone()),
+                    vectors.r[r_at].part(own.clone()),
+                    vectors.r[1 - r_at].part(own.clone()),
+                    vectors.y.part(own.clone()),
+                    norms.part(chunks.clone()),
+                )
+            };
+            for (c, norm) in (0..chunks.len()).zip(norms) {
+                let mut sum = 0.0;
+                let range = chunk(c);
+                let (r1, y) = (&mut r1[range.clone()], &mut y[range.clone()]);
+                let (av, r2, inverse) = (&av[range.clone()], &r2[range.clone()], &inverse[range]);
+                for ((((r1, y), &av), &r2), &inverse) in
+                    r1.iter_mut().zip(y).zip(av).zip(r2).zip(inverse)
+                {
+                    *r1 = av - along * r2;
+                    *y = *r1 * inverse;
+                    sum += *r1 * *y;
+                }
+                *norm = sum;
+            }
+        }
+        r_at = 1 - r_at;
+        member.wait();
+        // SAFETY: above.
+        let beta = unsafe { total(norms) }.max(0.0).sqrt();
+        pending = recurrence.advance(alpha, beta);
+        if pending.is_none() || beta == 0.0 {
+            break;
+        }
+    }
+    if let Some(update) = &pending {
+        // SAFETY: above.
+        let (v, w1, w, x) = unsafe {
+            (
+                vectors.v.part(own.clone()),
+                vectors.w[w_at].part(own.clone()),
+                vectors.w[1 - w_at].part(own.clone()),
+                vectors.x.part(own.clone()),
+            )
+        };
+        update.apply(v, w1, w, x);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::*;
+
+    /// A chain of `n` nodes in 3D with a distance-like row per neighbour pair and per
+    /// second neighbour, hard and compliant, with residuals, and a wide row over all.
+    fn chain(n: usize) -> (StepRows, Vec<f64>) {
+        let mut rows = StepRows::new();
+        for i in 0..n - 1 {
+            for step in [1, 2] {
+                if i + step < n {
+                    let g = DVec3::new(1.0 + 0.1 * i as f64, 0.3 * step as f64, -0.2);
+                    let soft = if i % 3 == 0 { 0.05 } else { 0.0 };
+                    let nodes = [i as u32, (i + step) as u32];
+                    rows.push(&nodes, &[g, -g], soft, (i as f64 * 0.7).sin());
+                }
+            }
+        }
+        let all: Vec<u32> = (0..n as u32).collect();
+        let grads: Vec<DVec3> = (0..n)
+            .map(|i| DVec3::new(0.0, 0.01 * i as f64, 0.02))
+            .collect();
+        rows.push(&all, &grads, 0.0, 0.3);
+        let inv_mass = (0..n).map(|i| 1.0 / (1.0 + (i % 4) as f64)).collect();
+        (rows, inv_mass)
+    }
+
+    /// The residual's norm in the preconditioner's metric, which MINRES minimises.
+    fn residual_after(rows: &StepRows, mobility: &[Mobility], x: &[f64]) -> f64 {
+        let diagonal = rows.diagonals(mobility).0;
+        let mut u = vec![DVec3::ZERO; mobility.len()];
+        for (j, i, g) in rows.entries() {
+            u[i] += g * x[j];
+        }
+        let u: Vec<DVec3> = (u.iter().zip(mobility))
+            .map(|(&u, m)| m.rounded::<DVec3>().apply(u))
+            .collect();
+        let mut q: Vec<f64> = (x.iter().zip(rows.softness()))
+            .map(|(x, s)| x * s)
+            .collect();
+        rows.gather(0..rows.len(), &u, &mut q);
+        let terms = (rows.residual().iter().zip(&q))
+            .zip(&diagonal)
+            .zip(rows.softness());
+        terms
+            .map(|(((r, q), d), s)| (r - q).powi(2) / (d + s))
+            .sum::<f64>()
+            .sqrt()
+    }
+
+    fn solve(team: &Team, rows: &StepRows, mobility: &[Mobility], iterations: u32) -> Vec<f64> {
+        let mut minres = Minres::default();
+        minres.solve(team, rows, mobility, iterations);
+        minres.increments().to_vec()
+    }
+
+    #[test]
+    fn minres_solves_the_step_system_and_never_lets_its_residual_grow() {
+        let (rows, inv_mass) = chain(40);
+        let mobility: Vec<Mobility> = inv_mass.iter().map(|&w| Mobility::free(w)).collect();
+        let start = residual_after(&rows, &mobility, &vec![0.0; rows.len()]);
+        let mut last = start;
+        let team = Team::default();
+        for iterations in [1, 2, 4, 8, 16, 32] {
+            let x = solve(&team, &rows, &mobility, iterations);
+            let r = residual_after(&rows, &mobility, &x);
+            assert!(
+                r <= last * (1.0 + 1e-9),
+                "{iterations} iterations: {r} after {last}"
+            );
+            last = r;
+        }
+        let x = solve(&team, &rows, &mobility, 200);
+        let r = residual_after(&rows, &mobility, &x);
+        assert!(r < 1e-8 * start, "converged residual {r} of {start}");
+    }
+
+    #[test]
+    fn rows_held_by_the_floor_are_left_to_the_sweeps() {
+        let (rows, inv_mass) = chain(6);
+        let mut mobility: Vec<Mobility> = inv_mass.iter().map(|&w| Mobility::free(w)).collect();
+        // Nodes 0 and 1 held entirely: the row between them has no mobility left.
+        mobility[0].inv_mass = 0.0;
+        mobility[1].inv_mass = 0.0;
+        let x = solve(&Team::default(), &rows, &mobility, 50);
+        assert_eq!(x[0], 0.0);
+        assert!(x[1..].iter().any(|&d| d != 0.0));
+    }
+
+    /// Teams of 1 to 4 give the same bits, over more chunks than members (and a memory
+    /// reused from a larger solve).
+    #[test]
+    fn teams_of_any_size_give_the_same_bits() {
+        let (rows, inv_mass) = chain(700);
+        assert!(rows.len() > 4 * CHUNK);
+        let mobility: Vec<Mobility> = inv_mass.iter().map(|&w| Mobility::free(w)).collect();
+        let one = solve(&Team::default(), &rows, &mobility, 30);
+        assert!(one.iter().any(|&d| d != 0.0));
+        for size in 2..=4 {
+            let mut minres = Minres::default();
+            let (small, _) = chain(30);
+            minres.solve(&Team::with_size(size), &small, &mobility, 5);
+            minres.solve(&Team::with_size(size), &rows, &mobility, 30);
+            assert!(minres.increments() == one, "a team of {size} differs");
+        }
+    }
+}
