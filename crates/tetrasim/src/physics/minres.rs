@@ -85,7 +85,13 @@ impl<V: Vector> Held<V> {
     /// The velocity change per step^2 a force `u` gives the node ([`Mobility`]'s).
     #[inline]
     pub fn apply(&self, u: V) -> V {
-        (u - self.held * self.held.dot(u)) * self.inv_mass
+        self.unheld(u) * self.inv_mass
+    }
+
+    /// Force `u` less its part along the held direction.
+    #[inline]
+    pub fn unheld(&self, u: V) -> V {
+        u - self.held * self.held.dot(u)
     }
 }
 
