@@ -352,18 +352,6 @@ impl<V: Vector> StepRows<V> {
             .chain(wide)
     }
 
-    /// Per row, `sum_k grad_k . M_k grad_k` with `M_k` node `k`'s mobility, and the same
-    /// with every node free.
-    pub fn diagonals(&self, mobility: &[Mobility]) -> (Vec<f64>, Vec<f64>) {
-        let (mut held, mut free) = (vec![0.0; self.len()], vec![0.0; self.len()]);
-        self.each(|j, i, g| {
-            let (g, mobility) = (g.to_dvec3(), &mobility[i as usize]);
-            held[j as usize] += g.dot(mobility.apply(g));
-            free[j as usize] += g.length_squared() * mobility.inv_mass;
-        });
-        (held, free)
-    }
-
     /// Each row's softness `s`.
     pub fn softness(&self) -> &[f64] {
         &self.softness
@@ -408,10 +396,95 @@ impl<V: Vector> StepRows<V> {
         }
     }
 
-    /// The transpose of the rows over `nodes` nodes into `out`: each node's rows and
-    /// gradients, in the order of [`StepRows::each`] (so that a node's sum over them adds in
-    /// the same order whoever computes it).
-    pub fn transpose(&self, nodes: usize, out: &mut NodeRows<V>) {
+    /// Whether `other` has the same rows on the same nodes (their gradients, softness and
+    /// residuals aside): then the transpose of one is the other's.
+    pub fn same_shape(&self, other: &Self) -> bool {
+        self.len() == other.len()
+            && (&self.opposed.row, &self.opposed.nodes)
+                == (&other.opposed.row, &other.opposed.nodes)
+            && (&self.pairs.row, &self.pairs.nodes) == (&other.pairs.row, &other.pairs.nodes)
+            && (&self.tets.row, &self.tets.nodes) == (&other.tets.row, &other.tets.nodes)
+            && (&self.wide_row, &self.wide_first, &self.wide_nodes)
+                == (&other.wide_row, &other.wide_first, &other.wide_nodes)
+    }
+
+    /// The gradient of entry `e`, entries numbered in the order of [`StepRows::each`].
+    #[inline]
+    pub fn entry_grad(&self, e: u32) -> V {
+        let mut e = e as usize;
+        if e < 2 * self.opposed.grads.len() {
+            let g = self.opposed.grads[e / 2];
+            return if e % 2 == 0 { g } else { V::ZERO - g };
+        }
+        e -= 2 * self.opposed.grads.len();
+        if e < 2 * self.pairs.grads.len() {
+            return self.pairs.grads[e / 2][e % 2];
+        }
+        e -= 2 * self.pairs.grads.len();
+        if e < 4 * self.tets.grads.len() {
+            return self.tets.grads[e / 4][e % 4];
+        }
+        self.wide_grads[e - 4 * self.tets.grads.len()]
+    }
+
+    /// The preconditioner of the rows `rows`, each node moving with its `mobility`:
+    /// `out[j - rows.start] = 1 / (sum_k grad_k . M_k grad_k + s)`, or 0 for a row the
+    /// holding leaves less than [`HELD_SHARE`] of its mobility (or none), which is left
+    /// to the sweeps.
+    pub fn preconditioner(&self, rows: Range<usize>, mobility: &[Mobility], out: &mut [f64]) {
+        let start = rows.start;
+        let (mut held, mut free) = (vec![0.0; rows.len()], vec![0.0; rows.len()]);
+        let mut add = |j: u32, i: u32, g: V| {
+            let (g, mobility) = (g.to_dvec3(), &mobility[i as usize]);
+            held[j as usize - start] += g.dot(mobility.apply(g));
+            free[j as usize - start] += g.length_squared() * mobility.inv_mass;
+        };
+        let (from, to) = indices_within(&self.opposed.row, &rows);
+        for k in from..to {
+            let (j, [a, b], g) = (
+                self.opposed.row[k],
+                self.opposed.nodes[k],
+                self.opposed.grads[k],
+            );
+            add(j, a, g);
+            add(j, b, V::ZERO - g);
+        }
+        let (from, to) = indices_within(&self.pairs.row, &rows);
+        for k in from..to {
+            for (&i, &g) in self.pairs.nodes[k].iter().zip(&self.pairs.grads[k]) {
+                add(self.pairs.row[k], i, g);
+            }
+        }
+        let (from, to) = indices_within(&self.tets.row, &rows);
+        for k in from..to {
+            for (&i, &g) in self.tets.nodes[k].iter().zip(&self.tets.grads[k]) {
+                add(self.tets.row[k], i, g);
+            }
+        }
+        let (from, to) = indices_within(&self.wide_row, &rows);
+        for k in from..to {
+            let range = self.wide_first[k]..self.wide_first[k + 1];
+            for (&i, &g) in self.wide_nodes[range.clone()]
+                .iter()
+                .zip(&self.wide_grads[range])
+            {
+                add(self.wide_row[k], i, g);
+            }
+        }
+        for (((out, held), free), &s) in
+            (out.iter_mut().zip(held).zip(free)).zip(&self.softness[rows])
+        {
+            *out = match held > 0.0 && held >= HELD_SHARE * free {
+                true => 1.0 / (held + s),
+                false => 0.0,
+            };
+        }
+    }
+
+    /// The transpose of the rows over `nodes` nodes into `out`: each node's rows, in the
+    /// order of [`StepRows::each`] (so that a node's sum over them adds in the same order
+    /// whoever computes it), and the entries they are.
+    pub fn transpose(&self, nodes: usize, out: &mut NodeRows) {
         let first = &mut out.first;
         first.clear();
         first.resize(nodes + 1, 0);
@@ -421,54 +494,70 @@ impl<V: Vector> StepRows<V> {
         }
         let entries = first[nodes] as usize;
         out.row.resize(entries, 0);
-        out.grad.resize(entries, V::ZERO);
+        out.entry.resize(entries, 0);
         out.next.clear();
         out.next.extend_from_slice(&first[..nodes]);
         let NodeRows {
-            row, grad, next, ..
+            row, entry, next, ..
         } = out;
-        self.each(|j, i, g| {
-            let e = next[i as usize] as usize;
+        let mut e = 0;
+        self.each(|j, i, _| {
+            let t = next[i as usize] as usize;
             next[i as usize] += 1;
-            row[e] = j;
-            grad[e] = g;
+            row[t] = j;
+            entry[t] = e;
+            e += 1;
         });
     }
 }
 
-/// The rows of [`StepRows`] by node (its transpose `J^T`): node `i`'s entries are
-/// `first[i]..first[i + 1]`, each a row and the row's gradient on the node.
+/// The rows of [`StepRows`] by node (the shape of its transpose `J^T`): node `i`'s
+/// entries are `first[i]..first[i + 1]`, each a row and the entry of the rows it is.
+/// Their gradients are kept apart ([`NodeRows::sum`]), since the shape stays from step to
+/// step and they do not.
 #[derive(Debug, Clone)]
-pub struct NodeRows<V> {
+pub struct NodeRows {
     first: Vec<u32>,
     row: Vec<u32>,
-    grad: Vec<V>,
+    entry: Vec<u32>,
     /// Scratch of [`StepRows::transpose`]: each node's next free entry.
     next: Vec<u32>,
 }
 
-impl<V> Default for NodeRows<V> {
+impl Default for NodeRows {
     fn default() -> Self {
         NodeRows {
             first: vec![0],
             row: Vec::new(),
-            grad: Vec::new(),
+            entry: Vec::new(),
             next: Vec::new(),
         }
     }
 }
 
-impl<V: Vector> NodeRows<V> {
+impl NodeRows {
     /// The number of nodes.
     pub fn nodes(&self) -> usize {
         self.first.len() - 1
     }
 
-    /// `sum grad p[row]` over node `i`'s rows (its share of `J^T p`, in precision `V`).
+    /// The positions of the entries of nodes `nodes`.
+    pub fn entries_of(&self, nodes: Range<usize>) -> Range<usize> {
+        self.first[nodes.start] as usize..self.first[nodes.end] as usize
+    }
+
+    /// The entry of [`StepRows`] (numbered as [`StepRows::entry_grad`]) at each position
+    /// `range`.
+    pub fn entries(&self, range: Range<usize>) -> &[u32] {
+        &self.entry[range]
+    }
+
+    /// `sum grad p[row]` over node `i`'s rows (its share of `J^T p`, in precision `V`),
+    /// `grads` each position's gradient.
     #[inline(always)]
-    pub fn sum(&self, i: usize, p: &[f64]) -> V {
+    pub fn sum<V: Vector>(&self, grads: &[V], i: usize, p: &[f64]) -> V {
         let range = self.first[i] as usize..self.first[i + 1] as usize;
-        let entries = self.row[range.clone()].iter().zip(&self.grad[range]);
+        let entries = self.row[range.clone()].iter().zip(&grads[range]);
         let mut sum = V::ZERO;
         for (&j, &g) in entries {
             sum += g * V::Real::from_f64(p[j as usize]);

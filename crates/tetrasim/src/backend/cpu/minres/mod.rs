@@ -29,17 +29,22 @@
 
 use crate::backend::cpu::shared::SharedSlice;
 use crate::backend::cpu::team::{Member, Team};
-use crate::physics::{Held, Mobility, NodeRows, Real, StepRows, Vector, HELD_SHARE};
+use crate::physics::{Held, Mobility, NodeRows, Real, StepRows, Vector};
 
 /// Rows per chunk of a dot product's partial sums; fixed, so that the sums do not depend
 /// on the team's size.
 const CHUNK: usize = 256;
 
 /// A MINRES solve's memory, kept from one step to the next (a step's vectors, allocated
-/// anew, paid for their pages).
+/// anew, paid for their pages; the transpose's shape, built anew, cost the horse a tenth of
+/// its step).
 #[derive(Debug, Clone, Default)]
 pub(super) struct Minres<V: Vector> {
-    transpose: NodeRows<V>,
+    /// The rows the transpose was built from (their shape is what counts) and its shape.
+    shape: StepRows<V>,
+    transpose: NodeRows,
+    /// The gradient at each position of the transpose.
+    grads: Vec<V>,
     mobility: Vec<Held<V>>,
     /// The preconditioner: `1 / (A + s)` of each row, 0 on those left to the sweeps
     /// (whose increments stay 0).
@@ -60,19 +65,23 @@ pub(super) struct Minres<V: Vector> {
     u: Vec<V>,
     /// Per chunk, the partial sums `v . av` and `r2 . M^-1 r2` of an iteration.
     sums: [Vec<f64>; 2],
+    /// The force the increments take off each node ([`Minres::node_force`]).
+    forces: Vec<V>,
 }
 
 /// The solve's data every member reads.
 struct Data<'a, V: Vector> {
     rows: &'a StepRows<V>,
-    transpose: &'a NodeRows<V>,
-    mobility: &'a [Held<V>],
-    inverse: &'a [f64],
+    transpose: &'a NodeRows,
+    mobility: &'a [Mobility],
     iterations: u32,
 }
 
 /// The solve's vectors, written by the members in parts ([`SharedSlice`]).
-struct Vectors<'a, V> {
+struct Vectors<'a, V: Vector> {
+    grads: SharedSlice<'a, V>,
+    mobility: SharedSlice<'a, Held<V>>,
+    inverse: SharedSlice<'a, f64>,
     x: SharedSlice<'a, f64>,
     r: [SharedSlice<'a, f64>; 2],
     y: SharedSlice<'a, f64>,
@@ -81,13 +90,15 @@ struct Vectors<'a, V> {
     av: SharedSlice<'a, f64>,
     u: SharedSlice<'a, V>,
     sums: [SharedSlice<'a, f64>; 2],
+    forces: SharedSlice<'a, V>,
 }
 
 impl<V: Vector + Send + Sync> Minres<V> {
     /// `iterations` of preconditioned MINRES on `rows`, each node moving with its
     /// `mobility` (what the floor, colliders and grabs hold taken out), solved by `team`:
-    /// the multiplier increments ([`Minres::increments`]). Rows the holding leaves less than
-    /// [`HELD_SHARE`] of their mobility, or none, get 0.
+    /// the multiplier increments ([`Minres::increments`]) and the forces they take off the
+    /// nodes ([`Minres::node_force`]). Rows the holding leaves less than [`HELD_SHARE`](crate::physics::HELD_SHARE) of
+    /// their mobility, or none, get 0.
     pub(super) fn solve(
         &mut self,
         team: &Team,
@@ -95,39 +106,40 @@ impl<V: Vector + Send + Sync> Minres<V> {
         mobility: &[Mobility],
         iterations: u32,
     ) {
-        let m = rows.len();
-        let (held, free) = rows.diagonals(mobility);
-        self.inverse.clear();
-        self.inverse.extend(
-            (held.iter().zip(&free).zip(rows.softness())).map(|((&h, &f), &s)| {
-                match h > 0.0 && h >= HELD_SHARE * f {
-                    true => 1.0 / (h + s),
-                    false => 0.0,
-                }
-            }),
-        );
-        rows.transpose(mobility.len(), &mut self.transpose);
-        self.mobility.clear();
-        self.mobility.extend(mobility.iter().map(Mobility::rounded));
-        // The solution, the first r1 and the search directions start at 0; the others are
-        // written before they are read.
+        let (m, n) = (rows.len(), mobility.len());
+        if self.transpose.nodes() != n || !rows.same_shape(&self.shape) {
+            rows.transpose(n, &mut self.transpose);
+            self.shape.clone_from(rows);
+        }
+        // Every vector is written before it is read (the members zero theirs first).
         let [r1, r2] = &mut self.r;
         let [w1, w2] = &mut self.w;
-        for vector in [&mut self.x, r1, w1, w2] {
-            vector.clear();
+        for vector in [
+            &mut self.inverse,
+            &mut self.x,
+            r1,
+            r2,
+            &mut self.y,
+            &mut self.v,
+        ] {
             vector.resize(m, 0.0);
         }
-        for vector in [r2, &mut self.y, &mut self.v, &mut self.av] {
+        for vector in [w1, w2, &mut self.av] {
             vector.resize(m, 0.0);
         }
-        self.u.resize(mobility.len(), V::ZERO);
+        self.grads
+            .resize(self.transpose.entries_of(0..n).len(), V::ZERO);
+        self.mobility.resize(n, Mobility::free(0.0).rounded());
+        self.u.resize(n, V::ZERO);
+        self.forces.resize(n, V::ZERO);
         for sums in &mut self.sums {
-            sums.clear();
             sums.resize(m.div_ceil(CHUNK), 0.0);
         }
         let Minres {
+            shape: _,
             transpose,
-            mobility,
+            grads,
+            mobility: held,
             inverse,
             x,
             r: [r1, r2],
@@ -137,15 +149,18 @@ impl<V: Vector + Send + Sync> Minres<V> {
             av,
             u,
             sums: [sums_a, sums_b],
+            forces,
         } = self;
         let data = Data {
             rows,
             transpose,
             mobility,
-            inverse,
             iterations,
         };
         let vectors = Vectors {
+            grads: SharedSlice::new(grads),
+            mobility: SharedSlice::new(held),
+            inverse: SharedSlice::new(inverse),
             x: SharedSlice::new(x),
             r: [SharedSlice::new(r1), SharedSlice::new(r2)],
             y: SharedSlice::new(y),
@@ -154,6 +169,7 @@ impl<V: Vector + Send + Sync> Minres<V> {
             av: SharedSlice::new(av),
             u: SharedSlice::new(u),
             sums: [SharedSlice::new(sums_a), SharedSlice::new(sums_b)],
+            forces: SharedSlice::new(forces),
         };
         // SAFETY: every member runs `iterate` once, with the same data.
         team.run(|member| unsafe { iterate(member, &data, &vectors) });
@@ -172,7 +188,7 @@ impl<V: Vector + Send + Sync> Minres<V> {
     /// at 1 sweep and 34 iterations: increments of 1e6, the body thrown off the floor).
     /// The contact's own solve, which follows, decides that part.
     pub(super) fn node_force(&self, i: usize) -> V {
-        self.mobility[i].unheld(self.transpose.sum(i, &self.x))
+        self.forces[i]
     }
 }
 
@@ -269,7 +285,9 @@ unsafe fn total(sums: &SharedSlice<'_, f64>) -> f64 {
 }
 
 /// One member's part of the solve: its chunks of rows and its block of nodes, phase by
-/// phase (the module docs).
+/// phase (the module docs). Between two barriers each member writes only its own rows of
+/// the row vectors, its own chunks of the sums and its own nodes of the node vectors; what
+/// it reads of the others' nobody writes until the next barrier.
 ///
 /// # Safety
 /// Every member of the team calls it at once, with the same `data` and `vectors`.
@@ -278,15 +296,73 @@ unsafe fn iterate<V: Vector>(member: Member<'_>, data: &Data<'_, V>, vectors: &V
     let chunks = member.block(m.div_ceil(CHUNK));
     let own = (chunks.start * CHUNK).min(m)..(chunks.end * CHUNK).min(m);
     let nodes = member.block(data.transpose.nodes());
-    let (inverse, softness) = (
-        &data.inverse[own.clone()],
-        &data.rows.softness()[own.clone()],
-    );
+    let entries = data.transpose.entries_of(nodes.clone());
+    // The member's rows' preconditioner and the vectors that start at 0; its nodes'
+    // mobility and the transpose's gradients (read by others only after the first barrier).
+    {
+        // SAFETY: above.
+        let (inverse, x, r1, w1, w2, held, grads) = unsafe {
+            (
+                vectors.inverse.part(own.clone()),
+                vectors.x.part(own.clone()),
+                vectors.r[0].part(own.clone()),
+                vectors.w[0].part(own.clone()),
+                vectors.w[1].part(own.clone()),
+                vectors.mobility.part(nodes.clone()),
+                vectors.grads.part(entries.clone()),
+            )
+        };
+        data.rows
+            .preconditioner(own.clone(), data.mobility, inverse);
+        for vector in [x, r1, w1, w2] {
+            vector.fill(0.0);
+        }
+        for (held, mobility) in held.iter_mut().zip(&data.mobility[nodes.clone()]) {
+            *held = mobility.rounded();
+        }
+        for (g, &e) in grads.iter_mut().zip(data.transpose.entries(entries)) {
+            *g = data.rows.entry_grad(e);
+        }
+    }
+    // SAFETY: the caller's promise.
+    unsafe { lanczos(member, data, vectors, &chunks, &own, &nodes) };
+    member.wait();
+    // The force the increments take off each of the member's nodes, less the held part.
+    {
+        // SAFETY: above.
+        let (x, grads, held, forces) = unsafe {
+            (
+                vectors.x.whole(),
+                vectors.grads.whole(),
+                vectors.mobility.whole(),
+                vectors.forces.part(nodes.clone()),
+            )
+        };
+        for (i, force) in nodes.zip(forces) {
+            *force = held[i].unheld(data.transpose.sum(grads, i, x));
+        }
+    }
+}
+
+/// The iterations of [`iterate`]: the member's rows `own` (its `chunks`) and `nodes`.
+///
+/// # Safety
+/// As [`iterate`]'s, every member past its first phase.
+unsafe fn lanczos<V: Vector>(
+    member: Member<'_>,
+    data: &Data<'_, V>,
+    vectors: &Vectors<'_, V>,
+    chunks: &std::ops::Range<usize>,
+    own: &std::ops::Range<usize>,
+    nodes: &std::ops::Range<usize>,
+) {
+    let (chunks, own, nodes) = (chunks.clone(), own.clone(), nodes.clone());
+    // SAFETY: only this member writes its rows of `inverse`, and it no longer does.
+    let inverse: &[f64] = unsafe { vectors.inverse.part(own.clone()) };
+    let softness = &data.rows.softness()[own.clone()];
     let chunk = |c: usize| c * CHUNK..((c + 1) * CHUNK).min(own.len());
-    // Between two barriers each member writes only its own rows `own` of the row vectors,
-    // its own `chunks` of the sums and its own `nodes` of `u`; what it reads of the
-    // others' (`y` in phase 1, `u` in phase 2, the sums after their phase) nobody writes
-    // until the next barrier.
+    // What the members read of the others' parts: `y`, the gradients and the mobility in
+    // phase 1, `u` in phase 2, the sums after their phase.
     let [alphas, norms] = &vectors.sums;
     // The first Lanczos vector: r2 = r (r1 = 0), y = M^-1 r2, beta^2 = r2 . y.
     {
@@ -330,10 +406,17 @@ unsafe fn iterate<V: Vector>(member: Member<'_>, data: &Data<'_, V>, vectors: &V
         // 1. u = W J^T v on the member's nodes, v = y / beta.
         {
             // SAFETY: above.
-            let (y, u) = unsafe { (vectors.y.whole(), vectors.u.part(nodes.clone())) };
+            let (y, u, grads, held) = unsafe {
+                (
+                    vectors.y.whole(),
+                    vectors.u.part(nodes.clone()),
+                    vectors.grads.whole(),
+                    vectors.mobility.whole(),
+                )
+            };
             let scale = V::Real::from_f64(over_beta);
             for (i, u) in nodes.clone().zip(u) {
-                *u = data.mobility[i].apply(data.transpose.sum(i, y) * scale);
+                *u = held[i].apply(data.transpose.sum(grads, i, y) * scale);
             }
         }
         member.wait();
@@ -436,111 +519,4 @@ unsafe fn iterate<V: Vector>(member: Member<'_>, data: &Data<'_, V>, vectors: &V
 }
 
 #[cfg(test)]
-mod tests {
-    use glam::DVec3;
-
-    use super::*;
-
-    /// A chain of `n` nodes in 3D with a distance-like row per neighbour pair and per
-    /// second neighbour, hard and compliant, with residuals, and a wide row over all.
-    fn chain(n: usize) -> (StepRows, Vec<f64>) {
-        let mut rows = StepRows::new();
-        for i in 0..n - 1 {
-            for step in [1, 2] {
-                if i + step < n {
-                    let g = DVec3::new(1.0 + 0.1 * i as f64, 0.3 * step as f64, -0.2);
-                    let soft = if i % 3 == 0 { 0.05 } else { 0.0 };
-                    let nodes = [i as u32, (i + step) as u32];
-                    rows.push(&nodes, &[g, -g], soft, (i as f64 * 0.7).sin());
-                }
-            }
-        }
-        let all: Vec<u32> = (0..n as u32).collect();
-        let grads: Vec<DVec3> = (0..n)
-            .map(|i| DVec3::new(0.0, 0.01 * i as f64, 0.02))
-            .collect();
-        rows.push(&all, &grads, 0.0, 0.3);
-        let inv_mass = (0..n).map(|i| 1.0 / (1.0 + (i % 4) as f64)).collect();
-        (rows, inv_mass)
-    }
-
-    /// The residual's norm in the preconditioner's metric, which MINRES minimises.
-    fn residual_after(rows: &StepRows, mobility: &[Mobility], x: &[f64]) -> f64 {
-        let diagonal = rows.diagonals(mobility).0;
-        let mut u = vec![DVec3::ZERO; mobility.len()];
-        for (j, i, g) in rows.entries() {
-            u[i] += g * x[j];
-        }
-        let u: Vec<DVec3> = (u.iter().zip(mobility))
-            .map(|(&u, m)| m.rounded::<DVec3>().apply(u))
-            .collect();
-        let mut q: Vec<f64> = (x.iter().zip(rows.softness()))
-            .map(|(x, s)| x * s)
-            .collect();
-        rows.gather(0..rows.len(), &u, &mut q);
-        let terms = (rows.residual().iter().zip(&q))
-            .zip(&diagonal)
-            .zip(rows.softness());
-        terms
-            .map(|(((r, q), d), s)| (r - q).powi(2) / (d + s))
-            .sum::<f64>()
-            .sqrt()
-    }
-
-    fn solve(team: &Team, rows: &StepRows, mobility: &[Mobility], iterations: u32) -> Vec<f64> {
-        let mut minres = Minres::default();
-        minres.solve(team, rows, mobility, iterations);
-        minres.increments().to_vec()
-    }
-
-    #[test]
-    fn minres_solves_the_step_system_and_never_lets_its_residual_grow() {
-        let (rows, inv_mass) = chain(40);
-        let mobility: Vec<Mobility> = inv_mass.iter().map(|&w| Mobility::free(w)).collect();
-        let start = residual_after(&rows, &mobility, &vec![0.0; rows.len()]);
-        let mut last = start;
-        let team = Team::default();
-        for iterations in [1, 2, 4, 8, 16, 32] {
-            let x = solve(&team, &rows, &mobility, iterations);
-            let r = residual_after(&rows, &mobility, &x);
-            assert!(
-                r <= last * (1.0 + 1e-9),
-                "{iterations} iterations: {r} after {last}"
-            );
-            last = r;
-        }
-        let x = solve(&team, &rows, &mobility, 200);
-        let r = residual_after(&rows, &mobility, &x);
-        assert!(r < 1e-8 * start, "converged residual {r} of {start}");
-    }
-
-    #[test]
-    fn rows_held_by_the_floor_are_left_to_the_sweeps() {
-        let (rows, inv_mass) = chain(6);
-        let mut mobility: Vec<Mobility> = inv_mass.iter().map(|&w| Mobility::free(w)).collect();
-        // Nodes 0 and 1 held entirely: the row between them has no mobility left.
-        mobility[0].inv_mass = 0.0;
-        mobility[1].inv_mass = 0.0;
-        let x = solve(&Team::default(), &rows, &mobility, 50);
-        assert_eq!(x[0], 0.0);
-        assert!(x[1..].iter().any(|&d| d != 0.0));
-    }
-
-    /// Teams of 1 to 4 give the same bits, over more chunks than members (and a memory
-    /// reused from a larger solve).
-    #[test]
-    fn teams_of_any_size_give_the_same_bits() {
-        let (rows, inv_mass) = chain(700);
-        assert!(rows.len() > 4 * CHUNK);
-        let mobility: Vec<Mobility> = inv_mass.iter().map(|&w| Mobility::free(w)).collect();
-        let one = solve(&Team::default(), &rows, &mobility, 30);
-        assert!(one.iter().any(|&d| d != 0.0));
-        for size in 2..=4 {
-            let mut minres = Minres::default();
-            let (small, _) = chain(30);
-            minres.solve(&Team::with_size(size), &small, &mobility, 5);
-            minres.solve(&Team::with_size(size), &rows, &mobility, 30);
-            assert!(minres.increments() == one, "a team of {size} differs");
-        }
-    }
-}
+mod tests;
