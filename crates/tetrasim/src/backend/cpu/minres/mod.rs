@@ -13,7 +13,10 @@
 //! contact their intermediate forces threw the rigid sphere off the floor (measured;
 //! docs/PHYSICS.md). The preconditioner is the rows' diagonal `A + s`.
 //!
-//! An iteration is three phases between the team's barriers:
+//! Before the first iteration each member computes its rows' preconditioner and its
+//! nodes' mobility and transposed gradients; after the last, the force the increments take
+//! off its nodes. The transpose's shape is kept from step to step while the rows' shape is
+//! the same. An iteration is three phases between the team's barriers:
 //! 1. the product's pass to the nodes, each member its block of nodes, through the rows'
 //!    transpose ([`NodeRows`]), so that no two members add to one node;
 //! 2. each member's chunks of [`CHUNK`] rows: the last iteration's update of the search
