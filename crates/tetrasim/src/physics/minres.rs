@@ -149,13 +149,6 @@ impl<const K: usize, V: Vector> Fixed<K, V> {
         }
     }
 
-    /// Every `(row, node, gradient)` entry.
-    fn entries(&self) -> impl Iterator<Item = (usize, usize, DVec3)> + '_ {
-        (self.row.iter().zip(&self.nodes).zip(&self.grads)).flat_map(|((&j, n), g)| {
-            (n.iter().zip(g)).map(move |(&i, &g)| (j as usize, i as usize, g.to_dvec3()))
-        })
-    }
-
     /// Each entry's row, node and gradient, in row order.
     fn each(&self, mut f: impl FnMut(u32, u32, V)) {
         for ((&j, n), g) in self.row.iter().zip(&self.nodes).zip(&self.grads) {
@@ -219,14 +212,6 @@ impl<V: Vector> Opposed<V> {
         self.row.clear();
         self.nodes.clear();
         self.grads.clear();
-    }
-
-    /// Every `(row, node, gradient)` entry.
-    fn entries(&self) -> impl Iterator<Item = (usize, usize, DVec3)> + '_ {
-        (self.row.iter().zip(&self.nodes).zip(&self.grads)).flat_map(|((&j, &[a, b]), g)| {
-            let g = g.to_dvec3();
-            [(j as usize, a as usize, g), (j as usize, b as usize, -g)]
-        })
     }
 
     /// Each entry's row, node and gradient, in row order.
@@ -337,21 +322,6 @@ impl<V: Vector> StepRows<V> {
         self.softness.is_empty()
     }
 
-    /// Every `(row, node, gradient)` entry, the rows in no particular order.
-    pub fn entries(&self) -> impl Iterator<Item = (usize, usize, DVec3)> + '_ {
-        let wide = self.wide_row.iter().enumerate().flat_map(move |(k, &j)| {
-            let range = self.wide_first[k]..self.wide_first[k + 1];
-            (self.wide_nodes[range.clone()]
-                .iter()
-                .zip(&self.wide_grads[range]))
-            .map(move |(&i, &g)| (j as usize, i as usize, g.to_dvec3()))
-        });
-        (self.opposed.entries())
-            .chain(self.pairs.entries())
-            .chain(self.tets.entries())
-            .chain(wide)
-    }
-
     /// Each row's softness `s`.
     pub fn softness(&self) -> &[f64] {
         &self.softness
@@ -364,7 +334,7 @@ impl<V: Vector> StepRows<V> {
 
     /// Every entry's row, node and gradient: the rows of two entries, then of four, then
     /// the wide ones, each kind in row order.
-    fn each(&self, mut f: impl FnMut(u32, u32, V)) {
+    pub fn each(&self, mut f: impl FnMut(u32, u32, V)) {
         self.opposed.each(&mut f);
         self.pairs.each(&mut f);
         self.tets.each(&mut f);

@@ -33,9 +33,7 @@ fn residual_after(rows: &StepRows, mobility: &[Mobility], x: &[f64]) -> f64 {
     let mut inverse = vec![0.0; rows.len()];
     rows.preconditioner(0..rows.len(), mobility, &mut inverse);
     let mut u = vec![DVec3::ZERO; mobility.len()];
-    for (j, i, g) in rows.entries() {
-        u[i] += g * x[j];
-    }
+    rows.each(|j, i, g| u[i as usize] += g * x[j as usize]);
     let u: Vec<DVec3> = (u.iter().zip(mobility))
         .map(|(&u, m)| m.rounded::<DVec3>().apply(u))
         .collect();
