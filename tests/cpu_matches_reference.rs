@@ -8,24 +8,17 @@
 
 mod common;
 
-use common::{ball_mesh, max_distance, run_frames};
+use common::{ball_mesh, max_distance, near_floor_model, run_frames};
 use tetrasim::backend::cpu::{ParallelBackend, ReferenceBackend};
 use tetrasim::backend::Backend;
-use tetrasim::params::{Method, Placement};
-use tetrasim::{ModelBuilder, SimParams};
+use tetrasim::params::Method;
+use tetrasim::SimParams;
 
 const TOLERANCE: f64 = 1e-5;
 
 #[test]
 fn cpu_follows_cpu_ref_for_100_frames() {
-    let mesh = ball_mesh(3.0);
-    let model = ModelBuilder::new(&mesh)
-        .placement(Placement {
-            fit_size: Some(1.0),
-            drop_height: Some(0.01),
-        })
-        .build()
-        .unwrap();
+    let model = near_floor_model(&ball_mesh(3.0));
     let diag = model.bounds_diagonal();
     let rest = model.total_rest_volume();
     assert!(model.tets.len() > 500, "{} tets", model.tets.len());

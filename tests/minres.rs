@@ -21,7 +21,9 @@
 mod common;
 mod gpu_support;
 
-use common::{ball_mesh, bare_params, jittered_state, max_distance, model_in_place};
+use common::{
+    ball_mesh, bare_params, jittered_state, max_distance, model_in_place, near_floor_model,
+};
 use glam::DVec3;
 use tetrasim::backend::cpu::{ParallelBackend, ReferenceBackend};
 use tetrasim::params::{Method, Placement, SpringKind};
@@ -142,13 +144,7 @@ fn minres_brings_the_rigid_sphere_to_rest() {
 
 #[test]
 fn cpu_follows_cpu_ref_with_minres_on_the_floor() {
-    let model = ModelBuilder::new(&ball_mesh(3.0))
-        .placement(Placement {
-            fit_size: Some(1.0),
-            drop_height: Some(0.01),
-        })
-        .build()
-        .unwrap();
+    let model = near_floor_model(&ball_mesh(3.0));
     let diag = model.bounds_diagonal();
     let cases = [
         (Method::Distance, SpringKind::Explicit),

@@ -51,6 +51,17 @@ pub fn model_in_place(mesh: &TetMesh) -> Model {
         .unwrap()
 }
 
+/// The model of `mesh` fit to 1 m and 1 cm above the floor: it lands within a few frames.
+pub fn near_floor_model(mesh: &TetMesh) -> Model {
+    ModelBuilder::new(mesh)
+        .placement(Placement {
+            fit_size: Some(1.0),
+            drop_height: Some(0.01),
+        })
+        .build()
+        .unwrap()
+}
+
 /// The model of `mesh` with the `seed` placement (1 m, 0.1 m above the floor).
 pub fn seed_model(mesh: &TetMesh) -> Model {
     ModelBuilder::new(mesh).build().unwrap()
