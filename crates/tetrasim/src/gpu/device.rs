@@ -94,6 +94,8 @@ pub struct DeviceInfo {
     pub max_workgroup_count: [u32; 3],
     /// `maxComputeSharedMemorySize` [bytes].
     pub max_shared_memory: u32,
+    /// `maxPerStageDescriptorStorageBuffers`: the storage buffers one pass may bind.
+    pub max_storage_buffers: u32,
     /// Subgroup size (invocations).
     pub subgroup_size: u32,
     /// Nanoseconds per timestamp tick.
@@ -209,6 +211,7 @@ impl DeviceInfo {
                 max_workgroup_invocations: limits.max_compute_work_group_invocations,
                 max_workgroup_count: limits.max_compute_work_group_count,
                 max_shared_memory: limits.max_compute_shared_memory_size,
+                max_storage_buffers: limits.max_per_stage_descriptor_storage_buffers,
                 subgroup_size: subgroup.subgroup_size,
                 timestamp_period_ns: limits.timestamp_period,
                 timestamps: compute.is_some_and(|(_, f)| f.timestamp_valid_bits > 0)
@@ -436,6 +439,7 @@ mod tests {
             max_workgroup_invocations: 768,
             max_workgroup_count: [65535; 3],
             max_shared_memory: 32768,
+            max_storage_buffers: 32,
             subgroup_size: 32,
             timestamp_period_ns: 1.0,
             timestamps: true,

@@ -41,7 +41,7 @@ use super::buffers::SimBuffers;
 use super::plan::{volume_sum_pass, EnginePlan, PassPlan, CONTACT_STATUS_BYTES, STATUS_BYTES};
 use crate::gpu::commands::{barrier, memory_barrier, Access};
 use crate::gpu::layout::{phase, PushConstants};
-use crate::gpu::{AtomicsPath, BindingLayout, Buffer, Context, Kernel, Timer};
+use crate::gpu::{AtomicsPath, Buffer, Context, Kernel, Timer};
 use crate::{Error, Result};
 
 /// A kernel with its plan entry.
@@ -51,9 +51,9 @@ pub(crate) struct Pass {
     kernel: Kernel,
 }
 
-/// Every pass of the plan plus the on-demand `volume_sum`, all on one binding layout and
-/// descriptor set (held by the kernels) that points every binding the passes use at its
-/// simulation buffer.
+/// Every pass of the plan plus the on-demand `volume_sum`, each on its own binding layout
+/// and descriptor set (held by its kernel) that points every binding its stage lists at
+/// its simulation buffer.
 pub(crate) struct Passes {
     /// In the plan's order.
     pub frame: Vec<Pass>,
@@ -62,18 +62,48 @@ pub(crate) struct Passes {
 }
 
 impl Pass {
+    /// The pipeline of `plan` on its own descriptor set, which points each binding its stage
+    /// lists at its simulation buffer in `b`. A set per pass, not one for every pass: the
+    /// union of a rich scene's arrays (global volume, colliders, Anderson, MINRES) passes
+    /// the 32 storage buffers per stage lavapipe allows, and lavapipe crashed on it.
     fn new(
         ctx: &Arc<Context>,
         plan: &PassPlan,
         atomics: AtomicsPath,
-        binding: &Arc<BindingLayout>,
+        b: &SimBuffers,
     ) -> Result<Self> {
+        let mut bound: Vec<(u32, &Buffer)> = Vec::new();
+        for (id, _) in &plan.stage.bindings {
+            let buffer = b.get(*id).ok_or_else(|| {
+                Error::Gpu(format!(
+                    "pass `{}` binds buffer `{}`, which the plan does not build",
+                    plan.name(),
+                    id.name()
+                ))
+            })?;
+            if !bound.iter().any(|(n, _)| *n == id.binding()) {
+                bound.push((id.binding(), buffer));
+            }
+        }
+        bound.sort_by_key(|(n, _)| *n);
+        let limit = ctx.info().max_storage_buffers;
+        if bound.len() > limit as usize {
+            return Err(Error::Gpu(format!(
+                "pass `{}` binds {} storage buffers; the device allows {limit} per pass \
+                 (maxPerStageDescriptorStorageBuffers)",
+                plan.label(),
+                bound.len()
+            )));
+        }
+        let numbers: Vec<u32> = bound.iter().map(|(n, _)| *n).collect();
+        let binding = Kernel::binding_layout(ctx, plan.name(), &numbers)?;
+        binding.write(&bound);
         let key = plan.shader_key(atomics.name());
         let kernel = Kernel::with_constants(
             ctx,
             plan.name(),
             &key,
-            binding,
+            &binding,
             plan.workgroup_size,
             &plan.constants,
         )?;
@@ -93,7 +123,8 @@ impl Pass {
 }
 
 impl Passes {
-    /// Builds the pipelines of `plan` with the given atomic path and workgroup size.
+    /// Builds the pipelines of `plan` with the given atomic path and workgroup size, each on
+    /// its own descriptor set ([`Pass::new`]).
     pub fn new(
         ctx: &Arc<Context>,
         plan: &EnginePlan,
@@ -101,40 +132,12 @@ impl Passes {
         b: &SimBuffers,
     ) -> Result<Self> {
         let volume_sum_plan = volume_sum_pass(plan.counts, plan.workgroup_size);
-        // The union of every pass's bindings: one buffer per binding number, so one set
-        // serves all passes.
-        let mut bound: Vec<(u32, &Buffer)> = Vec::new();
-        for pass in plan.passes.iter().chain(std::iter::once(&volume_sum_plan)) {
-            for (id, _) in &pass.stage.bindings {
-                let buffer = b.get(*id).ok_or_else(|| {
-                    Error::Gpu(format!(
-                        "pass `{}` binds buffer `{}`, which the plan does not build",
-                        pass.name(),
-                        id.name()
-                    ))
-                })?;
-                match bound.iter().find(|(n, _)| *n == id.binding()) {
-                    None => bound.push((id.binding(), buffer)),
-                    Some((_, other)) if other.raw == buffer.raw => {}
-                    Some((n, other)) => {
-                        return Err(Error::Gpu(format!(
-                            "binding {n} would hold both `{}` and `{}`",
-                            other.name, buffer.name
-                        )))
-                    }
-                }
-            }
-        }
-        bound.sort_by_key(|(n, _)| *n);
-        let numbers: Vec<u32> = bound.iter().map(|(n, _)| *n).collect();
-        let binding = Kernel::binding_layout(ctx, "simulation", &numbers)?;
-        binding.write(&bound);
         let frame = plan
             .passes
             .iter()
-            .map(|p| Pass::new(ctx, p, atomics, &binding))
+            .map(|p| Pass::new(ctx, p, atomics, b))
             .collect::<Result<Vec<_>>>()?;
-        let volume_sum = Pass::new(ctx, &volume_sum_plan, atomics, &binding)?;
+        let volume_sum = Pass::new(ctx, &volume_sum_plan, atomics, b)?;
         Ok(Passes { frame, volume_sum })
     }
 }
