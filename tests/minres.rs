@@ -13,7 +13,8 @@
 //!   One sweep then 28 iterations, the cheapest setting within the bar (1.68 mm; 1.36x the
 //!   default's step on `cpu`, docs/PHYSICS.md), holds it too.
 //! - `cpu` follows `cpu-ref` with it, on the floor, for every constraint method.
-//! - `vulkan` refuses it, and so does a scene with contact between bodies, naming the key.
+//! - A scene with contact between bodies refuses it, naming the key (`vulkan` runs it:
+//!   tests/gpu_minres.rs).
 //!
 //! Each would fail with MINRES switched off: the comparisons are against the same runs
 //! without it.
@@ -180,25 +181,6 @@ fn cpu_follows_cpu_ref_with_minres_on_the_floor() {
             "{method}, {springs} springs: {d:.2e} diagonals apart"
         );
     }
-}
-
-#[test]
-fn vulkan_refuses_minres_naming_the_key() {
-    if !gpu_support::vulkan_available() {
-        return;
-    }
-    let model = model_in_place(&ball_mesh(2.0));
-    let params = SimParams {
-        minres: 10,
-        ..SimParams::default()
-    };
-    let options = tetrasim::backend::vulkan::EngineOptions::default();
-    let refused = tetrasim::backend::vulkan::VulkanBackend::new(&model, &params, &options);
-    let message = refused.err().expect("vulkan refuses minres").to_string();
-    assert!(
-        message.contains("minres") && message.contains("cpu"),
-        "{message}"
-    );
 }
 
 #[test]

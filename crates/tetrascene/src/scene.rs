@@ -21,7 +21,7 @@
 //! rho = 0.95          # spectral radius estimate of chebyshev (lowered below 6
 //!                     # iterations: 0.934 at 5, 0.899 at 4)
 //! anderson = 0        # anderson acceleration's memory (0 off, up to 8; 5 for stiff bodies)
-//! minres = 0          # MINRES iterations after the sweeps (0 off, up to 200; cpu backends)
+//! minres = 0          # MINRES iterations after the sweeps (0 off, up to 200)
 //! inversion_sweeps = 0 # sweeps of the inversion floor after the iterations (method volume)
 //! inversion_floor = 0.1 # the fraction of its rest volume a tet is pushed back to
 //! global_volume = true  # one global volume constraint per object (default: on for

@@ -157,4 +157,16 @@ bindings! {
     /// uvec4 per member position of the blocked sweep: its four corners' local indices
     /// (two 16-bit halves in x and y), its colour within its block (z), 0.
     BLOCK_CORNERS = 46,
+    /// MINRES's rows' transpose, entry nodes and global rows' first entries (u32).
+    MINRES_TRANSPOSE = 47,
+    /// MINRES's gradient per entry (vec4).
+    MINRES_GRADS = 48,
+    /// MINRES's row vectors (float planes).
+    MINRES_VECTORS = 49,
+    /// MINRES's node vectors: the product, then the mobility (vec4 planes).
+    MINRES_NODE_VECTORS = 50,
+    /// MINRES's per-workgroup partial sums (float), then a count of the workgroups done.
+    MINRES_SUMS = 51,
+    /// MINRES's recurrence per iteration (vec4).
+    MINRES_STATE = 52,
 }

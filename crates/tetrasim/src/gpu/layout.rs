@@ -512,6 +512,12 @@ mod tests {
             ("BlockRows", binding::BLOCK_ROWS),
             ("BlockNodes", binding::BLOCK_NODES),
             ("BlockCorners", binding::BLOCK_CORNERS),
+            ("MinresTranspose", binding::MINRES_TRANSPOSE),
+            ("MinresGrads", binding::MINRES_GRADS),
+            ("MinresVectors", binding::MINRES_VECTORS),
+            ("MinresNodeVectors", binding::MINRES_NODE_VECTORS),
+            ("MinresSums", binding::MINRES_SUMS),
+            ("MinresState", binding::MINRES_STATE),
         ]
         .into_iter()
         .collect();

@@ -214,8 +214,10 @@ mod tests {
         // chebyshev, gather_chebyshev, sums_colliders, gather_colliders; global_volume,
         // integrate, contact_apply and anderson_mix: colliders (their `plain` variants keep
         // the shader's own key); integrate: split, colliders_split; split_velocity:
-        // colliders; contact_measure: colliders, bodies, colliders_bodies.
-        assert_eq!(variants, 36);
+        // colliders; contact_measure: colliders, bodies, colliders_bodies; minres_setup and
+        // minres_forces: colliders; minres_rows: one per mix of its four row segments (15);
+        // minres_finish: s, v, sv.
+        assert_eq!(variants, 56);
     }
 
     #[test]

@@ -29,17 +29,4 @@ impl SimParams {
         }
         Ok(())
     }
-
-    /// Checks that the `vulkan` backend can run the step (its plan asks): MINRES runs on
-    /// the `cpu` backends only.
-    pub fn check_gpu_minres(&self) -> Result<()> {
-        if self.minres == 0 {
-            return Ok(());
-        }
-        Err(Error::param(
-            "minres",
-            "runs on the cpu backends only; vulkan has no MINRES pass yet (use backend cpu, \
-             or minres 0 with block_size and anderson for stiff bodies on the GPU)",
-        ))
-    }
 }

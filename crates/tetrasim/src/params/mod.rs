@@ -284,7 +284,7 @@ pub struct SimParams {
     #[serde(default)]
     pub anderson: u32,
     /// MINRES iterations on the step's linearised constraints after the sweeps (0: off, at
-    /// most [`MINRES_MAX_ITERATIONS`]; the `cpu` backends only). The sweeps find who touches
+    /// most [`MINRES_MAX_ITERATIONS`]; every backend, not with contact between bodies). The sweeps find who touches
     /// the floor and colliders; MINRES then converges the slow modes they leave, a stiff
     /// body squashing on the floor (docs/PHYSICS.md, "MINRES after the sweeps").
     #[serde(default)]

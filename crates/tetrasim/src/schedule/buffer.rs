@@ -110,6 +110,22 @@ pub enum BufferId {
     /// uvec4 per member of the blocked sweep: its corners' local indices (16 bits each),
     /// its colour (block Gauss-Seidel).
     BlockCorners,
+    /// u32: MINRES's rows' transpose, each node's entries (`N + 1` offsets, then an
+    /// entry and its row per item), then each entry's node and each global row's first
+    /// entry (`minres`).
+    MinresTranspose,
+    /// vec4 per entry of MINRES's rows: its gradient (`minres`).
+    MinresGrads,
+    /// float per row of MINRES, per vector of the solve (`minres`).
+    MinresVectors,
+    /// vec4 per node, twice: MINRES's product `W J^T v`, then its mobility (the held
+    /// direction and the inverse mass) (`minres`).
+    MinresNodeVectors,
+    /// float per workgroup of MINRES's row passes: the partial sums of a dot product, then
+    /// a u32 count of the workgroups done (`minres`).
+    MinresSums,
+    /// 64 bytes per MINRES iteration + 1: the recurrence's scalars (`minres`).
+    MinresState,
 }
 
 impl BufferId {
@@ -163,6 +179,12 @@ impl BufferId {
             BufferId::BlockRows => "block rows",
             BufferId::BlockNodes => "block nodes",
             BufferId::BlockCorners => "block corners",
+            BufferId::MinresTranspose => "minres transpose",
+            BufferId::MinresGrads => "minres gradients",
+            BufferId::MinresVectors => "minres vectors",
+            BufferId::MinresNodeVectors => "minres node vectors",
+            BufferId::MinresSums => "minres sums",
+            BufferId::MinresState => "minres state",
         }
     }
 
@@ -216,6 +238,12 @@ impl BufferId {
             BufferId::BlockRows => binding::BLOCK_ROWS,
             BufferId::BlockNodes => binding::BLOCK_NODES,
             BufferId::BlockCorners => binding::BLOCK_CORNERS,
+            BufferId::MinresTranspose => binding::MINRES_TRANSPOSE,
+            BufferId::MinresGrads => binding::MINRES_GRADS,
+            BufferId::MinresVectors => binding::MINRES_VECTORS,
+            BufferId::MinresNodeVectors => binding::MINRES_NODE_VECTORS,
+            BufferId::MinresSums => binding::MINRES_SUMS,
+            BufferId::MinresState => binding::MINRES_STATE,
         }
     }
 }

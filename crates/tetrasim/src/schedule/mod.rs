@@ -23,13 +23,17 @@
 
 mod buffer;
 pub mod family;
+mod minres;
+mod scene;
 mod stages;
 #[cfg(test)]
 mod tests;
 mod walk;
 
 pub use buffer::{Access, BufferId};
-pub use stages::{volume_sum, PassKind};
+pub use minres::MinresRowKinds;
+pub use scene::volume_sum;
+pub use stages::PassKind;
 pub use walk::{Dispatch, GroupAt};
 
 use crate::model::{ConstraintKind, Sweep};
@@ -51,6 +55,13 @@ pub enum Repeat {
     /// inversion floor, then `constraint_apply`), then the global volume stages when the
     /// step has them.
     Restore,
+    /// Once per time step after the iterations, before the inversion sweeps (MINRES's
+    /// passes around its iterations; their dispatches carry the iteration count as their
+    /// iteration).
+    AfterIterations,
+    /// [`Schedule::minres`] times per time step, after the [`Repeat::AfterIterations`]
+    /// stages before it (MINRES's iterations; their dispatches carry its iteration).
+    Minres,
     /// Once per frame, after the last time step.
     Frame,
 }
@@ -68,6 +79,9 @@ pub enum Domain {
     Group,
     /// The surface nodes and faces of every object (global volume constraints).
     Surface,
+    /// MINRES's rows: every constraint of the step (one invocation each), then one
+    /// workgroup per global volume constraint.
+    Rows,
 }
 
 /// One stage of the step: a pass, when it runs, what it covers, what it touches.
@@ -186,6 +200,8 @@ pub struct Schedule {
     /// compliant (a hard constraint never reads its multiplier). The springs' are mixed
     /// whenever they are constraints (implicit springs are compliant).
     pub anderson_volumes: bool,
+    /// MINRES iterations after the constraint iterations (0: none; `minres_*`).
+    pub minres: u32,
     /// Inversion sweeps after the iterations (0: none; `inversion_floor` runs per group of
     /// the volume sweep, [`Repeat::Restore`]).
     pub inversion_sweeps: u32,

@@ -72,6 +72,30 @@ pub enum PassKind {
     /// every node's forces and the compliant multipliers mixed with their history, then
     /// each node's floor and colliders solved again.
     AndersonMix,
+    /// MINRES after the iterations (`minres > 0`; docs/PHYSICS.md, "MINRES after the
+    /// sweeps"), its first pass: each node's mobility in the solve, what the floor, the
+    /// colliders and the grabs hold taken out ([`crate::physics::Mobility::held_by`]).
+    MinresSetup,
+    /// MINRES's rows at the forces the sweeps left: each constraint's gradients, its
+    /// residual and its preconditioner, the solve's vectors started, the first norm summed
+    /// per workgroup (one workgroup per global volume constraint).
+    MinresRows,
+    /// A MINRES iteration's first pass, `minres` times: the recurrence advanced from the
+    /// last iteration's sums (every workgroup the same), then `u = W J^T v` per node through
+    /// the rows' transpose.
+    MinresNodes,
+    /// A MINRES iteration's second pass: the last iteration's update of the search
+    /// directions and the solution, `J u + s v` per row, the first dot product per
+    /// workgroup.
+    MinresProduct,
+    /// A MINRES iteration's third pass: the next Lanczos vector and its norm per workgroup.
+    MinresNext,
+    /// MINRES's last update of the solution, and the increments added to the compliant
+    /// constraints' multipliers.
+    MinresFinish,
+    /// The increments' forces taken off the nodes (less the part along a contact's held
+    /// direction), then each node's floor and colliders solved again.
+    MinresForces,
     /// The inversion floor (`inversion_sweeps > 0`, method `volume`): after the iterations,
     /// each of the volume sweep's groups solved again for the one-sided `V >= floor V0` at
     /// the step's end positions ([`crate::physics::inversion_floor`]), each group followed
@@ -97,7 +121,7 @@ pub enum PassKind {
 
 impl PassKind {
     /// Every pass, in execution order.
-    pub const ALL: [PassKind; 25] = [
+    pub const ALL: [PassKind; 32] = [
         PassKind::ClampDrive,
         PassKind::SpringScatter,
         PassKind::SpringGather,
@@ -117,6 +141,13 @@ impl PassKind {
         PassKind::ContactApply,
         PassKind::AndersonSum,
         PassKind::AndersonMix,
+        PassKind::MinresSetup,
+        PassKind::MinresRows,
+        PassKind::MinresNodes,
+        PassKind::MinresProduct,
+        PassKind::MinresNext,
+        PassKind::MinresFinish,
+        PassKind::MinresForces,
         PassKind::InversionFloor,
         PassKind::SplitVelocity,
         PassKind::Integrate,
@@ -147,6 +178,13 @@ impl PassKind {
             PassKind::ContactApply => "contact_apply",
             PassKind::AndersonSum => "anderson_sum",
             PassKind::AndersonMix => "anderson_mix",
+            PassKind::MinresSetup => "minres_setup",
+            PassKind::MinresRows => "minres_rows",
+            PassKind::MinresNodes => "minres_nodes",
+            PassKind::MinresProduct => "minres_product",
+            PassKind::MinresNext => "minres_next",
+            PassKind::MinresFinish => "minres_finish",
+            PassKind::MinresForces => "minres_forces",
             PassKind::InversionFloor => "inversion_floor",
             PassKind::SplitVelocity => "split_velocity",
             PassKind::Integrate => "integrate",
@@ -178,6 +216,13 @@ impl PassKind {
             PassKind::ContactApply => file::PASSES_CONTACT_APPLY_COMP,
             PassKind::AndersonSum => file::PASSES_ANDERSON_SUM_COMP,
             PassKind::AndersonMix => file::PASSES_ANDERSON_MIX_COMP,
+            PassKind::MinresSetup => file::PASSES_MINRES_SETUP_COMP,
+            PassKind::MinresRows => file::PASSES_MINRES_ROWS_COMP,
+            PassKind::MinresNodes => file::PASSES_MINRES_NODES_COMP,
+            PassKind::MinresProduct => file::PASSES_MINRES_PRODUCT_COMP,
+            PassKind::MinresNext => file::PASSES_MINRES_NEXT_COMP,
+            PassKind::MinresFinish => file::PASSES_MINRES_FINISH_COMP,
+            PassKind::MinresForces => file::PASSES_MINRES_FORCES_COMP,
             PassKind::InversionFloor => file::PASSES_INVERSION_FLOOR_COMP,
             PassKind::SplitVelocity => file::PASSES_SPLIT_VELOCITY_COMP,
             PassKind::Integrate => file::PASSES_INTEGRATE_COMP,
@@ -192,6 +237,11 @@ impl PassKind {
         PassKind::ALL.into_iter().find(|k| k.name() == name)
     }
 
+    /// Whether it is one of MINRES's passes (`minres_*`).
+    pub fn is_minres(self) -> bool {
+        (PassKind::MinresSetup..=PassKind::MinresForces).contains(&self)
+    }
+
     /// Whether the pass takes the floor as a specialisation constant (printed as
     /// `[floor]` / `[no floor]` in plans).
     pub fn has_floor_constant(self) -> bool {
@@ -203,12 +253,13 @@ impl PassKind {
                 | PassKind::GlobalVolume
                 | PassKind::ContactApply
                 | PassKind::AndersonMix
+                | PassKind::MinresForces
         )
     }
 }
 
 /// A stage of no sweep.
-fn stage(
+pub(super) fn stage(
     kind: PassKind,
     repeat: Repeat,
     domain: Domain,
@@ -406,6 +457,11 @@ impl Schedule {
                 ));
             }
         }
+        let minres = match constrained {
+            true => params.minres,
+            false => 0,
+        };
+        stages.extend(super::minres::stages(minres, &sweeps, global));
         let volumes = sweeps.iter().position(|w| w.kind == ConstraintKind::Volume);
         let inversion_sweeps = match volumes {
             Some(volumes) if params.inversion_sweeps > 0 => {
@@ -472,7 +528,7 @@ impl Schedule {
             vec![(Positions, Read), (Velocities, Read), (Status, ReadWrite)],
         ));
         if metrics {
-            stages.push(volume_sum());
+            stages.push(super::volume_sum());
         }
         Schedule {
             stages,
@@ -484,6 +540,7 @@ impl Schedule {
             chebyshev,
             anderson: if constrained { params.anderson } else { 0 },
             anderson_volumes: constrained && params.anderson > 0,
+            minres,
             inversion_sweeps,
             inversion_floor: params.inversion_floor,
             block_sweeps: params.block_sweeps,
@@ -493,108 +550,5 @@ impl Schedule {
             grabs: false,
             split,
         }
-    }
-
-    /// The same schedule with `clamped` nodes held by clamps: `clamp_drive` first in every
-    /// step, setting their velocities from the host's per-step clamp poses.
-    pub fn with_clamps(mut self, clamped: u32) -> Self {
-        use Access::{Read, ReadWrite};
-        use BufferId::*;
-        if clamped > 0 {
-            let bindings = vec![
-                (Positions, Read),
-                (ClampNodes, Read),
-                (ClampPoses, Read),
-                (Velocities, ReadWrite),
-            ];
-            let drive = stage(
-                PassKind::ClampDrive,
-                Repeat::Substep,
-                Domain::Nodes,
-                bindings,
-            );
-            self.stages.insert(0, drive);
-        }
-        self
-    }
-
-    /// The same schedule with `colliders` kinematic colliders and, when `grabs`, grabs:
-    /// every stage that solves the floor ([`PassKind::has_floor_constant`]) solves their
-    /// contacts (a grabbed node's attachment first) too, reading their data, poses and
-    /// attachments and keeping their force in [`BufferId::ColliderContacts`].
-    pub fn with_colliders(mut self, colliders: u32, grabs: bool) -> Self {
-        use Access::{Read, ReadWrite};
-        use BufferId::*;
-        self.colliders = colliders;
-        self.grabs = grabs;
-        if colliders > 0 || grabs {
-            for stage in (self.stages.iter_mut()).filter(|s| s.kind.has_floor_constant()) {
-                stage.bindings.extend([
-                    (ColliderContacts, ReadWrite),
-                    (Colliders, Read),
-                    (ColliderGrids, Read),
-                    (ColliderPoses, Read),
-                    (GrabNodes, Read),
-                    (GrabTargets, Read),
-                ]);
-            }
-        }
-        self
-    }
-}
-
-/// The `volume_sum` stage (per frame with metrics; on demand otherwise).
-pub fn volume_sum() -> Stage {
-    use Access::{Read, Write};
-    use BufferId::*;
-    stage(
-        PassKind::VolumeSum,
-        Repeat::Frame,
-        Domain::Tets,
-        vec![
-            (Positions, Read),
-            (Tets, Read),
-            (RestVolumes, Read),
-            (Partials, Write),
-        ],
-    )
-}
-
-impl Schedule {
-    /// The same schedule with the `contact_measure` stage when `metrics` are taken per frame
-    /// and the frame has kinematic colliders ([`Self::with_colliders`]) or body contact
-    /// ([`Self::with_body_contact`]): once per frame after `check`, it reads the end-of-frame
-    /// positions, the colliders' touching flags and poses and the body contacts, and adds
-    /// into the status's contact words.
-    pub fn with_contact_measure(mut self, metrics: bool) -> Self {
-        use Access::{Read, ReadWrite};
-        use BufferId::*;
-        let colliders = self.colliders > 0;
-        let bodies = self.runs(PassKind::ContactFind);
-        if !metrics || !(colliders || bodies) {
-            return self;
-        }
-        let mut bindings = vec![(Positions, Read)];
-        if colliders {
-            bindings.extend([
-                (ColliderContacts, Read),
-                (Colliders, Read),
-                (ColliderGrids, Read),
-                (ColliderPoses, Read),
-            ]);
-        }
-        if bodies {
-            bindings.push((Contacts, Read));
-        }
-        bindings.push((Status, ReadWrite));
-        let measure = stage(
-            PassKind::ContactMeasure,
-            Repeat::Frame,
-            Domain::Nodes,
-            bindings,
-        );
-        let at = super::before(&self.stages, PassKind::ContactMeasure);
-        self.stages.insert(at, measure);
-        self
     }
 }

@@ -260,3 +260,48 @@ fn names_are_shader_stems_in_execution_order() {
     }
     assert_eq!(PassKind::from_name("nope"), None);
 }
+
+#[test]
+fn minres_follows_the_iterations_before_the_inversion_sweeps() {
+    let params = SimParams {
+        springs: SpringKind::Implicit,
+        iterations: 2,
+        minres: 3,
+        inversion_sweeps: 1,
+        ..SimParams::default()
+    };
+    let schedule = Schedule::new(&params, sweeps(), true, false);
+    let step = schedule.step();
+    let names = names(&schedule, &step);
+    let setup = names.iter().position(|&n| n == "minres_setup").unwrap();
+    let iteration = ["minres_nodes", "minres_product", "minres_next"];
+    let minres = [
+        &["minres_setup", "minres_rows"][..],
+        &iteration.repeat(3),
+        &["minres_finish", "minres_forces"],
+    ]
+    .concat();
+    assert_eq!(names[setup..setup + minres.len()], minres);
+    assert_eq!(
+        names[setup - 1],
+        "global_volume",
+        "after the last iteration"
+    );
+    assert_eq!(names[setup + minres.len()], "inversion_floor");
+    // The passes around the iterations carry the iteration count, the iterations their own.
+    let carried: Vec<Option<u32>> = step[setup..setup + minres.len()]
+        .iter()
+        .map(|d| d.iteration)
+        .collect();
+    let mut want = vec![Some(2), Some(2)];
+    want.extend((0..3).flat_map(|k| [Some(k); 3]));
+    want.extend([Some(2), Some(2)]);
+    assert_eq!(carried, want);
+    // The rows are the springs', the tets' and the global constraints'.
+    assert_eq!(MinresRowKinds::of(&schedule.sweeps, true).variant(), "svg");
+    // None without constraint sweeps, or with `minres` 0.
+    let off = Schedule::new(&SimParams::default(), sweeps(), true, false);
+    assert!(!off.stages.iter().any(|s| s.kind.is_minres()));
+    let bare = Schedule::new(&params, Vec::new(), false, false);
+    assert!(!bare.stages.iter().any(|s| s.kind.is_minres()));
+}

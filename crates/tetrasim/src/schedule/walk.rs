@@ -40,7 +40,8 @@ impl Schedule {
     /// sweep), then the stages that end an iteration. With split contact
     /// ([`Schedule::split`]) the step's dispatches up to `integrate` run twice: first as the
     /// velocity solve ([`Solve::Velocity`]), ended by `split_velocity`, then as the full
-    /// solve.
+    /// solve. MINRES's stages follow the iterations: those of [`Repeat::AfterIterations`]
+    /// once (their iteration is the iteration count), its iterations' `minres` times.
     pub fn step(&self) -> Vec<Dispatch> {
         let full = self.solve();
         if !self.split {
@@ -123,6 +124,29 @@ impl Schedule {
                         }
                     }
                     k += 1;
+                    continue;
+                }
+                Repeat::AfterIterations => {
+                    out.push(Dispatch {
+                        iteration: Some(self.iterations),
+                        ..once(step[k])
+                    });
+                    k += 1;
+                    continue;
+                }
+                Repeat::Minres => {
+                    let end = (k..step.len())
+                        .find(|&e| repeat(e) != Repeat::Minres)
+                        .unwrap_or(step.len());
+                    for iteration in 0..self.minres {
+                        for &stage in &step[k..end] {
+                            out.push(Dispatch {
+                                iteration: Some(iteration),
+                                ..once(stage)
+                            });
+                        }
+                    }
+                    k = end;
                     continue;
                 }
                 _ => {

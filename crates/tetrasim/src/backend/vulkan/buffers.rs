@@ -202,6 +202,19 @@ impl SimBuffers {
         if let Some(g) = global.filter(|_| plan.global.is_some()) {
             global_buffers(&mut optional, g)?;
         }
+        if let Some(m) = plan.minres_counts() {
+            let transpose = super::minres::transpose(model, global, &m);
+            optional.data(BufferId::MinresTranspose, bytes(&transpose))?;
+            for id in [
+                BufferId::MinresGrads,
+                BufferId::MinresVectors,
+                BufferId::MinresNodeVectors,
+                BufferId::MinresSums,
+                BufferId::MinresState,
+            ] {
+                optional.zeroed(id, plan.buffer(id).map_or(0, |b| b.bytes))?;
+            }
+        }
         if plan.has(BufferId::Colliders) {
             collider_buffers(&mut optional, model)?;
         }
@@ -491,7 +504,7 @@ impl Optional<'_> {
 }
 
 /// Every buffer kind.
-const ALL_BUFFERS: [BufferId; 47] = [
+const ALL_BUFFERS: [BufferId; 53] = [
     BufferId::Positions,
     BufferId::Velocities,
     BufferId::Forces,
@@ -539,4 +552,10 @@ const ALL_BUFFERS: [BufferId; 47] = [
     BufferId::BlockRows,
     BufferId::BlockNodes,
     BufferId::BlockCorners,
+    BufferId::MinresTranspose,
+    BufferId::MinresGrads,
+    BufferId::MinresVectors,
+    BufferId::MinresNodeVectors,
+    BufferId::MinresSums,
+    BufferId::MinresState,
 ];

@@ -14,6 +14,7 @@
 mod buffers;
 mod colliders;
 mod frames;
+mod minres;
 mod options;
 mod passes;
 pub mod plan;

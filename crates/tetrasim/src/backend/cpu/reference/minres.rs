@@ -20,7 +20,7 @@ enum Slot {
 }
 
 impl ReferenceBackend {
-    /// `params.minres` iterations of MINRES on every constraint of the step (each family
+    /// `params.minres` iterations of MINRES on every constraint of the step (each kind
     /// once, then the global volume constraints) at the forces so far, the nodes the floor,
     /// the colliders and the grabs push held; the increments added to the forces and the
     /// compliant multipliers, then the floor and colliders solved again.
@@ -31,20 +31,19 @@ impl ReferenceBackend {
         }
         let mut rows = StepRows::new();
         let mut slots = Vec::new();
-        let mut springs_done = false;
-        let mut volumes_done = false;
+        // Each kind once, in the sweeps' order (implicit springs first), as every backend
+        // orders its rows (crate::schedule::MinresRowKinds).
+        let mut done = Vec::new();
         for family in &self.families {
-            match family {
-                Family::Springs(f) if !springs_done => self.rows_of(f, step, &mut rows, &mut slots),
-                Family::Distances(f) if !springs_done => {
-                    self.rows_of(f, step, &mut rows, &mut slots)
-                }
-                Family::Volumes(f) if !volumes_done => self.rows_of(f, step, &mut rows, &mut slots),
-                _ => continue,
+            let kind = std::mem::discriminant(family);
+            if done.contains(&kind) {
+                continue;
             }
+            done.push(kind);
             match family {
-                Family::Volumes(_) => volumes_done = true,
-                _ => springs_done = true,
+                Family::Springs(f) => self.rows_of(f, step, &mut rows, &mut slots),
+                Family::Distances(f) => self.rows_of(f, step, &mut rows, &mut slots),
+                Family::Volumes(f) => self.rows_of(f, step, &mut rows, &mut slots),
             }
         }
         self.global_rows(step, &mut rows, &mut slots);

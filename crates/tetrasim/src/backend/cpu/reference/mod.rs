@@ -164,22 +164,12 @@ impl ReferenceBackend {
     /// value, contacts for no deeper penetration).
     pub fn forces_of(&self, solve: Solve) -> Forces {
         let mut step = StepForces::new(self, solve);
-        let iterations = self.problem.params.iterations;
-        let mut minres_done = false;
         for dispatch in self.dispatches.iter().filter(|d| d.solve == solve) {
             let kind = self.schedule.stages[dispatch.stage].kind;
             if matches!(kind, PassKind::Integrate | PassKind::SplitVelocity) {
                 break;
             }
-            // MINRES after the iterations, before the inversion sweeps.
-            if !minres_done && dispatch.iteration.is_some_and(|k| k >= iterations) {
-                self.minres_solve(&mut step);
-                minres_done = true;
-            }
             self.run(dispatch, &mut step);
-        }
-        if !minres_done {
-            self.minres_solve(&mut step);
         }
         self.contact_solve(&mut step);
         let n = self.problem.model.node_count();
@@ -248,6 +238,9 @@ impl ReferenceBackend {
                 }
                 self.contact_solve(step);
             }
+            // MINRES's passes run as one here, after the iterations, before the inversion
+            // sweeps.
+            (PassKind::MinresRows, _) => self.minres_solve(step),
             // Anderson's halves run as one here.
             (PassKind::AndersonSum, _) => {}
             (PassKind::AndersonMix, _) => {

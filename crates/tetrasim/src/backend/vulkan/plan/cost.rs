@@ -112,8 +112,18 @@ impl GpuProfile {
 
 /// Slots one node of a gather pass sums per dispatch, on average over the groups: a
 /// Gauss-Seidel colour group of the horse gives each node about 2, one group (Chebyshev)
-/// about 14.
+/// about 14, MINRES's node passes every entry of the node's rows (about 20 on the horse).
 fn gathered_slots(plan: &EnginePlan, pass: &PassPlan) -> f64 {
+    // MINRES's node passes gather every entry of their node's rows (about the constraint
+    // slots of all sweeps together).
+    if matches!(
+        pass.stage.kind,
+        PassKind::MinresNodes | PassKind::MinresForces
+    ) {
+        return plan.minres_counts().map_or(0.0, |m| {
+            m.entries() as f64 / f64::from(plan.counts.nodes.max(1))
+        });
+    }
     if pass.stage.kind != PassKind::ConstraintApply || !plan.schedule.gather {
         return 0.0;
     }

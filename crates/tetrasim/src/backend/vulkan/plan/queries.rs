@@ -3,6 +3,12 @@
 use super::*;
 
 impl EnginePlan {
+    /// MINRES's sizes, when the step runs it.
+    pub fn minres_counts(&self) -> Option<MinresCounts> {
+        let workgroup = self.workgroup_size.min(GLOBAL_WORKGROUP);
+        MinresCounts::of(&self.schedule, self.counts, self.global, workgroup)
+    }
+
     /// Whether buffer `id` is built.
     pub fn has(&self, id: BufferId) -> bool {
         self.buffers.iter().any(|b| b.id == id)
@@ -35,7 +41,8 @@ impl EnginePlan {
     pub fn runs_per_frame(&self, pass: &PassPlan) -> u32 {
         let solves = self.schedule.solves_running(pass.stage.kind);
         match pass.stage.repeat {
-            Repeat::Substep => solves * self.schedule.substeps,
+            Repeat::Substep | Repeat::AfterIterations => solves * self.schedule.substeps,
+            Repeat::Minres => solves * self.schedule.substeps * self.schedule.minres,
             Repeat::Iteration => {
                 let per_step = self.schedule.iterations * self.groups_of(pass)
                     + match pass.stage.sweep {

@@ -222,31 +222,42 @@ impl EnginePlan {
         let mut out = Vec::new();
         let mut group: Vec<&PassPlan> = Vec::new();
         let mut after: Vec<String> = Vec::new();
+        // The iterations' passes stay for the restore label after MINRES's passes.
+        let mut iteration: (Vec<&PassPlan>, Vec<String>) = (Vec::new(), Vec::new());
+        let mut minres: Vec<String> = Vec::new();
         for p in self
             .passes
             .iter()
             .filter(|p| p.stage.repeat != Repeat::Frame)
         {
+            if p.stage.repeat != Repeat::Minres && !minres.is_empty() {
+                out.push(format!(
+                    "{} x ({})",
+                    self.schedule.minres,
+                    minres.join(", ")
+                ));
+                minres.clear();
+            }
+            if !matches!(p.stage.repeat, Repeat::Iteration | Repeat::IterationEnd)
+                && !group.is_empty()
+            {
+                out.push(self.iteration_label(&group, &after));
+                iteration = (std::mem::take(&mut group), std::mem::take(&mut after));
+            }
             match p.stage.repeat {
                 Repeat::Iteration => group.push(p),
                 Repeat::IterationEnd => after.push(p.label()),
-                Repeat::Restore => {
-                    if !group.is_empty() {
-                        out.push(self.iteration_label(&group, &after));
-                    }
-                    out.push(self.restore_label(p, &group, &after));
-                    group.clear();
-                    after.clear();
-                }
-                _ => {
-                    if !group.is_empty() {
-                        out.push(self.iteration_label(&group, &after));
-                        group.clear();
-                        after.clear();
-                    }
-                    out.push(p.label());
-                }
+                Repeat::Minres => minres.push(p.label()),
+                Repeat::Restore => out.push(self.restore_label(p, &iteration.0, &iteration.1)),
+                _ => out.push(p.label()),
             }
+        }
+        if !minres.is_empty() {
+            out.push(format!(
+                "{} x ({})",
+                self.schedule.minres,
+                minres.join(", ")
+            ));
         }
         out
     }

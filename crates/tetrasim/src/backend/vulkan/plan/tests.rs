@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::params::Solver;
+use crate::schedule::Domain;
 
 const COUNTS: PlanCounts = PlanCounts {
     nodes: 10,
@@ -503,4 +504,67 @@ fn block_sweeps_run_one_workgroup_per_block_with_their_rows_one_after_another() 
         (swept - once - 14.0 * colour).abs() < 1e-9,
         "{swept} against {once}"
     );
+}
+
+#[test]
+fn minres_builds_its_rows_buffers_and_passes_after_the_iterations() {
+    let sweeps = [SweepPlan {
+        kind: ConstraintKind::Volume,
+        groups: vec![7, 5],
+        blocks: None,
+    }];
+    let global = GlobalCounts {
+        objects: 1,
+        nodes: 8,
+        faces: 12,
+        largest: 12,
+    };
+    let params = |minres| SimParams {
+        method: Method::Volume,
+        iterations: 2,
+        minres,
+        ..SimParams::default()
+    };
+    let off = EnginePlan::new(COUNTS, &params(0), 64, false, &sweeps, Some(global));
+    let on = EnginePlan::new(COUNTS, &params(4), 64, false, &sweeps, Some(global));
+    assert!(off.minres_counts().is_none());
+    assert!(!off.has(BufferId::MinresTranspose));
+    let m = on.minres_counts().expect("minres sizes");
+    // 12 tet rows in one workgroup of 64, then the object's.
+    assert_eq!(
+        (m.tets, m.objects, m.rows(), m.workgroups()),
+        (12, 1, 13, 2)
+    );
+    assert_eq!(m.entries(), 4 * 12 + 8);
+    let bytes = |id| on.buffer(id).map(|b| b.bytes);
+    assert_eq!(
+        bytes(BufferId::MinresTranspose),
+        Some(4 * (11 + 3 * 56 + 2))
+    );
+    assert_eq!(bytes(BufferId::MinresGrads), Some(16 * 56));
+    assert_eq!(bytes(BufferId::MinresVectors), Some(4 * 10 * 13));
+    assert_eq!(bytes(BufferId::MinresNodeVectors), Some(32 * 10));
+    assert_eq!(bytes(BufferId::MinresSums), Some(4 * 3));
+    assert_eq!(bytes(BufferId::MinresState), Some(64 * 5));
+    // Setup, rows, 4 x 3 iteration passes, finish, forces.
+    assert_eq!(
+        on.dispatches_per_frame() - off.dispatches_per_frame(),
+        2 + 4 * 3 + 2
+    );
+    let step = on.step_list().join(" -> ");
+    assert!(
+        step.contains(
+            "minres_setup -> minres_rows#vg -> 4 x (minres_nodes, minres_product, \
+             minres_next) -> minres_finish#v -> minres_forces[floor] -> integrate"
+        ),
+        "{step}"
+    );
+    let rows = on
+        .passes
+        .iter()
+        .find(|p| p.name() == "minres_rows")
+        .unwrap();
+    assert_eq!((rows.workgroup_size, rows.elements), (64, 2 * 64));
+    // Floor, colliders, grabs, a free id, then the rows' segments, iterations and chunks.
+    assert_eq!(rows.constants, vec![1, 0, 0, 0, 0, 0, 12, 1, 4, 1]);
 }

@@ -85,6 +85,11 @@ fn element_wise(kind: PassKind) -> bool {
             | PassKind::ContactScan
             | PassKind::AndersonSum
             | PassKind::AndersonMix
+            | PassKind::MinresRows
+            | PassKind::MinresNodes
+            | PassKind::MinresProduct
+            | PassKind::MinresNext
+            | PassKind::MinresFinish
     )
 }
 

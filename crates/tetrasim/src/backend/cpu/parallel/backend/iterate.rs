@@ -31,12 +31,13 @@ impl ParallelBackend {
                 _ => sweep.multipliers.fill(0.0),
             }
         }
-        // MINRES after the iterations, before the inversion sweeps.
-        let split = (range.clone())
-            .find(|&d| self.dispatches[d].iteration >= Some(self.iterations))
-            .unwrap_or(range.end);
+        // MINRES where the schedule has its rows: after the iterations, before the inversion
+        // sweeps (its other passes are the GPU's; the team skips them).
+        let minres = (range.clone())
+            .find(|&d| self.stages[self.dispatches[d].stage] == PassKind::MinresRows);
+        let split = minres.unwrap_or(range.end);
         self.iterate(team, &mut sweeps, global.as_ref(), range.start..split, at);
-        if self.minres > 0 {
+        if minres.is_some() {
             self.minres_solve(team, &mut sweeps, global.as_ref());
         }
         if split < range.end {

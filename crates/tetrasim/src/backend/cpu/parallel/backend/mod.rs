@@ -23,8 +23,7 @@ pub struct ParallelBackend {
     /// Whether the springs act as explicit forces (else they are solved in the sweeps).
     explicit_springs: bool,
     substeps: u32,
-    /// Constraint iterations per step, and MINRES iterations after them (0: off).
-    iterations: u32,
+    /// MINRES iterations after the constraint iterations (0: off).
     minres: u32,
     /// MINRES's rows, kept from step to step.
     minres_rows: minres::MinresRows,
@@ -146,7 +145,6 @@ impl ParallelBackend {
             method: params.method,
             explicit_springs,
             substeps: params.substeps,
-            iterations: params.iterations,
             minres: params.minres,
             minres_rows: Default::default(),
             floor: params.floor,

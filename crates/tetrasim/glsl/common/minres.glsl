@@ -1,0 +1,242 @@
+// MINRES after the sweeps on the GPU (docs/GPU.md, "MINRES"; the CPU's solve is
+// src/backend/cpu/minres/mod.rs, whose phases these passes follow one for one):
+// `minres_setup` (each node's mobility), `minres_rows` (the rows and the first Lanczos
+// vector), per iteration `minres_nodes`, `minres_product`, `minres_next`, then
+// `minres_finish` (the last update, the multipliers) and `minres_forces` (the nodes'
+// forces, the floor and colliders again). Shared here: the rows' layout, the vectors'
+// planes, the dot products' partial sums and the recurrence's scalars.
+//
+// Rows (src/schedule/minres.rs): SPRING_ROWS implicit springs, DISTANCE_ROWS distance
+// constraints, TET_ROWS volume constraints (one invocation each, in the first
+// FIXED_WORKGROUPS workgroups), then one workgroup per global volume constraint
+// (OBJECTS). A dot product is summed per workgroup into MinresSums (PARTIALS values per
+// product), and every workgroup that needs it adds all of them in the same fixed order, so
+// all compute the same scalars (bit-identical reruns, no float atomics).
+// Include after common/bindings.glsl and common/workgroup_sum.glsl.
+#ifndef COMMON_MINRES_GLSL
+#define COMMON_MINRES_GLSL
+
+layout(constant_id = 5) const uint SPRING_ROWS = 0u;
+layout(constant_id = 6) const uint DISTANCE_ROWS = 0u;
+layout(constant_id = 7) const uint TET_ROWS = 0u;
+layout(constant_id = 8) const uint OBJECTS = 0u;
+// MINRES iterations per step (`minres`).
+layout(constant_id = 9) const uint ITERATIONS = 1u;
+// Chunks per object of the global volume passes (GlobalState's rows per object).
+layout(constant_id = 10) const uint GLOBAL_CHUNKS = 1u;
+
+const uint FIXED_ROWS = SPRING_ROWS + DISTANCE_ROWS + TET_ROWS;
+const uint ROWS = FIXED_ROWS + OBJECTS;
+const uint FIXED_WORKGROUPS = (FIXED_ROWS + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x;
+const uint PARTIALS = FIXED_WORKGROUPS + OBJECTS;
+// Entries: two per spring row, four per tet row, then the objects' surface nodes.
+const uint FIXED_ENTRIES = 2u * (SPRING_ROWS + DISTANCE_ROWS) + 4u * TET_ROWS;
+const uint NO_ROW = 0xffffffffu;
+
+// The planes of MinresVectors, ROWS floats each.
+#define P_INVERSE 0u
+#define P_SOFTNESS 1u
+#define P_X 2u
+#define P_R1 3u
+#define P_R2 4u
+#define P_Y 5u
+#define P_V 6u
+#define P_W1 7u
+#define P_W 8u
+#define P_AV 9u
+
+// N + 1 offsets of each node's items, an (entry, row) pair per item, each entry's node,
+// each object's first entry (OBJECTS + 1).
+layout(std430, set = 0, binding = B_MINRES_TRANSPOSE) readonly restrict buffer MinresTranspose { uint transpose[]; };
+layout(std430, set = 0, binding = B_MINRES_GRADS) restrict buffer MinresGrads { vec4 grads[]; };
+layout(std430, set = 0, binding = B_MINRES_VECTORS) restrict buffer MinresVectors { float vectors[]; };
+// Plane 0: the product u = W J^T v per node; plane 1: the mobility (held direction, inverse
+// mass).
+layout(std430, set = 0, binding = B_MINRES_NODE_VECTORS) restrict buffer MinresNodeVectors { vec4 node_vectors[]; };
+// Each row workgroup's partial of the pass's dot product (PARTIALS), then the count of
+// workgroups done (the same binding as uints).
+layout(std430, set = 0, binding = B_MINRES_SUMS) coherent buffer MinresSums { float sums[]; };
+layout(std430, set = 0, binding = B_MINRES_SUMS) coherent buffer MinresDone { uint sums_u[]; };
+layout(std430, set = 0, binding = B_MINRES_STATE) restrict buffer MinresState { vec4 state[]; };
+
+float vector_at(uint plane, uint row) {
+    return vectors[plane * ROWS + row];
+}
+
+void set_vector(uint plane, uint row, float value) {
+    vectors[plane * ROWS + row] = value;
+}
+
+// Node i's mobility applied to a force u (Held::apply): u less its part along the held
+// direction, times the inverse mass.
+vec3 mobility_apply(uint i, vec3 u) {
+    vec4 held = node_vectors[pc.node_count + i];
+    return (u - held.xyz * dot(held.xyz, u)) * held.w;
+}
+
+// The row of this invocation: its own among the fixed rows, the object's for the first
+// invocation of an object's workgroup; NO_ROW otherwise.
+uint row_of_invocation() {
+    uint w = gl_WorkGroupID.x;
+    if (w < FIXED_WORKGROUPS) {
+        uint j = gl_GlobalInvocationID.x;
+        return j < FIXED_ROWS ? j : NO_ROW;
+    }
+    return gl_LocalInvocationID.x == 0u ? FIXED_ROWS + (w - FIXED_WORKGROUPS) : NO_ROW;
+}
+
+// The entries of fixed row j: the first and the count.
+uint fixed_first_entry(uint j) {
+    return j < SPRING_ROWS + DISTANCE_ROWS ? 2u * j : 2u * (SPRING_ROWS + DISTANCE_ROWS) + 4u * (j - SPRING_ROWS - DISTANCE_ROWS);
+}
+
+uint fixed_arity(uint j) {
+    return j < SPRING_ROWS + DISTANCE_ROWS ? 2u : 4u;
+}
+
+// Entries of the transpose: the node offsets' end is the entry count.
+uint entry_count() {
+    return transpose[pc.node_count];
+}
+
+uint entry_node(uint e) {
+    return transpose[pc.node_count + 1u + 2u * entry_count() + e];
+}
+
+// Object o's entries: [first, end).
+uvec2 object_entries(uint o) {
+    uint at = pc.node_count + 1u + 3u * entry_count() + o;
+    return uvec2(transpose[at], transpose[at + 1u]);
+}
+
+// sum over node i's rows of grad * p[row] (its share of J^T p), p the plane `plane`.
+vec3 transpose_sum(uint i, uint plane) {
+    vec3 sum = vec3(0.0);
+    uint end = transpose[i + 1u];
+    for (uint t = transpose[i]; t < end; ++t) {
+        uint item = pc.node_count + 1u + 2u * t;
+        sum += grads[transpose[item]].xyz * vector_at(plane, transpose[item + 1u]);
+    }
+    return sum;
+}
+
+WORKGROUP_SUM_PAIR(minres_workgroup_sum, float)
+
+shared bool s_last;
+
+// This workgroup's partial of the pass's dot product from each invocation's `value`; true
+// in the last row workgroup to finish, whose invocations then hold the total in `value`:
+// the partials added in one fixed order (strided, then the tree), so the total does not
+// depend on which workgroup is last. Every invocation of a row pass's workgroup calls it.
+bool reduce_last(inout float value) {
+    float unused = 0.0;
+    minres_workgroup_sum(value, unused);
+    if (gl_LocalInvocationID.x == 0u) {
+        sums[gl_WorkGroupID.x] = value;
+        memoryBarrierBuffer();
+        s_last = atomicAdd(sums_u[PARTIALS], 1u) == PARTIALS - 1u;
+    }
+    barrier();
+    if (!s_last) {
+        return false;
+    }
+    memoryBarrierBuffer();
+    float total = 0.0;
+    for (uint p = gl_LocalInvocationID.x; p < PARTIALS; p += gl_WorkGroupSize.x) {
+        total += sums[p];
+    }
+    minres_workgroup_sum(total, unused);
+    value = total;
+    if (gl_LocalInvocationID.x == 0u) {
+        sums_u[PARTIALS] = 0u;
+    }
+    return true;
+}
+
+// The recurrence after an iteration (the CPU's Recurrence and its pending Update): the
+// Lanczos scalars and the QR factorisation's rotation, whether the solve goes on, and the
+// update of the search directions and the solution the next row pass makes.
+struct Recurrence {
+    float beta;
+    float old_beta;
+    float dbar;
+    float epsilon;
+    float phibar;
+    float cs;
+    float sn;
+    float alpha;
+    bool going;
+    bool pending;
+    float old_epsilon;
+    float delta;
+    float over_gamma;
+    float phi;
+};
+
+Recurrence load_state(uint k) {
+    vec4 a = state[4u * k];
+    vec4 b = state[4u * k + 1u];
+    vec4 c = state[4u * k + 2u];
+    vec4 d = state[4u * k + 3u];
+    return Recurrence(a.x, a.y, a.z, a.w, b.x, b.y, b.z, b.w, c.x != 0.0, c.y != 0.0, d.x, d.y, d.z, d.w);
+}
+
+void store_state(uint k, Recurrence r) {
+    state[4u * k] = vec4(r.beta, r.old_beta, r.dbar, r.epsilon);
+    state[4u * k + 1u] = vec4(r.phibar, r.cs, r.sn, r.alpha);
+    state[4u * k + 2u] = vec4(r.going ? 1.0 : 0.0, r.pending ? 1.0 : 0.0, 0.0, 0.0);
+    state[4u * k + 3u] = vec4(r.old_epsilon, r.delta, r.over_gamma, r.phi);
+}
+
+// The next rotation from the iteration's alpha and next beta (Recurrence::advance): false
+// where the factorisation breaks down.
+bool advance(inout Recurrence r, float alpha, float beta) {
+    r.old_beta = r.beta;
+    r.beta = beta;
+    r.old_epsilon = r.epsilon;
+    r.delta = r.cs * r.dbar + r.sn * alpha;
+    float gbar = r.sn * r.dbar - r.cs * alpha;
+    r.epsilon = r.sn * beta;
+    r.dbar = -r.cs * beta;
+    float gamma = length(vec2(gbar, beta));
+    if (!(gamma > 0.0) || isinf(gamma)) {
+        return false;
+    }
+    r.cs = gbar / gamma;
+    r.sn = beta / gamma;
+    r.phi = r.cs * r.phibar;
+    r.phibar *= r.sn;
+    r.over_gamma = 1.0 / gamma;
+    return true;
+}
+
+// The recurrence's start from the first Lanczos vector's norm squared (Recurrence::new); it
+// goes on only where that is positive and finite.
+Recurrence recurrence_start(float norm) {
+    bool live = norm > 0.0 && !isinf(norm);
+    float beta = live ? sqrt(norm) : 0.0;
+    return Recurrence(beta, 0.0, 0.0, 0.0, beta, -1.0, 0.0, 0.0, live, false, 0.0, 0.0, 0.0, 0.0);
+}
+
+// The recurrence after iteration k's `r` and its next Lanczos vector's norm squared: the
+// rotation and its pending update; the solve stops where the factorisation breaks down or
+// the norm is 0 (the update still pending then).
+Recurrence recurrence_next(Recurrence r, float norm) {
+    float beta = sqrt(max(norm, 0.0));
+    r.pending = advance(r, r.alpha, beta);
+    r.going = r.pending && beta != 0.0;
+    return r;
+}
+
+// Row j's part of the update r holds: w_new = (v - old_epsilon w1 - delta w) / gamma,
+// w1 = w, w = w_new, x += phi w_new.
+void apply_update(Recurrence r, uint j) {
+    float w1 = vector_at(P_W1, j);
+    float w = vector_at(P_W, j);
+    float next = (vector_at(P_V, j) - r.old_epsilon * w1 - r.delta * w) * r.over_gamma;
+    set_vector(P_W1, j, w);
+    set_vector(P_W, j, next);
+    set_vector(P_X, j, vector_at(P_X, j) + r.phi * next);
+}
+
+#endif

@@ -1,0 +1,167 @@
+//! MINRES after the sweeps on `vulkan` (`minres = N`; docs/GPU.md, "MINRES"): the GPU's
+//! passes solve the step's constraints as one system as the CPU backends do.
+//! - `vulkan` follows `cpu-ref` with it, on the floor, for every constraint method (implicit
+//!   springs too), and on a tilted collider plane (a collider's held direction), with the
+//!   validation layer silent. Without MINRES the same runs end far from `cpu-ref`'s with it.
+//! - The bundled `distance` sphere (the `seed` preset, dropped from 0.1 m) comes to rest on
+//!   `vulkan`: one sweep then 28 iterations let it rise less than 2 mm after its first contact
+//!   (issue 26's bar; 1.67 mm on lavapipe, `cpu` 1.68 mm), where one sweep alone lets it rise
+//!   more than 40 mm; and two runs give the same bits (no float atomics in the solve).
+
+mod common;
+mod gpu_support;
+
+use common::{ball_mesh, max_distance, near_floor_model, run_frames};
+use glam::DVec3;
+use tetrasim::backend::cpu::ReferenceBackend;
+use tetrasim::collider::Collider;
+use tetrasim::params::{Method, Placement, SpringKind};
+use tetrasim::{Backend, Model, ModelBuilder, SimParams};
+
+/// Frames of the comparisons with `cpu-ref`.
+const FRAMES: u32 = 100;
+/// Largest allowed final position difference from `cpu-ref`, as a fraction of the
+/// bounding-box diagonal (the GPU solves in f32, `cpu-ref` in f64).
+const POSITION_FRACTION: f64 = 1e-5;
+
+/// `vulkan`'s distance from `cpu-ref` with MINRES after `frames` frames of `params` on
+/// `model` [diagonals], and the distance of the run without MINRES from the same
+/// reference; the validation layer stays silent.
+fn distance_from_reference(model: &Model, params: &SimParams) -> (f64, f64) {
+    let mut reference = ReferenceBackend::new(model, params).unwrap();
+    run_frames(&mut reference, FRAMES);
+    let want = reference.state().unwrap();
+    let diag = model.bounds_diagonal();
+    let without = SimParams {
+        minres: 0,
+        ..params.clone()
+    };
+    let mut out = [0.0; 2];
+    for (d, p) in out.iter_mut().zip([params, &without]) {
+        let mut gpu = gpu_support::validated(model, p);
+        run_frames(&mut gpu, FRAMES);
+        *d = max_distance(&gpu.state().unwrap().positions, &want.positions) / diag;
+        gpu_support::assert_no_validation_messages(&gpu);
+    }
+    (out[0], out[1])
+}
+
+#[test]
+fn vulkan_follows_cpu_ref_with_minres_on_the_floor() {
+    if !gpu_support::vulkan_available() {
+        return;
+    }
+    let model = near_floor_model(&ball_mesh(3.0));
+    let cases = [
+        (Method::Distance, SpringKind::Explicit),
+        (Method::Volume, SpringKind::Explicit),
+        (Method::Volume, SpringKind::Implicit),
+        (Method::Mss, SpringKind::Implicit),
+    ];
+    for (method, springs) in cases {
+        let params = SimParams {
+            method,
+            springs,
+            iterations: 2,
+            minres: 20,
+            ..SimParams::default()
+        };
+        let (with, without) = distance_from_reference(&model, &params);
+        println!(
+            "{method}, {springs} springs: vulkan within {with:.2e} diagonals of cpu-ref \
+             (without MINRES {without:.2e})"
+        );
+        assert!(
+            with < POSITION_FRACTION,
+            "{method}, {springs} springs: {with:.2e} diagonals apart"
+        );
+        assert!(
+            without > 10.0 * with.max(1e-7),
+            "{method}, {springs} springs: MINRES changed nothing ({without:.2e})"
+        );
+    }
+}
+
+#[test]
+fn vulkan_follows_cpu_ref_with_minres_on_a_tilted_collider() {
+    if !gpu_support::vulkan_available() {
+        return;
+    }
+    // No floor: the ball falls onto a plane tilted about Z, whose push holds its nodes
+    // along the plane's normal (the `colliders` variants of minres_setup and minres_forces).
+    let model = near_floor_model(&ball_mesh(3.0))
+        .with_colliders(vec![
+            Collider::plane(DVec3::new(0.3, 1.0, 0.0), 0.0).unwrap()
+        ])
+        .unwrap();
+    let params = SimParams {
+        method: Method::Distance,
+        floor: false,
+        iterations: 2,
+        minres: 20,
+        ..SimParams::default()
+    };
+    let (with, without) = distance_from_reference(&model, &params);
+    println!("tilted plane: vulkan within {with:.2e} diagonals (without MINRES {without:.2e})");
+    assert!(with < POSITION_FRACTION, "{with:.2e} diagonals apart");
+    assert!(without > 10.0 * with.max(1e-7), "MINRES changed nothing");
+}
+
+/// How far the sphere's lowest node rises after its first contact [m], its average local
+/// volume error [%] over 400 frames, and its last positions.
+fn rebound(backend: &mut dyn Backend, model: &Model) -> (f64, f64, Vec<DVec3>) {
+    let rest = model.total_rest_volume();
+    let (mut contact, mut highest, mut local) = (false, 0.0f64, 0.0);
+    for frame in 0..400 {
+        backend
+            .step_frame()
+            .unwrap_or_else(|e| panic!("frame {frame}: {e}"));
+        local += 100.0 * backend.volume().unwrap().local_error / rest / 400.0;
+        let lowest = (backend.state().unwrap().positions.iter())
+            .map(|p| p.y)
+            .fold(f64::INFINITY, f64::min);
+        if contact {
+            highest = highest.max(lowest);
+        }
+        contact |= lowest < 1e-4;
+    }
+    assert!(contact, "the sphere never reached the floor");
+    (highest, local, backend.state().unwrap().positions)
+}
+
+#[test]
+fn minres_brings_the_rigid_sphere_to_rest_on_vulkan() {
+    if !gpu_support::vulkan_available() {
+        return;
+    }
+    let model = ModelBuilder::new(&gpu_support::bundled_sphere())
+        .placement(Placement {
+            fit_size: Some(1.0),
+            drop_height: Some(0.1),
+        })
+        .build()
+        .unwrap();
+    let params = |minres| SimParams {
+        method: Method::Distance,
+        iterations: 1,
+        minres,
+        ..SimParams::default()
+    };
+    let (rise, _, _) = rebound(&mut gpu_support::validated(&model, &params(0)), &model);
+    println!("1 sweep alone: rise {:.2} mm", rise * 1e3);
+    assert!(rise > 0.04, "one sweep alone rose only {rise} m");
+    let mut runs = Vec::new();
+    for _ in 0..2 {
+        let mut gpu = gpu_support::validated(&model, &params(28));
+        runs.push(rebound(&mut gpu, &model));
+        gpu_support::assert_no_validation_messages(&gpu);
+    }
+    let (rise, local, positions) = &runs[0];
+    println!(
+        "1 sweep, minres 28: rise {:.2} mm, local {local:.4} %",
+        rise * 1e3
+    );
+    assert!(*rise < 0.002, "with MINRES: rose {rise} m");
+    assert!(*local < 0.001, "with MINRES: local error {local} %");
+    assert_eq!(positions, &runs[1].2, "two runs differ");
+}
