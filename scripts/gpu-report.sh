@@ -11,8 +11,8 @@
 #             the real-size horse with implicit springs in blocks; the cpu backend's threads in blocks
 #   implicit  the real-size horse with implicit springs (issue 13's scene), 400 frames
 #   stiff     issue 26: the real-size horse (1000 kg/m^3, ks 5000) with Anderson acceleration,
-#             more colour groups, substeps, inversion sweeps and blocks swept twice, 400 frames
-#             each; the `distance` sphere with the settings that stop its rebound; what those
+#             more colour groups, substeps, inversion sweeps, blocks swept twice and MINRES,
+#             400 frames each; the `distance` sphere with the settings that stop its rebound; what those
 #             options cost on bunny20k and horse86m at the seed preset (bench)
 #   tests     the GPU test binaries, one at a time, default test threads, CI=true
 #   threads   the cpu backend on 1..all cores (new: bin/tetrasim-cpu when bundled; old
@@ -139,6 +139,7 @@ blocks1024x2_anderson5_15it_inversion4 --block-size 1024 --block-sweeps 2 --ande
 blocks1024x3_anderson5_15it_inversion4 --block-size 1024 --block-sweeps 3 --anderson 5 --iterations 15 --inversion-sweeps 4
 blocks1024x2s1_anderson5_substeps2_inversion4 --block-size 1024 --block-sweeps 2 --spring-block-sweeps 1 --anderson 5 --substeps 2 --dt 0.0005 --inversion-sweeps 4
 blocks1024x3s1_anderson5_15it_inversion4 --block-size 1024 --block-sweeps 3 --spring-block-sweeps 1 --anderson 5 --iterations 15 --inversion-sweeps 4
+minres25_inversion8 --iterations 1 --minres 25 --inversion-sweeps 8
 SETTINGS
     # The `distance` sphere's rebound bar: what the settings that bring it to rest cost here
     # (the rebound itself is the cpu backend's to the third digit: docs/PHYSICS.md).
@@ -152,6 +153,8 @@ default
 anderson5_30it --anderson 5 --iterations 30
 blocks1024x2_anderson5_30it --block-size 1024 --block-sweeps 2 --anderson 5 --iterations 30
 blocks1024_anderson5_40it --block-size 1024 --anderson 5 --iterations 40
+minres28 --iterations 1 --minres 28
+minres36 --iterations 1 --minres 36
 SETTINGS
     for s in gauss-seidel:8+global gauss-seidel:8+global+anderson5 gauss-seidel:8+global+inversion4 \
              gauss-seidel:16+global+anderson5; do
