@@ -517,6 +517,7 @@ mod tests {
             ("MinresVectors", binding::MINRES_VECTORS),
             ("MinresNodeVectors", binding::MINRES_NODE_VECTORS),
             ("MinresSums", binding::MINRES_SUMS),
+            ("MinresDone", binding::MINRES_SUMS),
             ("MinresState", binding::MINRES_STATE),
         ]
         .into_iter()
