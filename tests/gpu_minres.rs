@@ -11,12 +11,12 @@
 mod common;
 mod gpu_support;
 
-use common::{ball_mesh, max_distance, near_floor_model, run_frames};
+use common::{ball_mesh, max_distance, near_floor_model, rebound, run_frames, Rebound};
 use glam::DVec3;
 use tetrasim::backend::cpu::ReferenceBackend;
 use tetrasim::collider::Collider;
-use tetrasim::params::{Method, Placement, SpringKind};
-use tetrasim::{Backend, Model, ModelBuilder, SimParams};
+use tetrasim::params::{Method, SpringKind};
+use tetrasim::{Backend, Model, SimParams};
 
 /// Frames of the comparisons with `cpu-ref`.
 const FRAMES: u32 = 100;
@@ -107,61 +107,34 @@ fn vulkan_follows_cpu_ref_with_minres_on_a_tilted_collider() {
     assert!(without > 10.0 * with.max(1e-7), "MINRES changed nothing");
 }
 
-/// How far the sphere's lowest node rises after its first contact [m], its average local
-/// volume error [%] over 400 frames, and its last positions.
-fn rebound(backend: &mut dyn Backend, model: &Model) -> (f64, f64, Vec<DVec3>) {
-    let rest = model.total_rest_volume();
-    let (mut contact, mut highest, mut local) = (false, 0.0f64, 0.0);
-    for frame in 0..400 {
-        backend
-            .step_frame()
-            .unwrap_or_else(|e| panic!("frame {frame}: {e}"));
-        local += 100.0 * backend.volume().unwrap().local_error / rest / 400.0;
-        let lowest = (backend.state().unwrap().positions.iter())
-            .map(|p| p.y)
-            .fold(f64::INFINITY, f64::min);
-        if contact {
-            highest = highest.max(lowest);
-        }
-        contact |= lowest < 1e-4;
-    }
-    assert!(contact, "the sphere never reached the floor");
-    (highest, local, backend.state().unwrap().positions)
-}
-
 #[test]
 fn minres_brings_the_rigid_sphere_to_rest_on_vulkan() {
     if !gpu_support::vulkan_available() {
         return;
     }
-    let model = ModelBuilder::new(&gpu_support::bundled_sphere())
-        .placement(Placement {
-            fit_size: Some(1.0),
-            drop_height: Some(0.1),
-        })
-        .build()
-        .unwrap();
+    let model = common::seed_model(&gpu_support::bundled_sphere());
+    let rest = model.total_rest_volume();
     let params = |minres| SimParams {
         method: Method::Distance,
         iterations: 1,
         minres,
         ..SimParams::default()
     };
-    let (rise, _, _) = rebound(&mut gpu_support::validated(&model, &params(0)), &model);
+    let rise = rebound(&mut gpu_support::validated(&model, &params(0)), rest, 400).rise;
     println!("1 sweep alone: rise {:.2} mm", rise * 1e3);
     assert!(rise > 0.04, "one sweep alone rose only {rise} m");
     let mut runs = Vec::new();
     for _ in 0..2 {
         let mut gpu = gpu_support::validated(&model, &params(28));
-        runs.push(rebound(&mut gpu, &model));
+        runs.push(rebound(&mut gpu, rest, 400));
         gpu_support::assert_no_validation_messages(&gpu);
     }
-    let (rise, local, positions) = &runs[0];
+    let Rebound { rise, local, .. } = runs[0];
     println!(
         "1 sweep, minres 28: rise {:.2} mm, local {local:.4} %",
         rise * 1e3
     );
-    assert!(*rise < 0.002, "with MINRES: rose {rise} m");
-    assert!(*local < 0.001, "with MINRES: local error {local} %");
-    assert_eq!(positions, &runs[1].2, "two runs differ");
+    assert!(rise < 0.002, "with MINRES: rose {rise} m");
+    assert!(local < 0.001, "with MINRES: local error {local} %");
+    assert_eq!(runs[0].positions, runs[1].positions, "two runs differ");
 }

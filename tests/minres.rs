@@ -24,10 +24,11 @@ mod gpu_support;
 
 use common::{
     ball_mesh, bare_params, jittered_state, max_distance, model_in_place, near_floor_model,
+    rebound, Rebound,
 };
 use glam::DVec3;
 use tetrasim::backend::cpu::{ParallelBackend, ReferenceBackend};
-use tetrasim::params::{Method, Placement, SpringKind};
+use tetrasim::params::{Method, SpringKind};
 use tetrasim::physics::{distance_constraint, implicit_accumulate};
 use tetrasim::{Backend, Model, ModelBuilder, SimParams};
 
@@ -81,38 +82,10 @@ fn minres_solves_every_constraint_of_the_step_at_once() {
     assert!(left[1] < 1e-6, "MINRES left {:.3e}", left[1]);
 }
 
-/// How far the sphere's lowest node rises after its first contact [m], and its average
-/// local volume error [%], over 400 frames.
-fn rebound(backend: &mut dyn Backend, model: &Model) -> (f64, f64) {
-    let rest = model.total_rest_volume();
-    let (mut contact, mut highest, mut local) = (None, 0.0f64, 0.0);
-    for frame in 0..400 {
-        backend
-            .step_frame()
-            .unwrap_or_else(|e| panic!("frame {frame}: {e}"));
-        local += 100.0 * backend.volume().unwrap().local_error / rest / 400.0;
-        let lowest = (backend.state().unwrap().positions.iter())
-            .map(|p| p.y)
-            .fold(f64::INFINITY, f64::min);
-        match contact {
-            None if lowest < 1e-4 => contact = Some(frame),
-            Some(_) => highest = highest.max(lowest),
-            None => {}
-        }
-    }
-    assert!(contact.is_some(), "the sphere never reached the floor");
-    (highest, local)
-}
-
 #[test]
 fn minres_brings_the_rigid_sphere_to_rest() {
-    let model = ModelBuilder::new(&gpu_support::bundled_sphere())
-        .placement(Placement {
-            fit_size: Some(1.0),
-            drop_height: Some(0.1),
-        })
-        .build()
-        .unwrap();
+    let model = common::seed_model(&gpu_support::bundled_sphere());
+    let rest = model.total_rest_volume();
     let params = |iterations, minres| SimParams {
         method: Method::Distance,
         iterations,
@@ -121,17 +94,17 @@ fn minres_brings_the_rigid_sphere_to_rest() {
     };
     for (iterations, minres) in [(10, 0), (2, 0), (2, 40), (1, 34), (1, 28)] {
         let p = params(iterations, minres);
-        let cpu = rebound(&mut ParallelBackend::new(&model, &p).unwrap(), &model);
-        let reference = rebound(&mut ReferenceBackend::new(&model, &p).unwrap(), &model);
+        let cpu = rebound(&mut ParallelBackend::new(&model, &p).unwrap(), rest, 400);
+        let reference = rebound(&mut ReferenceBackend::new(&model, &p).unwrap(), rest, 400);
         println!(
             "{iterations} iterations, minres {minres}: rise {:.2} mm (cpu-ref {:.2} mm), \
              local {:.4} % (cpu-ref {:.4} %)",
-            cpu.0 * 1e3,
-            reference.0 * 1e3,
-            cpu.1,
-            reference.1
+            cpu.rise * 1e3,
+            reference.rise * 1e3,
+            cpu.local,
+            reference.local
         );
-        for (name, (rise, local)) in [("cpu", cpu), ("cpu-ref", reference)] {
+        for (name, Rebound { rise, local, .. }) in [("cpu", cpu), ("cpu-ref", reference)] {
             match minres {
                 0 => assert!(rise > 0.04, "{name}, {iterations} sweeps: rose {rise} m"),
                 _ => {

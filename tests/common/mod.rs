@@ -128,3 +128,41 @@ pub fn centre_of_mass(points: &[DVec3], mass: &[f64]) -> DVec3 {
     let total: f64 = mass.iter().sum();
     points.iter().zip(mass).map(|(p, m)| *p * *m).sum::<DVec3>() / total
 }
+
+/// How a body dropped onto the floor behaves after it first reaches it, over `frames`
+/// frames: how far its lowest node rises after the first contact [m] (issue 26's rebound),
+/// its average local volume error [% of the rest volume], and its last positions.
+pub struct Rebound {
+    /// The highest its lowest node gets after the first frame that touches the floor [m].
+    pub rise: f64,
+    /// The average local volume error over the frames [%].
+    pub local: f64,
+    /// The positions after the last frame.
+    pub positions: Vec<DVec3>,
+}
+
+/// Runs `frames` frames of `backend` (a model of rest volume `rest`), asserting that the
+/// body reaches the floor (its lowest node within 0.1 mm of it), and measures its
+/// [`Rebound`].
+pub fn rebound(backend: &mut dyn Backend, rest: f64, frames: u32) -> Rebound {
+    let (mut contact, mut rise, mut local) = (false, 0.0f64, 0.0);
+    for frame in 0..frames {
+        backend
+            .step_frame()
+            .unwrap_or_else(|e| panic!("frame {frame}: {e}"));
+        local += 100.0 * backend.volume().unwrap().local_error / rest / f64::from(frames);
+        let lowest = (backend.state().unwrap().positions.iter())
+            .map(|p| p.y)
+            .fold(f64::INFINITY, f64::min);
+        if contact {
+            rise = rise.max(lowest);
+        }
+        contact |= lowest < 1e-4;
+    }
+    assert!(contact, "the body never reached the floor");
+    Rebound {
+        rise,
+        local,
+        positions: backend.state().unwrap().positions,
+    }
+}
