@@ -10,9 +10,7 @@ mod gpu_support;
 
 use std::collections::BTreeSet;
 
-use common::{ball_mesh, near_floor_model, run_frames};
-use glam::DVec3;
-use tetrasim::collider::Collider;
+use common::{ball_mesh, near_floor_model, over_tilted_plane, run_frames};
 use tetrasim::params::Method;
 use tetrasim::{Backend, SimParams};
 
@@ -21,11 +19,7 @@ fn a_scene_past_the_per_stage_limit_runs_with_a_set_per_pass() {
     if !gpu_support::vulkan_available() {
         return;
     }
-    let model = near_floor_model(&ball_mesh(3.0))
-        .with_colliders(vec![
-            Collider::plane(DVec3::new(0.3, 1.0, 0.0), 0.0).unwrap()
-        ])
-        .unwrap();
+    let model = over_tilted_plane(near_floor_model(&ball_mesh(3.0)));
     let params = SimParams {
         method: Method::Volume,
         iterations: 2,

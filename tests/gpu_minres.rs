@@ -11,10 +11,10 @@
 mod common;
 mod gpu_support;
 
-use common::{ball_mesh, max_distance, near_floor_model, rebound, run_frames, Rebound};
-use glam::DVec3;
+use common::{
+    ball_mesh, max_distance, near_floor_model, over_tilted_plane, rebound, run_frames, Rebound,
+};
 use tetrasim::backend::cpu::ReferenceBackend;
-use tetrasim::collider::Collider;
 use tetrasim::params::{Method, SpringKind};
 use tetrasim::{Backend, Model, SimParams};
 
@@ -89,11 +89,7 @@ fn vulkan_follows_cpu_ref_with_minres_on_a_tilted_collider() {
     }
     // No floor: the ball falls onto a plane tilted about Z, whose push holds its nodes
     // along the plane's normal (the `colliders` variants of minres_setup and minres_forces).
-    let model = near_floor_model(&ball_mesh(3.0))
-        .with_colliders(vec![
-            Collider::plane(DVec3::new(0.3, 1.0, 0.0), 0.0).unwrap()
-        ])
-        .unwrap();
+    let model = over_tilted_plane(near_floor_model(&ball_mesh(3.0)));
     let params = SimParams {
         method: Method::Distance,
         floor: false,

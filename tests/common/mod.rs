@@ -166,3 +166,11 @@ pub fn rebound(backend: &mut dyn Backend, rest: f64, frames: u32) -> Rebound {
         positions: backend.state().unwrap().positions,
     }
 }
+
+/// `model` over a plane collider through the origin, tilted about Z (normal `(0.3, 1, 0)`):
+/// run without the floor, it lands on the plane, whose push holds its nodes along the
+/// normal.
+pub fn over_tilted_plane(model: Model) -> Model {
+    let plane = tetrasim::collider::Collider::plane(DVec3::new(0.3, 1.0, 0.0), 0.0).unwrap();
+    model.with_colliders(vec![plane]).unwrap()
+}

@@ -7,7 +7,7 @@
 //! the same order: two per spring row, four per tet, one per surface node of an object.
 
 use super::stages::stage;
-use super::{Access, BufferId, PassKind, Repeat, Stage, SweepPlan};
+use super::{Access, BufferId, Domain, PassKind, Repeat, Stage, SweepPlan};
 use crate::model::ConstraintKind;
 
 /// The segments of MINRES's rows: which constraint kinds have rows.
@@ -101,17 +101,17 @@ pub(super) fn stages(minres: u32, sweeps: &[SweepPlan], global: bool) -> Vec<Sta
     vec![
         after(
             PassKind::MinresSetup,
-            super::Domain::Nodes,
+            Domain::Nodes,
             vec![
                 (Positions, Read),
                 (Forces, Read),
                 (MinresNodeVectors, Write),
             ],
         ),
-        after(PassKind::MinresRows, super::Domain::Rows, rows),
+        after(PassKind::MinresRows, Domain::Rows, rows),
         iteration(
             PassKind::MinresNodes,
-            super::Domain::Nodes,
+            Domain::Nodes,
             vec![
                 transpose,
                 grads,
@@ -122,7 +122,7 @@ pub(super) fn stages(minres: u32, sweeps: &[SweepPlan], global: bool) -> Vec<Sta
         ),
         iteration(
             PassKind::MinresProduct,
-            super::Domain::Rows,
+            Domain::Rows,
             vec![
                 transpose,
                 grads,
@@ -134,17 +134,17 @@ pub(super) fn stages(minres: u32, sweeps: &[SweepPlan], global: bool) -> Vec<Sta
         ),
         iteration(
             PassKind::MinresNext,
-            super::Domain::Rows,
+            Domain::Rows,
             vec![
                 (MinresSums, ReadWrite),
                 (MinresState, ReadWrite),
                 (MinresVectors, ReadWrite),
             ],
         ),
-        after(PassKind::MinresFinish, super::Domain::Rows, finish),
+        after(PassKind::MinresFinish, Domain::Rows, finish),
         after(
             PassKind::MinresForces,
-            super::Domain::Nodes,
+            Domain::Nodes,
             vec![
                 (Positions, Read),
                 (Velocities, Read),
