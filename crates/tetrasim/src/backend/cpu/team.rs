@@ -125,6 +125,21 @@ impl Member<'_> {
         len * self.index / self.size..len * (self.index + 1) / self.size
     }
 
+    /// This member's block of `0..ends.len() - 1` items weighted by `ends`, their running
+    /// total (`ends[0] = 0`, item `k` weighs `ends[k + 1] - ends[k]`): the `index`-th of
+    /// `size` contiguous parts of near-equal weight.
+    pub(super) fn weighted_block(&self, ends: &[usize]) -> Range<usize> {
+        let items = ends.len().saturating_sub(1);
+        let total = ends.last().copied().unwrap_or(0);
+        let boundary = |part: usize| match part == self.size {
+            true => items,
+            false => ends
+                .partition_point(|&e| e < total * part / self.size)
+                .min(items),
+        };
+        boundary(self.index)..boundary(self.index + 1)
+    }
+
     /// Whether this is the team's first member (the one that runs serial work).
     pub(super) fn leads(&self) -> bool {
         self.index == 0
@@ -135,6 +150,52 @@ impl Member<'_> {
     pub(super) fn wait(&self) {
         if self.size > 1 {
             self.barrier.wait();
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The members' weighted blocks tile the items in order, and none weighs more than an
+    /// even share plus one item (which blocks of equal counts would break here).
+    #[test]
+    fn weighted_blocks_tile_the_items_evenly() {
+        let barrier = SpinBarrier::new(1);
+        // Light items, then heavy ones (a step's springs, then its tets), some of none.
+        let weights: Vec<usize> = (0..200)
+            .map(|k| if k < 100 { 1 + k % 2 } else { 4 * (k % 3) })
+            .collect();
+        for size in 1..=9 {
+            for items in [0, 1, 5, 37, 200] {
+                let mut ends = vec![0];
+                for w in &weights[..items] {
+                    ends.push(ends.last().unwrap() + w);
+                }
+                let total = ends[items];
+                let heaviest = weights[..items].iter().copied().max().unwrap_or(0);
+                let mut next = 0;
+                for index in 0..size {
+                    let member = Member {
+                        index,
+                        size,
+                        barrier: &barrier,
+                    };
+                    let block = member.weighted_block(&ends);
+                    assert_eq!(
+                        block.start, next,
+                        "size {size}, {items} items, member {index}"
+                    );
+                    let weight = ends[block.end] - ends[block.start];
+                    assert!(
+                        weight <= total.div_ceil(size) + heaviest,
+                        "size {size}, {items} items, member {index}: {weight} of {total}"
+                    );
+                    next = block.end;
+                }
+                assert_eq!(next, items, "size {size}, {items} items");
+            }
         }
     }
 }

@@ -25,6 +25,9 @@
 //! 3. the next Lanczos vector and the second dot product (its norm). Every member then
 //!    computes the same scalars: the QR factorisation's rotation.
 //!
+//! The first two phases share their nodes and chunks out by the entries they sum
+//! ([`ROW_WEIGHT`]), the third its rows by count (the same work on each).
+//!
 //! A dot product is summed per chunk, and every member adds the chunks' sums in order, so
 //! the solve gives the same bits on a team of any size. (The norm of phase 3 also follows
 //! from phase 2's sums in exact arithmetic, `|av|^2 - alpha^2`, which would save a phase;
@@ -38,14 +41,26 @@ use crate::physics::{Held, Mobility, NodeRows, Real, StepRows, Vector};
 /// on the team's size.
 const CHUNK: usize = 256;
 
+/// A row's work in the product's pass back to the rows (its vectors' updates), counted in
+/// entries (a gradient and the node vector it multiplies): the rows' chunks are shared out
+/// by rows plus entries ([`Member::weighted_block`]), the nodes by their entries. Shared
+/// by row count, a team of two gave its second member the four-entry tets and the global
+/// constraint: on the horse (docs/PHYSICS.md, "MINRES's work shared by entries") that pass
+/// took 12.6 ms per step on one member and 19.9 on the other, 14.5 on both with this
+/// weight (2 and 3 measured no better).
+const ROW_WEIGHT: usize = 1;
+
 /// A MINRES solve's memory, kept from one step to the next (a step's vectors, allocated
 /// anew, paid for their pages; the transpose's shape, built anew, cost the horse a tenth of
 /// its step).
 #[derive(Debug, Clone, Default)]
 pub(super) struct Minres<V: Vector> {
-    /// The rows the transpose was built from (their shape is what counts) and its shape.
+    /// The rows the transpose was built from (their shape is what counts), its shape, and
+    /// the running totals of the chunks' and nodes' weights.
     shape: StepRows<V>,
     transpose: NodeRows,
+    chunk_ends: Vec<usize>,
+    node_ends: Vec<usize>,
     /// The gradient at each position of the transpose.
     grads: Vec<V>,
     mobility: Vec<Held<V>>,
@@ -76,6 +91,8 @@ pub(super) struct Minres<V: Vector> {
 struct Data<'a, V: Vector> {
     rows: &'a StepRows<V>,
     transpose: &'a NodeRows,
+    chunk_ends: &'a [usize],
+    node_ends: &'a [usize],
     mobility: &'a [Mobility],
     iterations: u32,
 }
@@ -113,6 +130,12 @@ impl<V: Vector + Send + Sync> Minres<V> {
         if self.transpose.nodes() != n || !rows.same_shape(&self.shape) {
             rows.transpose(n, &mut self.transpose);
             self.shape.clone_from(rows);
+            weights(
+                rows,
+                &self.transpose,
+                &mut self.chunk_ends,
+                &mut self.node_ends,
+            );
         }
         // Every vector is written before it is read (the members zero theirs first).
         let [r1, r2] = &mut self.r;
@@ -141,6 +164,8 @@ impl<V: Vector + Send + Sync> Minres<V> {
         let Minres {
             shape: _,
             transpose,
+            chunk_ends,
+            node_ends,
             grads,
             mobility: held,
             inverse,
@@ -157,6 +182,8 @@ impl<V: Vector + Send + Sync> Minres<V> {
         let data = Data {
             rows,
             transpose,
+            chunk_ends,
+            node_ends,
             mobility,
             iterations,
         };
@@ -193,6 +220,28 @@ impl<V: Vector + Send + Sync> Minres<V> {
     pub(super) fn node_force(&self, i: usize) -> V {
         self.forces[i]
     }
+}
+
+/// The running totals of the weights of the rows' chunks (`ROW_WEIGHT` a row, one an
+/// entry) and of the nodes (their entries) into `chunk_ends` and `node_ends`, each
+/// starting at 0.
+fn weights<V: Vector>(
+    rows: &StepRows<V>,
+    transpose: &NodeRows,
+    chunk_ends: &mut Vec<usize>,
+    node_ends: &mut Vec<usize>,
+) {
+    let m = rows.len();
+    let mut entries = vec![0; m.div_ceil(CHUNK)];
+    rows.each(|j, _, _| entries[j as usize / CHUNK] += 1);
+    chunk_ends.clear();
+    chunk_ends.push(0);
+    for (c, entries) in entries.into_iter().enumerate() {
+        let chunk_rows = ((c + 1) * CHUNK).min(m) - c * CHUNK;
+        chunk_ends.push(chunk_ends[c] + ROW_WEIGHT * chunk_rows + entries);
+    }
+    node_ends.clear();
+    node_ends.extend((0..=transpose.nodes()).map(|i| transpose.entries_of(0..i).end));
 }
 
 /// The scalars of MINRES's recurrence: the Lanczos coefficients and the QR factorisation of
@@ -296,9 +345,9 @@ unsafe fn total(sums: &SharedSlice<'_, f64>) -> f64 {
 /// Every member of the team calls it at once, with the same `data` and `vectors`.
 unsafe fn iterate<V: Vector>(member: Member<'_>, data: &Data<'_, V>, vectors: &Vectors<'_, V>) {
     let m = data.rows.len();
-    let chunks = member.block(m.div_ceil(CHUNK));
+    let chunks = member.weighted_block(data.chunk_ends);
     let own = (chunks.start * CHUNK).min(m)..(chunks.end * CHUNK).min(m);
-    let nodes = member.block(data.transpose.nodes());
+    let nodes = member.weighted_block(data.node_ends);
     let entries = data.transpose.entries_of(nodes.clone());
     // The member's rows' preconditioner and the vectors that start at 0; its nodes'
     // mobility and the transpose's gradients (read by others only after the first barrier).
@@ -360,18 +409,23 @@ unsafe fn lanczos<V: Vector>(
     nodes: &std::ops::Range<usize>,
 ) {
     let (chunks, own, nodes) = (chunks.clone(), own.clone(), nodes.clone());
-    // SAFETY: only this member writes its rows of `inverse`, and it no longer does.
-    let inverse: &[f64] = unsafe { vectors.inverse.part(own.clone()) };
+    // Phase 3's rows: the same work on each, so shared out by count.
+    let m = data.rows.len();
+    let even_chunks = member.block(m.div_ceil(CHUNK));
+    let even = (even_chunks.start * CHUNK).min(m)..(even_chunks.end * CHUNK).min(m);
     let softness = &data.rows.softness()[own.clone()];
-    let chunk = |c: usize| c * CHUNK..((c + 1) * CHUNK).min(own.len());
+    // Chunk `c` of a member's rows, counted from their first.
+    let chunk =
+        |c: usize, rows: &std::ops::Range<usize>| c * CHUNK..((c + 1) * CHUNK).min(rows.len());
     // What the members read of the others' parts: `y`, the gradients and the mobility in
     // phase 1, `u` in phase 2, the sums after their phase.
     let [alphas, norms] = &vectors.sums;
     // The first Lanczos vector: r2 = r (r1 = 0), y = M^-1 r2, beta^2 = r2 . y.
     {
-        // SAFETY: above.
-        let (r2, y, norms) = unsafe {
+        // SAFETY: above; only this member writes its rows of `inverse`, and it no longer does.
+        let (inverse, r2, y, norms) = unsafe {
             (
+                vectors.inverse.part(own.clone()),
                 vectors.r[1].part(own.clone()),
                 vectors.y.part(own.clone()),
                 norms.part(chunks.clone()),
@@ -380,7 +434,7 @@ unsafe fn lanczos<V: Vector>(
         let residual = &data.rows.residual()[own.clone()];
         for (c, norm) in (0..chunks.len()).zip(norms) {
             let mut sum = 0.0;
-            let range = chunk(c);
+            let range = chunk(c, &own);
             let (r2, y) = (&mut r2[range.clone()], &mut y[range.clone()]);
             let (inverse, residual) = (&inverse[range.clone()], &residual[range]);
             for (((r2, y), &inverse), &residual) in r2.iter_mut().zip(y).zip(inverse).zip(residual)
@@ -398,6 +452,9 @@ unsafe fn lanczos<V: Vector>(
     if !(beta > 0.0 && beta.is_finite()) {
         return;
     }
+    // SAFETY: nobody writes `inverse` any more.
+    let inverse_all: &[f64] = unsafe { vectors.inverse.whole() };
+    let inverse = &inverse_all[own.clone()];
     let mut recurrence = Recurrence::new(beta.sqrt());
     // The last iteration's update of the search directions and the solution, made in the
     // next iteration's pass over the rows (or after the last).
@@ -449,7 +506,7 @@ unsafe fn lanczos<V: Vector>(
             data.rows.gather(own.clone(), u, av);
             for (c, alpha) in (0..chunks.len()).zip(alphas) {
                 let mut sum = 0.0;
-                let range = chunk(c);
+                let range = chunk(c, &own);
                 let (v, av) = (&mut v[range.clone()], &mut av[range.clone()]);
                 let (y, r1) = (&y[range.clone()], &r1[range.clone()]);
                 let (inverse, softness) = (&inverse[range.clone()], &softness[range]);
@@ -476,16 +533,17 @@ unsafe fn lanczos<V: Vector>(
             // SAFETY: above.
             let (av, r1, r2, y, norms) = unsafe {
                 (
-                    vectors.av.part(own.clone()),
-                    vectors.r[r_at].part(own.clone()),
-                    vectors.r[1 - r_at].part(own.clone()),
-                    vectors.y.part(own.clone()),
-                    norms.part(chunks.clone()),
+                    vectors.av.part(even.clone()),
+                    vectors.r[r_at].part(even.clone()),
+                    vectors.r[1 - r_at].part(even.clone()),
+                    vectors.y.part(even.clone()),
+                    norms.part(even_chunks.clone()),
                 )
             };
-            for (c, norm) in (0..chunks.len()).zip(norms) {
+            let inverse = &inverse_all[even.clone()];
+            for (c, norm) in (0..even_chunks.len()).zip(norms) {
                 let mut sum = 0.0;
-                let range = chunk(c);
+                let range = chunk(c, &even);
                 let (r1, y) = (&mut r1[range.clone()], &mut y[range.clone()]);
                 let (av, r2, inverse) = (&av[range.clone()], &r2[range.clone()], &inverse[range]);
                 for ((((r1, y), &av), &r2), &inverse) in
