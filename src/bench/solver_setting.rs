@@ -23,7 +23,7 @@ pub struct SolverSetting {
     pub global_volume: bool,
     /// Anderson acceleration's memory (0: off).
     pub anderson: u32,
-    /// MINRES iterations after the sweeps (0: off; the `cpu` backends only).
+    /// MINRES iterations after the sweeps (0: off; every backend).
     pub minres: u32,
     /// Inversion sweeps after the iterations (0: off; method `volume` only, the points of
     /// the other methods skip a setting with them, as one with blocks).

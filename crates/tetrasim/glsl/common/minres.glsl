@@ -109,11 +109,12 @@ uvec2 object_entries(uint o) {
     return uvec2(transpose[at], transpose[at + 1u]);
 }
 
-// sum over node i's rows of grad * p[row] (its share of J^T p), p the plane `plane`.
-vec3 transpose_sum(uint i, uint plane) {
+// sum over node i's rows of grad * p[row] (its share of J^T p), p the plane `plane`: lane
+// `lane`'s share of it, every `lanes`-th entry (common/lanes.glsl adds the lanes').
+vec3 transpose_sum(uint i, uint plane, uint lane, uint lanes) {
     vec3 sum = vec3(0.0);
     uint end = transpose[i + 1u];
-    for (uint t = transpose[i]; t < end; ++t) {
+    for (uint t = transpose[i] + lane; t < end; t += lanes) {
         uint item = pc.node_count + 1u + 2u * t;
         sum += grads[transpose[item]].xyz * vector_at(plane, transpose[item + 1u]);
     }

@@ -12,12 +12,9 @@
 // contact is solved again against the new F (the floor is a one-sided constraint solved in
 // the same iterations; its force is kept in F.w), then, in the `_colliders` variants, the
 // kinematic colliders' contacts (physics/contact.glsl; their force kept in ColliderContacts).
-// On the gather path LANES invocations (specialisation constant 4, a power of two dividing
-// the workgroup size) share a node: each sums every LANES-th of its slots, then the first adds
-// the lanes' sums in lane order in shared memory and finishes the node. A node's slot loop is
-// a chain of dependent loads, and a node of a single-group sweep sums 14 or more: lanes
-// shorten the chain and fill the multiprocessors (the plan picks LANES from the slots per
-// node, 1 for the default's groups).
+// On the gather path LANES invocations share a node (common/lanes.glsl): each sums every
+// LANES-th of its slots, and the first finishes the node. A node of a single-group sweep
+// sums 14 or more slots (4 lanes), of one of the default's groups about 2 (1 lane).
 // @variant sums: SUMS
 // @variant gather: GATHER
 // @variant chebyshev: SUMS CHEBYSHEV
@@ -36,8 +33,6 @@ layout(constant_id = 1) const uint FLOOR = 1u;
 layout(constant_id = 2) const uint COLLIDERS = 0u;
 // The nodes grabs hold (specialisation constant 3): the rows of one step's GrabTargets.
 layout(constant_id = 3) const uint GRABBED = 0u;
-// Invocations per node on the gather path (specialisation constant 4).
-layout(constant_id = 4) const uint LANES = 1u;
 #include "physics/contact.glsl"
 
 layout(std430, set = 0, binding = B_POSITIONS) readonly restrict buffer Positions { vec4 positions[]; };
@@ -60,13 +55,13 @@ layout(std430, set = 0, binding = B_CHEBYSHEV_BEFORE) restrict buffer ChebyshevB
 #include "passes/node_contacts.glsl"
 
 #ifdef GATHER
-shared vec3 s_lane_sums[gl_WorkGroupSize.x];
+#include "common/lanes.glsl"
 #endif
 
 void main() {
 #ifdef GATHER
-    uint i = gl_GlobalInvocationID.x / LANES;
-    uint lane = gl_GlobalInvocationID.x % LANES;
+    uint i = lane_node();
+    uint lane = lane_index();
     uint row = group_node(i);
     vec3 sum = vec3(0.0);
     if (i < pc.node_count) {
@@ -75,17 +70,7 @@ void main() {
             sum += contributions[node_slot_items[e]].xyz;
         }
     }
-    if (LANES > 1u) {
-        // Every invocation reaches the barrier; then the first lane of each node adds its
-        // lanes' sums in lane order (bit-identical reruns).
-        uint first = gl_LocalInvocationID.x - lane;
-        s_lane_sums[gl_LocalInvocationID.x] = sum;
-        barrier();
-        sum = vec3(0.0);
-        for (uint l = 0u; l < LANES; ++l) {
-            sum += s_lane_sums[first + l];
-        }
-    }
+    sum = lanes_total(sum);
     if (i >= pc.node_count || lane != 0u) {
         return;
     }

@@ -1,14 +1,16 @@
 #version 460
-// Pass `minres_forces`: MINRES's last pass (common/minres.glsl), one invocation per node:
-// the force the increments take off the node, its share of J^T x less its part along the
-// direction a contact holds (Minres::node_force: that part is the contact's to decide),
-// then the node's floor and, in the `colliders` variant, its colliders solved again.
+// Pass `minres_forces`: MINRES's last pass (common/minres.glsl), LANES invocations per node
+// (common/lanes.glsl): the force the increments take off the node, its share of J^T x less
+// its part along the direction a contact holds (Minres::node_force: that part is the
+// contact's to decide), then the node's floor and, in the `colliders` variant, its
+// colliders solved again.
 // @variant plain:
 // @variant colliders: COLLIDERS_ON
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "common/workgroup_sum.glsl"
 #include "common/minres.glsl"
+#include "common/lanes.glsl"
 #include "physics/implicit.glsl"
 #include "physics/integrate.glsl"
 
@@ -29,11 +31,12 @@ layout(std430, set = 0, binding = B_COLLIDER_CONTACTS) restrict buffer ColliderC
 #include "passes/node_contacts.glsl"
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
-    if (i >= pc.node_count) {
+    uint i = lane_node();
+    vec3 force = i < pc.node_count ? transpose_sum(i, P_X, lane_index(), LANES) : vec3(0.0);
+    force = lanes_total(force);
+    if (i >= pc.node_count || lane_index() != 0u) {
         return;
     }
-    vec3 force = transpose_sum(i, P_X);
     vec3 held = node_vectors[pc.node_count + i].xyz;
     vec4 f = forces[i];
     f.xyz -= force - held * dot(held, force);

@@ -30,6 +30,8 @@ mod pass_of;
 mod queries;
 mod report;
 #[cfg(test)]
+mod report_tests;
+#[cfg(test)]
 mod tests;
 mod workgroups;
 

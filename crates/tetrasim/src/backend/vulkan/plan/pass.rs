@@ -45,12 +45,16 @@ impl PassPlan {
         format!("{}{variant}{floor}", self.name())
     }
 
-    /// Invocations per node: `constraint_apply#gather`'s `LANES` (constant 4,
-    /// [`super::workgroups::gather_lanes`]), 1 for every other pass.
+    /// Invocations per node: the `LANES` (constant 4, common/lanes.glsl) of
+    /// `constraint_apply#gather` ([`super::workgroups::gather_lanes`]) and of MINRES's node
+    /// passes, 1 for every other pass.
     pub fn lanes(&self) -> u32 {
         match (self.stage.kind, self.variant) {
             (PassKind::ConstraintApply, Variant::Named(v)) if v.starts_with("gather") => {
                 self.constants.get(3).copied().unwrap_or(1)
+            }
+            (PassKind::MinresNodes | PassKind::MinresForces, _) => {
+                self.constants.get(3).copied().unwrap_or(1).max(1)
             }
             _ => 1,
         }

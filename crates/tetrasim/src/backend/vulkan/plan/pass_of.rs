@@ -171,13 +171,21 @@ impl PassPlan {
     }
 
     /// A MINRES pass ([`MinresCounts`]): the row passes' workgroup (its sums' layout) and
-    /// invocations (the fixed rows', then a workgroup per object), the node passes' one per
-    /// node; the floor, colliders and grabs as constants 1 to 3, MINRES's sizes from 5 on;
-    /// the variants of the rows' segments and of the colliders.
+    /// invocations (the fixed rows', then a workgroup per object), the node passes' `LANES`
+    /// per node ([`workgroups::lanes`] over the rows' entries), the setup's one; the floor,
+    /// colliders and grabs as constants 1 to 3, the node passes' lanes as 4 (0 in the
+    /// others), MINRES's sizes from 5 on; the variants of the rows' segments and of the
+    /// colliders.
     fn minres(mut self, m: MinresCounts, contacts: [u32; 3], iterations: u32, nodes: u32) -> Self {
         let kind = self.stage.kind;
+        let lanes = match kind {
+            PassKind::MinresNodes | PassKind::MinresForces => {
+                workgroups::lanes(m.entries(), nodes, m.workgroup)
+            }
+            _ => 0,
+        };
         self.constants = contacts.to_vec();
-        self.constants.push(0);
+        self.constants.push(lanes);
         self.constants.extend(m.constants(iterations));
         self.variant = match kind {
             PassKind::MinresRows => Variant::Named(m.kinds.variant()),
@@ -195,7 +203,7 @@ impl PassPlan {
         self.workgroup_size = m.workgroup;
         self.elements = match self.stage.domain {
             Domain::Rows => m.workgroups() * m.workgroup,
-            _ => nodes,
+            _ => nodes * lanes.max(1),
         };
         self
     }

@@ -98,15 +98,27 @@ impl EnginePlan {
             self.device_bytes() as f64 / (1024.0 * 1024.0),
             self.dispatches_per_frame()
         );
-        let _ = writeln!(out, "{:<22} {:>6} {:>14}", "pass", "runs", "bytes per run");
+        // Each pass's predicted time per run and share of the frame on each modelled GPU.
+        let _ = write!(out, "{:<22} {:>6} {:>14}", "pass", "runs", "bytes per run");
+        for gpu in GPU_PROFILES {
+            let _ = write!(out, "   {} us per run, % of frame", gpu.name);
+        }
+        let _ = writeln!(out);
         for p in &self.passes {
-            let _ = writeln!(
+            let runs = self.runs_per_frame(p);
+            let _ = write!(
                 out,
                 "{:<22} {:>6} {:>14}",
                 p.label(),
-                self.runs_per_frame(p),
+                runs,
                 self.pass_bytes(p)
             );
+            for gpu in GPU_PROFILES {
+                let us = gpu.dispatch_us(self, p);
+                let share = 0.1 * f64::from(runs) * us / gpu.frame_ms(self);
+                let _ = write!(out, " {us:>10.2} {share:>5.1}");
+            }
+            let _ = writeln!(out);
         }
         let _ = writeln!(
             out,

@@ -16,7 +16,7 @@ const COUNTS: PlanCounts = PlanCounts {
     compliant_tets: 12,
 };
 
-fn plan(params: &SimParams, sweeps: &[SweepPlan]) -> EnginePlan {
+pub(super) fn plan(params: &SimParams, sweeps: &[SweepPlan]) -> EnginePlan {
     EnginePlan::new(COUNTS, params, 64, false, sweeps, None)
 }
 
@@ -565,6 +565,13 @@ fn minres_builds_its_rows_buffers_and_passes_after_the_iterations() {
         .find(|p| p.name() == "minres_rows")
         .unwrap();
     assert_eq!((rows.workgroup_size, rows.elements), (64, 2 * 64));
-    // Floor, colliders, grabs, a free id, then the rows' segments, iterations and chunks.
+    // Floor, colliders, grabs, no lanes, then the rows' segments, iterations and chunks.
     assert_eq!(rows.constants, vec![1, 0, 0, 0, 0, 0, 12, 1, 4, 1]);
+    // The node passes share a node's entries (5.6 on average) between 2 lanes; the setup
+    // has one invocation per node.
+    for name in ["minres_nodes", "minres_forces", "minres_setup"] {
+        let pass = on.passes.iter().find(|p| p.name() == name).unwrap();
+        let lanes = if name == "minres_setup" { 1 } else { 2 };
+        assert_eq!((pass.lanes(), pass.elements), (lanes, 10 * lanes), "{name}");
+    }
 }

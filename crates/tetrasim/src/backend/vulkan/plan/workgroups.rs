@@ -10,20 +10,28 @@
 use super::{EnginePlan, PassPlan, MIN_WORKGROUPS, MIN_WORKGROUP_SIZE};
 use crate::schedule::{BlockShape, PassKind, Schedule};
 
-/// Most invocations `constraint_apply#gather` gives one node.
+/// Most invocations a gather gives one node.
 pub const MAX_GATHER_LANES: u32 = 8;
 
-/// Invocations per node of `constraint_apply` on the gather path (its `LANES`): the largest
-/// power of two, at most [`MAX_GATHER_LANES`] and `workgroup_size`, that leaves each lane
-/// at least two of the slots a node sums on average after the largest group of any sweep.
-/// A group of the default's eight gives a horse node about 2 slots (1 lane); a sweep in one
-/// group (Chebyshev, `gauss-seidel:1`) about 14 (4 lanes).
+/// Invocations per node of `constraint_apply` on the gather path (its `LANES`, [`lanes`])
+/// for the slots a node sums on average after the largest group of any sweep. A group of
+/// the default's eight gives a horse node about 2 slots (1 lane); a sweep in one group
+/// (Chebyshev, `gauss-seidel:1`) about 14 (4 lanes).
 pub fn gather_lanes(schedule: &Schedule, nodes: u32, workgroup_size: u32) -> u32 {
     let slots = (schedule.sweeps.iter())
         .map(|w| w.corners() * u64::from(w.groups.iter().copied().max().unwrap_or(0)))
         .max()
         .unwrap_or(0);
-    let per_lane_pair = (slots / (2 * u64::from(nodes.max(1)))).max(1) as u32;
+    lanes(slots, nodes, workgroup_size)
+}
+
+/// Invocations per node of a gather of `slots` items over `nodes` nodes (common/lanes.glsl):
+/// the largest power of two, at most [`MAX_GATHER_LANES`] and `workgroup_size`, that leaves
+/// each lane at least two items of an average node. MINRES's node passes sum every entry of
+/// their node's rows: about 25 on the horse (8 lanes).
+pub fn lanes(slots: u64, nodes: u32, workgroup_size: u32) -> u32 {
+    let per_lane_pair =
+        (slots / (2 * u64::from(nodes.max(1)))).clamp(1, u64::from(u32::MAX)) as u32;
     let power = 1u32 << (31 - per_lane_pair.leading_zeros());
     power.min(MAX_GATHER_LANES).min(workgroup_size.max(1))
 }
@@ -73,7 +81,9 @@ impl EnginePlan {
     }
 }
 
-/// Whether each invocation of `kind` works alone (no shared-memory reduction).
+/// Whether each invocation of `kind` works alone (no shared-memory reduction). MINRES's
+/// passes but its setup keep the row passes' workgroup (at most 256): common/minres.glsl
+/// declares the sums' shared arrays, and the node passes add their lanes'.
 fn element_wise(kind: PassKind) -> bool {
     !matches!(
         kind,
@@ -90,6 +100,7 @@ fn element_wise(kind: PassKind) -> bool {
             | PassKind::MinresProduct
             | PassKind::MinresNext
             | PassKind::MinresFinish
+            | PassKind::MinresForces
     )
 }
 
