@@ -13,7 +13,8 @@
 #   stiff     issue 26: the real-size horse (1000 kg/m^3, ks 5000) with Anderson acceleration,
 #             more colour groups, substeps, inversion sweeps, blocks swept twice and MINRES,
 #             400 frames each; the `distance` sphere with the settings that stop its rebound; what those
-#             options cost on bunny20k and horse86m at the seed preset (bench)
+#             options cost on bunny20k and horse86m at the seed preset (bench), and one sweep
+#             then MINRES (issue 22's candidate default)
 #   tests     the GPU test binaries, one at a time, default test threads, CI=true
 #   threads   the cpu backend on 1..all cores (new: bin/tetrasim-cpu when bundled; old
 #             beside it)
@@ -162,6 +163,15 @@ SETTINGS
       timeout 60 "$B/tetrasim" bench --mesh "$M/bunny20k" --mesh "$M/horse86m" --no-bundled --method volume \
         --backend vulkan --solver "$s" --json "$f.json" > "$f.txt" 2>&1
       echo "$s:"; grep -E 'ms/frame' "$f.txt" | head -4
+    done
+    # Issue 22's candidate default (docs/BENCHMARKS.md, "One sweep, then MINRES"): one sweep,
+    # then MINRES, with and without the closing inversion sweep, at the seed preset.
+    for s in gauss-seidel:8+global+minres5 gauss-seidel:8+global+minres5+inversion1 \
+             gauss-seidel:8+global+minres10 gauss-seidel:8+global+minres10+inversion1; do
+      f="$R/stiff_bench_1it_${s//[:+]/-}"
+      timeout 60 "$B/tetrasim" bench --mesh "$M/bunny20k" --mesh "$M/horse86m" --no-bundled --method volume \
+        --backend vulkan --solver "$s" --iterations 1 --json "$f.json" > "$f.txt" 2>&1
+      echo "$s, 1 iteration:"; grep -E 'ms/frame' "$f.txt" | head -4
     done ;;
   tests)
     export CI=true
