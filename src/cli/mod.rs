@@ -35,7 +35,8 @@ pub enum Command {
     #[command(allow_negative_numbers = true)]
     Run(Box<RunArgs>),
     /// Print what the Vulkan engine would build for a scene (`--scene FILE`) or for run's
-    /// flags: passes per time step, buffer sizes, device memory, bytes moved per frame.
+    /// flags: passes per time step, buffer sizes, device memory, bytes moved per frame, and
+    /// each pass's and the frame's time predicted for an NVIDIA H200 (its cost model).
     #[command(allow_negative_numbers = true)]
     Plan(Box<RunArgs>),
     /// Sweep dt x ks per method and write stability heat maps (PNG) and a table.
