@@ -141,6 +141,7 @@ blocks1024x3_anderson5_15it_inversion4 --block-size 1024 --block-sweeps 3 --ande
 blocks1024x2s1_anderson5_substeps2_inversion4 --block-size 1024 --block-sweeps 2 --spring-block-sweeps 1 --anderson 5 --substeps 2 --dt 0.0005 --inversion-sweeps 4
 blocks1024x3s1_anderson5_15it_inversion4 --block-size 1024 --block-sweeps 3 --spring-block-sweeps 1 --anderson 5 --iterations 15 --inversion-sweeps 4
 minres25_inversion8 --iterations 1 --minres 25 --inversion-sweeps 8
+minres26_inversion8 --iterations 1 --minres 26 --inversion-sweeps 8
 SETTINGS
     # The `distance` sphere's rebound bar: what the settings that bring it to rest cost here
     # (the rebound itself is the cpu backend's to the third digit: docs/PHYSICS.md).
