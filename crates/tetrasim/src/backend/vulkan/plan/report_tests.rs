@@ -1,16 +1,12 @@
 //! The report's cost column: each pass's predicted time per run and its share of the
 //! frame, as the cost model computes them.
 
-use super::tests::plan;
+use super::tests::{plan, volume_sweep};
 use super::*;
 
 #[test]
 fn the_report_prints_each_pass_s_predicted_time_and_share_of_the_frame() {
-    let sweeps = [SweepPlan {
-        kind: ConstraintKind::Volume,
-        groups: vec![7, 5],
-        blocks: None,
-    }];
+    let sweeps = volume_sweep();
     let params = SimParams {
         method: Method::Volume,
         ..SimParams::default()

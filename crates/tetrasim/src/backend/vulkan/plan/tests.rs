@@ -16,6 +16,23 @@ const COUNTS: PlanCounts = PlanCounts {
     compliant_tets: 12,
 };
 
+/// One volume sweep in two colour groups of 7 and 5 tets (the model's 12).
+pub(super) fn volume_sweep() -> [SweepPlan; 1] {
+    [SweepPlan {
+        kind: ConstraintKind::Volume,
+        groups: vec![7, 5],
+        blocks: None,
+    }]
+}
+
+/// One object's global volume constraint over 8 surface nodes and 12 faces.
+const ONE_OBJECT: GlobalCounts = GlobalCounts {
+    objects: 1,
+    nodes: 8,
+    faces: 12,
+    largest: 12,
+};
+
 pub(super) fn plan(params: &SimParams, sweeps: &[SweepPlan]) -> EnginePlan {
     EnginePlan::new(COUNTS, params, 64, false, sweeps, None)
 }
@@ -167,17 +184,8 @@ fn colliders_add_their_buffers_variants_and_count_only_when_there_are_some() {
         substeps: 4,
         ..SimParams::default()
     };
-    let sweeps = [SweepPlan {
-        kind: ConstraintKind::Volume,
-        groups: vec![7, 5],
-        blocks: None,
-    }];
-    let global = GlobalCounts {
-        objects: 1,
-        nodes: 8,
-        faces: 12,
-        largest: 12,
-    };
+    let sweeps = volume_sweep();
+    let global = ONE_OBJECT;
     let collider_buffers = [
         BufferId::ColliderContacts,
         BufferId::Colliders,
@@ -284,11 +292,7 @@ fn colliders_add_their_buffers_variants_and_count_only_when_there_are_some() {
 #[test]
 fn contact_is_measured_per_frame_only_with_metrics_and_something_to_measure() {
     let params = SimParams::default();
-    let sweeps = [SweepPlan {
-        kind: ConstraintKind::Volume,
-        groups: vec![7, 5],
-        blocks: None,
-    }];
+    let sweeps = volume_sweep();
     let body = BodyCounts {
         nodes: 8,
         triangles: 12,
@@ -508,17 +512,8 @@ fn block_sweeps_run_one_workgroup_per_block_with_their_rows_one_after_another() 
 
 #[test]
 fn minres_builds_its_rows_buffers_and_passes_after_the_iterations() {
-    let sweeps = [SweepPlan {
-        kind: ConstraintKind::Volume,
-        groups: vec![7, 5],
-        blocks: None,
-    }];
-    let global = GlobalCounts {
-        objects: 1,
-        nodes: 8,
-        faces: 12,
-        largest: 12,
-    };
+    let sweeps = volume_sweep();
+    let global = ONE_OBJECT;
     let params = |minres| SimParams {
         method: Method::Volume,
         iterations: 2,
