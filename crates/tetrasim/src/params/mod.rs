@@ -286,7 +286,9 @@ pub struct SimParams {
     /// MINRES iterations on the step's linearised constraints after the sweeps (0: off, at
     /// most [`MINRES_MAX_ITERATIONS`]; every backend, not with contact between bodies). The sweeps find who touches
     /// the floor and colliders; MINRES then converges the slow modes they leave, a stiff
-    /// body squashing on the floor (docs/PHYSICS.md, "MINRES after the sweeps").
+    /// body squashing on the floor (docs/PHYSICS.md, "MINRES after the sweeps"). Without
+    /// inversion sweeps after it, the step ends with the global volume constraints once
+    /// more, which restore the total that MINRES solves only as far as its iterations go.
     #[serde(default)]
     pub minres: u32,
     /// Inversion sweeps after the constraint iterations of every step (method `volume`;

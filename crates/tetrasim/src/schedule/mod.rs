@@ -391,15 +391,29 @@ impl Schedule {
     }
 
     /// How many times the [`Repeat::IterationEnd`] stage `kind` runs per step: once per
-    /// iteration, and the global volume stages once more after each inversion sweep.
+    /// iteration, and the global volume stages once more after each inversion sweep and
+    /// after MINRES when it closes the step ([`Self::closes_minres`]).
     pub fn iteration_ends(&self, kind: PassKind) -> u32 {
         let restores = self.stages.iter().any(|s| s.repeat == Repeat::Restore);
         match kind {
-            PassKind::GlobalVolumeSum | PassKind::GlobalVolume if restores => {
-                self.iterations + self.inversion_sweeps
+            PassKind::GlobalVolumeSum | PassKind::GlobalVolume => {
+                let after_restores = if restores { self.inversion_sweeps } else { 0 };
+                self.iterations + after_restores + u32::from(self.closes_minres())
             }
             _ => self.iterations,
         }
+    }
+
+    /// Whether the global volume constraints run once more after MINRES: when the step
+    /// solves both and no inversion sweep follows (those end with them already). MINRES
+    /// solves the global rows with the others, only as far as its iterations go; this
+    /// projection restores the total exactly, as every iteration of the sweeps does
+    /// (docs/PHYSICS.md, "MINRES after the sweeps").
+    pub fn closes_minres(&self) -> bool {
+        let runs = |kind| self.stages.iter().any(|s| s.kind == kind);
+        runs(PassKind::MinresForces)
+            && runs(PassKind::GlobalVolume)
+            && !self.stages.iter().any(|s| s.repeat == Repeat::Restore)
     }
 
     /// The Chebyshev weight of `iteration` (1 without Chebyshev).

@@ -305,3 +305,50 @@ fn minres_follows_the_iterations_before_the_inversion_sweeps() {
     let bare = Schedule::new(&params, Vec::new(), false, false);
     assert!(!bare.stages.iter().any(|s| s.kind.is_minres()));
 }
+
+#[test]
+fn minres_without_inversion_sweeps_closes_with_the_global_volume() {
+    let params = SimParams {
+        iterations: 2,
+        minres: 3,
+        ..SimParams::default()
+    };
+    let schedule = Schedule::new(&params, sweeps(), true, false);
+    assert!(schedule.closes_minres());
+    let step = schedule.step();
+    let names = names(&schedule, &step);
+    let forces = names.iter().position(|&n| n == "minres_forces").unwrap();
+    assert_eq!(
+        names[forces + 1..forces + 4],
+        ["global_volume_sum", "global_volume", "integrate"]
+    );
+    assert!(step[forces + 1..forces + 3]
+        .iter()
+        .all(|d| d.iteration == Some(2)));
+    let runs = |kind| names.iter().filter(|&&n| n == PassKind::name(kind)).count() as u32;
+    for kind in [PassKind::GlobalVolumeSum, PassKind::GlobalVolume] {
+        assert_eq!(schedule.iteration_ends(kind), 3);
+        assert_eq!(runs(kind), 3);
+    }
+    // Inversion sweeps end with the global constraints already; without them, or without
+    // MINRES, nothing closes.
+    let swept = SimParams {
+        inversion_sweeps: 1,
+        ..params.clone()
+    };
+    let swept = Schedule::new(&swept, sweeps(), true, false);
+    assert!(!swept.closes_minres());
+    assert_eq!(swept.iteration_ends(PassKind::GlobalVolume), 3);
+    let forces = (swept.step().iter())
+        .position(|d| swept.stages[d.stage].kind == PassKind::MinresForces)
+        .unwrap();
+    assert_eq!(
+        swept.stages[swept.step()[forces + 1].stage].kind,
+        PassKind::InversionFloor
+    );
+    let local = Schedule::new(&params, sweeps(), false, false);
+    assert!(!local.closes_minres() && !local.runs(PassKind::GlobalVolume));
+    let plain = Schedule::new(&SimParams::default(), sweeps(), true, false);
+    assert!(!plain.closes_minres());
+    assert_eq!(plain.iteration_ends(PassKind::GlobalVolume), 10);
+}

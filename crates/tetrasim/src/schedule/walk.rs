@@ -41,7 +41,9 @@ impl Schedule {
     /// ([`Schedule::split`]) the step's dispatches up to `integrate` run twice: first as the
     /// velocity solve ([`Solve::Velocity`]), ended by `split_velocity`, then as the full
     /// solve. MINRES's stages follow the iterations: those of [`Repeat::AfterIterations`]
-    /// once (their iteration is the iteration count), its iterations' `minres` times.
+    /// once (their iteration is the iteration count), its iterations' `minres` times, and
+    /// when no inversion sweep follows, the global volume stages once more after its last
+    /// ([`Schedule::closes_minres`]).
     pub fn step(&self) -> Vec<Dispatch> {
         let full = self.solve();
         if !self.split {
@@ -105,14 +107,7 @@ impl Schedule {
                     let sweep = self.stages[stage]
                         .sweep
                         .expect("a restore stage has a sweep");
-                    let global: Vec<usize> = (step.iter().copied())
-                        .filter(|&i| {
-                            matches!(
-                                self.stages[i].kind,
-                                PassKind::GlobalVolumeSum | PassKind::GlobalVolume
-                            )
-                        })
-                        .collect();
+                    let global = self.global_stages(&step);
                     for round in 0..self.inversion_sweeps {
                         let iteration = Some(self.iterations + round);
                         self.push_groups(&mut out, sweep, &[stage], &shared, iteration);
@@ -127,10 +122,20 @@ impl Schedule {
                     continue;
                 }
                 Repeat::AfterIterations => {
+                    let iteration = Some(self.iterations);
                     out.push(Dispatch {
-                        iteration: Some(self.iterations),
+                        iteration,
                         ..once(step[k])
                     });
+                    if self.stages[step[k]].kind == PassKind::MinresForces && self.closes_minres() {
+                        // MINRES's close: the global volume constraints once more.
+                        for &g in &self.global_stages(&step) {
+                            out.push(Dispatch {
+                                iteration,
+                                ..once(g)
+                            });
+                        }
+                    }
                     k += 1;
                     continue;
                 }
@@ -179,6 +184,19 @@ impl Schedule {
             k = after_end;
         }
         out
+    }
+
+    /// The global volume constraints' stages among `step`'s (`global_volume_sum`, then
+    /// `global_volume`; none when the step does not solve them).
+    fn global_stages(&self, step: &[usize]) -> Vec<usize> {
+        (step.iter().copied())
+            .filter(|&i| {
+                matches!(
+                    self.stages[i].kind,
+                    PassKind::GlobalVolumeSum | PassKind::GlobalVolume
+                )
+            })
+            .collect()
     }
 
     /// The dispatches of sweep `s`'s groups in one iteration: per group, the sweep's `own`

@@ -263,6 +263,19 @@ impl EnginePlan {
                 Repeat::Restore => out.push(self.restore_label(p, &iteration.0, &iteration.1)),
                 _ => out.push(p.label()),
             }
+            if p.stage.kind == PassKind::MinresForces && self.schedule.closes_minres() {
+                // MINRES's close: the global volume constraints once more.
+                out.extend(
+                    (self.passes.iter())
+                        .filter(|q| {
+                            matches!(
+                                q.stage.kind,
+                                PassKind::GlobalVolumeSum | PassKind::GlobalVolume
+                            )
+                        })
+                        .map(|q| q.label()),
+                );
+            }
         }
         if !minres.is_empty() {
             out.push(format!(

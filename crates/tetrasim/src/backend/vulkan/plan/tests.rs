@@ -541,16 +541,17 @@ fn minres_builds_its_rows_buffers_and_passes_after_the_iterations() {
     assert_eq!(bytes(BufferId::MinresNodeVectors), Some(32 * 10));
     assert_eq!(bytes(BufferId::MinresSums), Some(4 * 3));
     assert_eq!(bytes(BufferId::MinresState), Some(64 * 5));
-    // Setup, rows, 4 x 3 iteration passes, finish, forces.
+    // Setup, rows, 4 x 3 iteration passes, finish, forces, and the global volume's close.
     assert_eq!(
         on.dispatches_per_frame() - off.dispatches_per_frame(),
-        2 + 4 * 3 + 2
+        2 + 4 * 3 + 2 + 2
     );
     let step = on.step_list().join(" -> ");
     assert!(
         step.contains(
             "minres_setup -> minres_rows#vg -> 4 x (minres_nodes, minres_product, \
-             minres_next) -> minres_finish#v -> minres_forces[floor] -> integrate"
+             minres_next) -> minres_finish#v -> minres_forces[floor] -> global_volume_sum \
+             -> global_volume[floor] -> integrate"
         ),
         "{step}"
     );
