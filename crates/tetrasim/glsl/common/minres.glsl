@@ -1,7 +1,9 @@
 // MINRES after the sweeps on the GPU (docs/GPU.md, "MINRES"; the CPU's solve is
 // src/backend/cpu/minres/mod.rs, whose phases these passes follow one for one):
 // `minres_setup` (each node's mobility), `minres_rows` (the rows and the first Lanczos
-// vector), per iteration `minres_nodes`, `minres_product`, `minres_next`, then
+// vector), per iteration `minres_nodes` (the CPU's phase 1 in its node workgroups, the
+// last iteration's phase 3 norm in its row workgroups) and `minres_product` (phase 2, after
+// the last iteration's phase 3 vectors), then `minres_next` (the last iteration's norm),
 // `minres_finish` (the last update, the multipliers) and `minres_forces` (the nodes'
 // forces, the floor and colliders again). Shared here: the rows' layout, the vectors'
 // planes, the dot products' partial sums and the recurrence's scalars.
@@ -74,15 +76,19 @@ vec3 mobility_apply(uint i, vec3 u) {
     return (u - held.xyz * dot(held.xyz, u)) * held.w;
 }
 
-// The row of this invocation: its own among the fixed rows, the object's for the first
-// invocation of an object's workgroup; NO_ROW otherwise.
-uint row_of_invocation() {
-    uint w = gl_WorkGroupID.x;
+// The row of invocation `local` of row workgroup `w`: its own among the fixed rows, the
+// object's for the first invocation of an object's workgroup; NO_ROW otherwise.
+uint row_at(uint w, uint local) {
     if (w < FIXED_WORKGROUPS) {
-        uint j = gl_GlobalInvocationID.x;
+        uint j = w * gl_WorkGroupSize.x + local;
         return j < FIXED_ROWS ? j : NO_ROW;
     }
-    return gl_LocalInvocationID.x == 0u ? FIXED_ROWS + (w - FIXED_WORKGROUPS) : NO_ROW;
+    return local == 0u ? FIXED_ROWS + (w - FIXED_WORKGROUPS) : NO_ROW;
+}
+
+// The row of this invocation in a row pass (its workgroups are all row workgroups).
+uint row_of_invocation() {
+    return row_at(gl_WorkGroupID.x, gl_LocalInvocationID.x);
 }
 
 // The entries of fixed row j: the first and the count.
@@ -125,15 +131,15 @@ WORKGROUP_SUM_PAIR(minres_workgroup_sum, float)
 
 shared bool s_last;
 
-// This workgroup's partial of the pass's dot product from each invocation's `value`; true
-// in the last row workgroup to finish, whose invocations then hold the total in `value`:
-// the partials added in one fixed order (strided, then the tree), so the total does not
-// depend on which workgroup is last. Every invocation of a row pass's workgroup calls it.
-bool reduce_last(inout float value) {
+// Row workgroup `w`'s partial of the pass's dot product from each invocation's `value`;
+// true in the last row workgroup to finish, whose invocations then hold the total in
+// `value`: the partials added in one fixed order (strided, then the tree), so the total
+// does not depend on which workgroup is last. Every invocation of a row workgroup calls it.
+bool reduce_last_at(inout float value, uint w) {
     float unused = 0.0;
     minres_workgroup_sum(value, unused);
     if (gl_LocalInvocationID.x == 0u) {
-        sums[gl_WorkGroupID.x] = value;
+        sums[w] = value;
         memoryBarrierBuffer();
         s_last = atomicAdd(sums_u[PARTIALS], 1u) == PARTIALS - 1u;
     }
@@ -152,6 +158,11 @@ bool reduce_last(inout float value) {
         sums_u[PARTIALS] = 0u;
     }
     return true;
+}
+
+// reduce_last_at in a row pass (its workgroups are all row workgroups).
+bool reduce_last(inout float value) {
+    return reduce_last_at(value, gl_WorkGroupID.x);
 }
 
 // The recurrence after an iteration (the CPU's Recurrence and its pending Update): the
@@ -227,6 +238,53 @@ Recurrence recurrence_next(Recurrence r, float norm) {
     r.pending = advance(r, r.alpha, beta);
     r.going = r.pending && beta != 0.0;
     return r;
+}
+
+// Row j's next Lanczos vector after iteration `r` (its alpha known), r2' = av - alpha / beta
+// r2, and its preconditioned y = M^-1 r2' (returned in `y`).
+// `precise`: every pass that calls it gets the same bits (no contraction into a fused
+// multiply-add at one call site and not another).
+float next_vector(Recurrence r, uint j, out float y) {
+    precise float next = vector_at(P_AV, j) - (r.alpha / r.beta) * vector_at(P_R2, j);
+    precise float preconditioned = next * vector_at(P_INVERSE, j);
+    y = preconditioned;
+    return next;
+}
+
+// Row workgroup `w`'s part of iteration k's start (k >= 1; `minres_nodes`' row workgroups,
+// `minres_next` for the finish): the norm r2' . y of the next Lanczos vector after
+// iteration k - 1, from which the last workgroup advances the recurrence into state k. It
+// only reads the vectors: `minres_product` of iteration k writes them
+// (lanczos_advance). A stopped solve passes its recurrence on, stopped.
+void lanczos_norm(uint k, uint w) {
+    Recurrence r = load_state(k - 1u);
+    if (!r.going) {
+        if (w == 0u && gl_LocalInvocationID.x == 0u) {
+            r.pending = false;
+            store_state(k, r);
+        }
+        return;
+    }
+    uint j = row_at(w, gl_LocalInvocationID.x);
+    float norm = 0.0;
+    if (j != NO_ROW) {
+        float y;
+        float next = next_vector(r, j, y);
+        norm = next * y;
+    }
+    if (reduce_last_at(norm, w) && gl_LocalInvocationID.x == 0u) {
+        store_state(k, recurrence_next(r, norm));
+    }
+}
+
+// Row j's Lanczos vectors after iteration `r`: r1 = r2, r2 = r2', y = M^-1 r2', the values
+// lanczos_norm summed.
+void lanczos_advance(Recurrence r, uint j) {
+    float y;
+    float next = next_vector(r, j, y);
+    set_vector(P_R1, j, vector_at(P_R2, j));
+    set_vector(P_R2, j, next);
+    set_vector(P_Y, j, y);
 }
 
 // Row j's part of the update r holds: w_new = (v - old_epsilon w1 - delta w) / gamma,

@@ -1,24 +1,56 @@
 #version 460
-// Pass `minres_nodes`: the first of a MINRES iteration's three passes (common/minres.glsl;
-// phase 1 of src/backend/cpu/minres/mod.rs), LANES invocations per node (common/lanes.glsl):
-// while the solve goes on (the recurrence of iteration pc.iteration), u = W J^T v for its
-// node through the rows' transpose, v = y / beta.
+// Pass `minres_nodes`: the first of a MINRES iteration's two passes (common/minres.glsl),
+// in two parts. Its first workgroups are node workgroups, LANES invocations per node
+// (common/lanes.glsl; phase 1 of src/backend/cpu/minres/mod.rs): u = W J^T y for the node
+// through the rows' transpose, unscaled (minres_product divides by beta). In iteration 0
+// y is the rows' first; later it is the next Lanczos vector after the last iteration,
+// M^-1 (av - alpha / beta r2), computed entry by entry from the last iteration's vectors
+// (nothing has written it yet). The row workgroups after them sum that vector's norm and
+// advance the recurrence (the last iteration's phase 3, lanczos_norm), so an iteration
+// takes two dispatches, not three.
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "common/workgroup_sum.glsl"
 #include "common/minres.glsl"
 #include "common/lanes.glsl"
 
+// Row j's y of iteration k: the rows' own in iteration 0, else the next vector's after `r`.
+float y_of(uint k, Recurrence r, uint j) {
+    if (k == 0u) {
+        return vector_at(P_Y, j);
+    }
+    float y;
+    next_vector(r, j, y);
+    return y;
+}
+
 void main() {
-    Recurrence r = load_state(pc.iteration);
+    uint k = pc.iteration;
+    uint node_workgroups = (pc.node_count * LANES + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x;
+    if (gl_WorkGroupID.x >= node_workgroups) {
+        if (k > 0u) {
+            lanczos_norm(k, gl_WorkGroupID.x - node_workgroups);
+        }
+        return;
+    }
+    // The recurrence whose vectors give y: iteration 0's own, else the last iteration's.
+    Recurrence r = load_state(k == 0u ? 0u : k - 1u);
     if (!r.going) {
         return;
     }
     uint i = lane_node();
-    vec3 sum = i < pc.node_count ? transpose_sum(i, P_Y, lane_index(), LANES) : vec3(0.0);
+    uint lane = lane_index();
+    vec3 sum = vec3(0.0);
+    if (i < pc.node_count) {
+        uint end = transpose[i + 1u];
+        for (uint t = transpose[i] + lane; t < end; t += LANES) {
+            uint item = pc.node_count + 1u + 2u * t;
+            sum += grads[transpose[item]].xyz * y_of(k, r, transpose[item + 1u]);
+        }
+    }
     sum = lanes_total(sum);
-    if (i >= pc.node_count || lane_index() != 0u) {
+    if (i >= pc.node_count || lane != 0u) {
         return;
     }
-    node_vectors[i] = vec4(mobility_apply(i, sum * (1.0 / r.beta)), 0.0);
+    node_vectors[i] = vec4(mobility_apply(i, sum), 0.0);
 }

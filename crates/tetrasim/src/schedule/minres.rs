@@ -109,13 +109,16 @@ pub(super) fn stages(minres: u32, sweeps: &[SweepPlan], global: bool) -> Vec<Sta
             ],
         ),
         after(PassKind::MinresRows, Domain::Rows, rows),
+        // Its node workgroups, then row workgroups that end the last iteration
+        // (glsl/passes/minres_nodes.comp): in the plan, nodes and rows.
         iteration(
             PassKind::MinresNodes,
             Domain::Nodes,
             vec![
                 transpose,
                 grads,
-                (MinresState, Read),
+                (MinresSums, ReadWrite),
+                (MinresState, ReadWrite),
                 (MinresVectors, Read),
                 (MinresNodeVectors, ReadWrite),
             ],
@@ -132,13 +135,13 @@ pub(super) fn stages(minres: u32, sweeps: &[SweepPlan], global: bool) -> Vec<Sta
                 (MinresNodeVectors, Read),
             ],
         ),
-        iteration(
+        after(
             PassKind::MinresNext,
             Domain::Rows,
             vec![
                 (MinresSums, ReadWrite),
                 (MinresState, ReadWrite),
-                (MinresVectors, ReadWrite),
+                (MinresVectors, Read),
             ],
         ),
         after(PassKind::MinresFinish, Domain::Rows, finish),

@@ -80,15 +80,17 @@ pub enum PassKind {
     /// residual and its preconditioner, the solve's vectors started, the first norm summed
     /// per workgroup (one workgroup per global volume constraint).
     MinresRows,
-    /// A MINRES iteration's first pass, `minres` times: the recurrence advanced from the
-    /// last iteration's sums (every workgroup the same), then `u = W J^T v` per node through
-    /// the rows' transpose.
+    /// A MINRES iteration's first pass, `minres` times: `u = W J^T y` per node through the
+    /// rows' transpose (y the next Lanczos vector after the last iteration, computed per
+    /// entry), and in row workgroups after the nodes' that vector's norm and the
+    /// recurrence advanced from it.
     MinresNodes,
     /// A MINRES iteration's second pass: the last iteration's update of the search
-    /// directions and the solution, `J u + s v` per row, the first dot product per
-    /// workgroup.
+    /// directions and the solution, its next Lanczos vectors written, `J u / beta + s v`
+    /// per row, the first dot product per workgroup.
     MinresProduct,
-    /// A MINRES iteration's third pass: the next Lanczos vector and its norm per workgroup.
+    /// After MINRES's iterations: the last iteration's next Lanczos vector's norm per
+    /// workgroup and the recurrence's last rotation.
     MinresNext,
     /// MINRES's last update of the solution, and the increments added to the compliant
     /// constraints' multipliers.

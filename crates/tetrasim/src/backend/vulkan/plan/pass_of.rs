@@ -172,7 +172,8 @@ impl PassPlan {
 
     /// A MINRES pass ([`MinresCounts`]): the row passes' workgroup (its sums' layout) and
     /// invocations (the fixed rows', then a workgroup per object), the node passes' `LANES`
-    /// per node ([`workgroups::lanes`] over the rows' entries), the setup's one; the floor,
+    /// per node ([`workgroups::lanes`] over the rows' entries; `minres_nodes` then the row
+    /// passes' workgroups too), the setup's one; the floor,
     /// colliders and grabs as constants 1 to 3, the node passes' lanes as 4 (0 in the
     /// others), MINRES's sizes from 5 on; the variants of the rows' segments and of the
     /// colliders.
@@ -201,9 +202,13 @@ impl PassPlan {
             _ => Variant::Plain,
         };
         self.workgroup_size = m.workgroup;
-        self.elements = match self.stage.domain {
-            Domain::Rows => m.workgroups() * m.workgroup,
-            _ => nodes * lanes.max(1),
+        let rows = m.workgroups() * m.workgroup;
+        let node_lanes = nodes * lanes.max(1);
+        self.elements = match (kind, self.stage.domain) {
+            // Whole node workgroups, then the row workgroups that end the last iteration.
+            (PassKind::MinresNodes, _) => node_lanes.div_ceil(m.workgroup) * m.workgroup + rows,
+            (_, Domain::Rows) => rows,
+            _ => node_lanes,
         };
         self
     }

@@ -541,16 +541,17 @@ fn minres_builds_its_rows_buffers_and_passes_after_the_iterations() {
     assert_eq!(bytes(BufferId::MinresNodeVectors), Some(32 * 10));
     assert_eq!(bytes(BufferId::MinresSums), Some(4 * 3));
     assert_eq!(bytes(BufferId::MinresState), Some(64 * 5));
-    // Setup, rows, 4 x 3 iteration passes, finish, forces, and the global volume's close.
+    // Setup, rows, 4 x 2 iteration passes, next, finish, forces, and the global volume's
+    // close.
     assert_eq!(
         on.dispatches_per_frame() - off.dispatches_per_frame(),
-        2 + 4 * 3 + 2 + 2
+        2 + 4 * 2 + 3 + 2
     );
     let step = on.step_list().join(" -> ");
     assert!(
         step.contains(
-            "minres_setup -> minres_rows#vg -> 4 x (minres_nodes, minres_product, \
-             minres_next) -> minres_finish#v -> minres_forces[floor] -> global_volume_sum \
+            "minres_setup -> minres_rows#vg -> 4 x (minres_nodes, minres_product) -> \
+             minres_next -> minres_finish#v -> minres_forces[floor] -> global_volume_sum \
              -> global_volume[floor] -> integrate"
         ),
         "{step}"
@@ -564,10 +565,17 @@ fn minres_builds_its_rows_buffers_and_passes_after_the_iterations() {
     // Floor, colliders, grabs, no lanes, then the rows' segments, iterations and chunks.
     assert_eq!(rows.constants, vec![1, 0, 0, 0, 0, 0, 12, 1, 4, 1]);
     // The node passes share a node's entries (5.6 on average) between 2 lanes; the setup
-    // has one invocation per node.
-    for name in ["minres_nodes", "minres_forces", "minres_setup"] {
+    // has one invocation per node. `minres_nodes` rounds its nodes up to a workgroup and
+    // adds the row workgroups, which end the last iteration.
+    for name in ["minres_forces", "minres_setup"] {
         let pass = on.passes.iter().find(|p| p.name() == name).unwrap();
         let lanes = if name == "minres_setup" { 1 } else { 2 };
         assert_eq!((pass.lanes(), pass.elements), (lanes, 10 * lanes), "{name}");
     }
+    let nodes = on
+        .passes
+        .iter()
+        .find(|p| p.name() == "minres_nodes")
+        .unwrap();
+    assert_eq!((nodes.lanes(), nodes.elements), (2, 64 + 2 * 64));
 }
