@@ -1,13 +1,14 @@
 #version 460
 // Pass `minres_nodes`: the first of a MINRES iteration's two passes (common/minres.glsl),
-// in two parts. Its first workgroups are node workgroups, LANES invocations per node
-// (common/lanes.glsl; phase 1 of src/backend/cpu/minres/mod.rs): u = W J^T y for the node
-// through the rows' transpose, unscaled (minres_product divides by beta). In iteration 0
-// y is the rows' first; later it is the next Lanczos vector after the last iteration,
-// M^-1 (av - alpha / beta r2), computed entry by entry from the last iteration's vectors
-// (nothing has written it yet). The row workgroups after them sum that vector's norm and
-// advance the recurrence (the last iteration's phase 3, lanczos_norm), so an iteration
-// takes two dispatches, not three.
+// in two parts that each workgroup w runs in turn (a workgroup-uniform choice). First node
+// workgroup w, LANES invocations per node (common/lanes.glsl; phase 1 of
+// src/backend/cpu/minres/mod.rs): u = W J^T y for its nodes through the rows' transpose,
+// unscaled (minres_product divides by beta). In iteration 0 y is the rows' first; later it
+// is the next Lanczos vector after the last iteration, M^-1 (av - alpha / beta r2),
+// computed entry by entry from the last iteration's vectors (nothing has written it yet).
+// Then row workgroup w sums that vector's norm and advances the recurrence (the last
+// iteration's phase 3, lanczos_norm). So an iteration takes two dispatches, not three; the
+// dispatch has as many workgroups as the larger part needs.
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "common/workgroup_sum.glsl"
@@ -24,15 +25,8 @@ float y_of(uint k, Recurrence r, uint j) {
     return y;
 }
 
-void main() {
-    uint k = pc.iteration;
-    uint node_workgroups = (pc.node_count * LANES + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x;
-    if (gl_WorkGroupID.x >= node_workgroups) {
-        if (k > 0u) {
-            lanczos_norm(k, gl_WorkGroupID.x - node_workgroups);
-        }
-        return;
-    }
+// Node workgroup w's part: u for its nodes.
+void node_sums(uint k) {
     // The recurrence whose vectors give y: iteration 0's own, else the last iteration's.
     Recurrence r = load_state(k == 0u ? 0u : k - 1u);
     if (!r.going) {
@@ -49,8 +43,19 @@ void main() {
         }
     }
     sum = lanes_total(sum);
-    if (i >= pc.node_count || lane != 0u) {
-        return;
+    if (i < pc.node_count && lane == 0u) {
+        node_vectors[i] = vec4(mobility_apply(i, sum), 0.0);
     }
-    node_vectors[i] = vec4(mobility_apply(i, sum), 0.0);
+}
+
+void main() {
+    uint k = pc.iteration;
+    uint w = gl_WorkGroupID.x;
+    uint node_workgroups = (pc.node_count * LANES + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x;
+    if (w < node_workgroups) {
+        node_sums(k);
+    }
+    if (k > 0u && w < PARTIALS) {
+        lanczos_norm(k, w);
+    }
 }

@@ -109,8 +109,8 @@ pub(super) fn stages(minres: u32, sweeps: &[SweepPlan], global: bool) -> Vec<Sta
             ],
         ),
         after(PassKind::MinresRows, Domain::Rows, rows),
-        // Its node workgroups, then row workgroups that end the last iteration
-        // (glsl/passes/minres_nodes.comp): in the plan, nodes and rows.
+        // Each of its workgroups a node workgroup, then a row workgroup that ends the last
+        // iteration (glsl/passes/minres_nodes.comp).
         iteration(
             PassKind::MinresNodes,
             Domain::Nodes,

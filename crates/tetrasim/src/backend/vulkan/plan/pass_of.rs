@@ -172,8 +172,8 @@ impl PassPlan {
 
     /// A MINRES pass ([`MinresCounts`]): the row passes' workgroup (its sums' layout) and
     /// invocations (the fixed rows', then a workgroup per object), the node passes' `LANES`
-    /// per node ([`workgroups::lanes`] over the rows' entries; `minres_nodes` then the row
-    /// passes' workgroups too), the setup's one; the floor,
+    /// per node ([`workgroups::lanes`] over the rows' entries; `minres_nodes` as many
+    /// workgroups as the row passes when they are more), the setup's one; the floor,
     /// colliders and grabs as constants 1 to 3, the node passes' lanes as 4 (0 in the
     /// others), MINRES's sizes from 5 on; the variants of the rows' segments and of the
     /// colliders.
@@ -205,8 +205,11 @@ impl PassPlan {
         let rows = m.workgroups() * m.workgroup;
         let node_lanes = nodes * lanes.max(1);
         self.elements = match (kind, self.stage.domain) {
-            // Whole node workgroups, then the row workgroups that end the last iteration.
-            (PassKind::MinresNodes, _) => node_lanes.div_ceil(m.workgroup) * m.workgroup + rows,
+            // Each workgroup a node workgroup, then a row workgroup that ends the last
+            // iteration: as many as the larger part needs.
+            (PassKind::MinresNodes, _) => {
+                (node_lanes.div_ceil(m.workgroup) * m.workgroup).max(rows)
+            }
             (_, Domain::Rows) => rows,
             _ => node_lanes,
         };
