@@ -83,8 +83,8 @@ pub struct SolverOverrides {
     /// MINRES iterations after each step's sweeps, 0 (off, default) to 200, every backend:
     /// converges the slow modes of a stiff body that the sweeps leave (a rigid
     /// body's rebound off the floor), the sweeps finding who touches the floor; 28 after 1
-    /// sweep bring the bundled sphere to rest (1.7 mm of rebound) for about 1.4x the
-    /// default's step on cpu, 1.4x on lavapipe (docs/PHYSICS.md, "MINRES after the sweeps").
+    /// sweep bring the bundled sphere to rest (1.7 mm of rebound) for about 1.3x the
+    /// default's step on cpu, 1.2x on lavapipe (docs/PHYSICS.md, "MINRES after the sweeps").
     #[cfg_attr(feature = "clap", arg(long, value_name = "ITERATIONS"))]
     pub minres: Option<u32>,
     /// Inversion sweeps after each step's iterations (method volume; 0, off, default, to
