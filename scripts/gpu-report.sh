@@ -165,10 +165,11 @@ SETTINGS
         --backend vulkan --solver "$s" --json "$f.json" > "$f.txt" 2>&1
       echo "$s:"; grep -E 'ms/frame' "$f.txt" | head -4
     done
-    # Issue 22's candidate default (docs/BENCHMARKS.md, "One sweep, then MINRES"): one sweep,
-    # then MINRES, with and without the closing inversion sweep, at the seed preset.
-    for s in gauss-seidel:8+global+minres5 gauss-seidel:8+global+minres5+inversion1 \
-             gauss-seidel:8+global+minres10 gauss-seidel:8+global+minres10+inversion1; do
+    # Issue 22's candidate default (docs/BENCHMARKS.md, "One sweep, then MINRES" and "With
+    # MINRES's close"): one sweep of 1, 2 or 8 colour groups, then MINRES (ending with the
+    # global volume constraints, or with an inversion sweep), at the seed preset.
+    for s in gauss-seidel:1+global+minres7 gauss-seidel:2+global+minres7 \
+             gauss-seidel:2+global+minres8 gauss-seidel:8+global+minres10+inversion1; do
       f="$R/stiff_bench_1it_${s//[:+]/-}"
       timeout 60 "$B/tetrasim" bench --mesh "$M/bunny20k" --mesh "$M/horse86m" --no-bundled --method volume \
         --backend vulkan --solver "$s" --iterations 1 --json "$f.json" > "$f.txt" 2>&1
