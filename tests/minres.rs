@@ -131,17 +131,7 @@ fn minres_closes_with_the_global_volume() {
         minres: 3,
         ..SimParams::default()
     };
-    let backends: [(&str, Box<dyn Backend>); 2] = [
-        (
-            "cpu",
-            Box::new(ParallelBackend::new(&model, &params).unwrap()),
-        ),
-        (
-            "cpu-ref",
-            Box::new(ReferenceBackend::new(&model, &params).unwrap()),
-        ),
-    ];
-    for (name, mut backend) in backends {
+    for (name, mut backend) in common::cpu_backends(&model, &params) {
         let mut worst = 0.0f64;
         for frame in 0..400 {
             backend

@@ -16,11 +16,12 @@
 //! at most 1e-15 and 1.1e-7; the averaging fails by orders of magnitude more). Sideways
 //! movement: 1 mm (the bound; measured values are printed).
 
+mod common;
 mod gpu_support;
 
 use glam::DVec3;
 use gpu_support::{bundled_sphere, for_each_backend, jittered, momenta};
-use tetrasim::backend::cpu::{ParallelBackend, ReferenceBackend};
+use tetrasim::backend::cpu::ParallelBackend;
 use tetrasim::params::{ConstraintCombine, Method, Placement, Solver, SpringKind};
 use tetrasim::{Backend, Model, ModelBuilder, SimParams, TetMesh};
 
@@ -149,17 +150,7 @@ fn implicit_springs_keep_linear_and_angular_momentum() {
                 let case = format!(
                     "implicit springs, {method} {solver} global {global} warm start {warm_start}"
                 );
-                let backends: [(&str, Box<dyn Backend>); 2] = [
-                    (
-                        "cpu-ref",
-                        Box::new(ReferenceBackend::new(&model, &params).unwrap()),
-                    ),
-                    (
-                        "cpu",
-                        Box::new(ParallelBackend::new(&model, &params).unwrap()),
-                    ),
-                ];
-                for (name, mut backend) in backends {
+                for (name, mut backend) in common::cpu_backends(&model, &params) {
                     let (dp, dl) = flight_drift(backend.as_mut(), &model);
                     println!("{name} {case}: linear {dp:.1e}, angular {dl:.1e}");
                     let tolerance = if name == "cpu-ref" { 1e-12 } else { 1e-6 };

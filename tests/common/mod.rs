@@ -5,11 +5,26 @@ pub mod python;
 pub mod skip;
 
 use glam::DVec3;
+use tetrasim::backend::cpu::{ParallelBackend, ReferenceBackend};
 use tetrasim::backend::{Backend, State};
 use tetrasim::mesh::grid::{box_tets, grid_tets};
 use tetrasim::mesh::TetMesh;
 use tetrasim::params::{Placement, SimParams};
 use tetrasim::{Model, ModelBuilder};
+
+/// The two CPU backends of `model` with `params`, named: `cpu-ref`, then `cpu`.
+pub fn cpu_backends(model: &Model, params: &SimParams) -> [(&'static str, Box<dyn Backend>); 2] {
+    [
+        (
+            "cpu-ref",
+            Box::new(ReferenceBackend::new(model, params).unwrap()),
+        ),
+        (
+            "cpu",
+            Box::new(ParallelBackend::new(model, params).unwrap()),
+        ),
+    ]
+}
 
 /// A solid box of `cells` unit-ish cubes (edge 0.1 m), six tets per cube.
 pub fn box_mesh(cells: [usize; 3]) -> TetMesh {
