@@ -395,13 +395,11 @@ impl Schedule {
     /// after MINRES when it closes the step ([`Self::closes_minres`]).
     pub fn iteration_ends(&self, kind: PassKind) -> u32 {
         let restores = self.stages.iter().any(|s| s.repeat == Repeat::Restore);
-        match kind {
-            PassKind::GlobalVolumeSum | PassKind::GlobalVolume => {
-                let after_restores = if restores { self.inversion_sweeps } else { 0 };
-                self.iterations + after_restores + u32::from(self.closes_minres())
-            }
-            _ => self.iterations,
+        if !kind.is_global_volume() {
+            return self.iterations;
         }
+        let after_restores = if restores { self.inversion_sweeps } else { 0 };
+        self.iterations + after_restores + u32::from(self.closes_minres())
     }
 
     /// Whether the global volume constraints run once more after MINRES: when the step

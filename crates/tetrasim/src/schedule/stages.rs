@@ -244,6 +244,12 @@ impl PassKind {
         (PassKind::MinresSetup..=PassKind::MinresForces).contains(&self)
     }
 
+    /// Whether the pass is one of an iteration's global volume passes (`global_volume_sum`,
+    /// `global_volume`), which also end each inversion sweep and MINRES.
+    pub fn is_global_volume(self) -> bool {
+        matches!(self, PassKind::GlobalVolumeSum | PassKind::GlobalVolume)
+    }
+
     /// Whether the pass takes the floor as a specialisation constant (printed as
     /// `[floor]` / `[no floor]` in plans).
     pub fn has_floor_constant(self) -> bool {

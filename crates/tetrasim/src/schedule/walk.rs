@@ -190,12 +190,7 @@ impl Schedule {
     /// `global_volume`; none when the step does not solve them).
     fn global_stages(&self, step: &[usize]) -> Vec<usize> {
         (step.iter().copied())
-            .filter(|&i| {
-                matches!(
-                    self.stages[i].kind,
-                    PassKind::GlobalVolumeSum | PassKind::GlobalVolume
-                )
-            })
+            .filter(|&i| self.stages[i].kind.is_global_volume())
             .collect()
     }
 

@@ -267,12 +267,7 @@ impl EnginePlan {
                 // MINRES's close: the global volume constraints once more.
                 out.extend(
                     (self.passes.iter())
-                        .filter(|q| {
-                            matches!(
-                                q.stage.kind,
-                                PassKind::GlobalVolumeSum | PassKind::GlobalVolume
-                            )
-                        })
+                        .filter(|q| q.stage.kind.is_global_volume())
                         .map(|q| q.label()),
                 );
             }
