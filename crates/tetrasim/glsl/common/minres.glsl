@@ -115,15 +115,24 @@ uvec2 object_entries(uint o) {
     return uvec2(transpose[at], transpose[at + 1u]);
 }
 
+// SUM += the sum over node i's entries of grad * VALUE, VALUE an expression of the entry's
+// row `row`: lane LANE's share of it, every N_LANES-th entry (common/lanes.glsl adds the
+// lanes'). The one loop over a node's entries of the rows' transpose.
+#define TRANSPOSE_SUM(SUM, I, LANE, N_LANES, VALUE)                                         \
+    {                                                                                       \
+        uint transpose_end = transpose[(I) + 1u];                                           \
+        for (uint t = transpose[I] + (LANE); t < transpose_end; t += (N_LANES)) {           \
+            uint item = pc.node_count + 1u + 2u * t;                                        \
+            uint row = transpose[item + 1u];                                                \
+            SUM += grads[transpose[item]].xyz * (VALUE);                                    \
+        }                                                                                   \
+    }
+
 // sum over node i's rows of grad * p[row] (its share of J^T p), p the plane `plane`: lane
 // `lane`'s share of it, every `lanes`-th entry (common/lanes.glsl adds the lanes').
 vec3 transpose_sum(uint i, uint plane, uint lane, uint lanes) {
     vec3 sum = vec3(0.0);
-    uint end = transpose[i + 1u];
-    for (uint t = transpose[i] + lane; t < end; t += lanes) {
-        uint item = pc.node_count + 1u + 2u * t;
-        sum += grads[transpose[item]].xyz * vector_at(plane, transpose[item + 1u]);
-    }
+    TRANSPOSE_SUM(sum, i, lane, lanes, vector_at(plane, row))
     return sum;
 }
 

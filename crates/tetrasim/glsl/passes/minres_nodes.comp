@@ -36,11 +36,7 @@ void node_sums(uint k) {
     uint lane = lane_index();
     vec3 sum = vec3(0.0);
     if (i < pc.node_count) {
-        uint end = transpose[i + 1u];
-        for (uint t = transpose[i] + lane; t < end; t += LANES) {
-            uint item = pc.node_count + 1u + 2u * t;
-            sum += grads[transpose[item]].xyz * y_of(k, r, transpose[item + 1u]);
-        }
+        TRANSPOSE_SUM(sum, i, lane, LANES, y_of(k, r, row))
     }
     sum = lanes_total(sum);
     if (i < pc.node_count && lane == 0u) {
