@@ -1,7 +1,8 @@
 #version 460
 // Pass `global_volume`: the second half of one iteration of the global volume constraints
 // (physics.md, "One global volume constraint"), after global_volume_sum. Every workgroup
-// adds its object's chunk partials (common/global_chunk.glsl: C_g + V0, A and B) in the
+// adds its object's chunk partials (common/global_chunk.glsl: C_g + V0, A, B and the
+// floor's held terms) in the
 // same fixed order (strided per invocation, then a shared-memory tree), so all of them compute the same multiplier (bit-identical reruns),
 // then each surface node of its chunk gets F -= lambda grad_k and its floor contact is
 // solved again, then (variant `colliders`) its kinematic colliders' contacts. Mirrors
@@ -43,15 +44,15 @@ void main() {
     // The chunk partials in parallel, then a shared-memory tree: a fixed order, so every
     // workgroup of the object gets the same sums (a loop of CHUNKS dependent loads per
     // workgroup took 14 us per iteration on the horse on an H200).
-    vec3 partial = vec3(0.0);
+    vec4 partial = vec4(0.0);
     for (uint chunk = gl_LocalInvocationID.x; chunk < CHUNKS; chunk += gl_WorkGroupSize.x) {
-        partial += global_state[index * CHUNKS + chunk].xyz;
+        partial += global_state[index * CHUNKS + chunk];
     }
-    float unused = 0.0;
     workgroup_sum2(partial.x, partial.y);
-    workgroup_sum2(partial.z, unused);
-    vec3 sums = partial;
-    float lambda = implicit_multiplier(solve_hard(pc.phase, sums.x - object.rest_volume), sums.y, sums.z, pc.dt, pc.epsilon);
+    workgroup_sum2(partial.z, partial.w);
+    vec4 sums = partial;
+    // sums.w: the floor's held terms (floor_held).
+    float lambda = global_multiplier(solve_hard(pc.phase, sums.x - object.rest_volume), sums.y, sums.z, sums.w, pc.dt, pc.epsilon);
     uint k = global_chunk_item();
     if (k >= object.node_count) {
         return;

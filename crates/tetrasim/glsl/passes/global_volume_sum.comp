@@ -3,8 +3,9 @@
 // constraints (physics.md, "One global volume constraint"), after the iteration's local
 // constraint groups, over the whole GPU: every chunk of an object
 // (common/global_chunk.glsl) sums its surface nodes' share of
-// B = sum_k grad_k . (v_k / dt + w_k F_k) in shared memory, in a fixed order, into the z of
-// its GlobalState entry; global_volume then adds the chunks up. Mirrors global_pass in
+// B = sum_k grad_k . (v_k / dt + w_k F_k) and of the floor's held terms (floor_held: the
+// floor force is F.w) in shared memory, in a fixed order, into the z and w of its
+// GlobalState entry; global_volume then adds the chunks up. Mirrors global_pass in
 // src/backend/cpu/parallel/mod.rs.
 #include "common/version.glsl"
 #include "common/bindings.glsl"
@@ -26,14 +27,16 @@ void main() {
     uint k = global_chunk_item();
     float unused_a = 0.0;
     float b = 0.0;
+    float held = 0.0;
     if (k < object.node_count) {
         uint node = surface_nodes[object.node_first + k];
         vec4 g = surface_gradients[object.node_first + k];
-        implicit_accumulate(unused_a, b, g.xyz, g.w, 1.0, velocities[node].xyz, forces[node].xyz, pc.dt);
+        vec4 f = forces[node];
+        implicit_accumulate(unused_a, b, g.xyz, g.w, 1.0, velocities[node].xyz, f.xyz, pc.dt);
+        held = floor_held(g.y, g.w, f.w);
     }
-    float unused = 0.0;
-    workgroup_sum2(b, unused);
+    workgroup_sum2(b, held);
     if (gl_LocalInvocationID.x == 0u) {
-        global_state[gl_WorkGroupID.x].z = b;
+        global_state[gl_WorkGroupID.x].zw = vec2(b, held);
     }
 }

@@ -25,6 +25,13 @@ void implicit_accumulate(inout float a, inout float b, vec3 grad, float w, float
     b += dot(grad, v / dt + w * f);
 }
 
+// The part of a global volume constraint's A that the floor takes from a surface node it
+// holds (floor_held in src/physics/constraint.rs): w g_y^2 for a node facing down that the
+// floor pushes, else 0.
+float floor_held(float grad_y, float w, float floor_force) {
+    return floor_force > 0.0 && grad_y < 0.0 ? w * grad_y * grad_y : 0.0;
+}
+
 // The multiplier of a compliant, damped constraint (compliant_multiplier in
 // src/physics/constraint.rs): lambda = (C / dt^2 + b - damping s C / dt) / (A + s) with the
 // softness s of spring_softness or volume_softness (0: hard); 0 (skip) where Rust returns
@@ -48,6 +55,14 @@ float multiplier_so_far(float stored, uint iteration, uint warm) {
 // (implicit_multiplier: compliant_multiplier with softness 0).
 float implicit_multiplier(float c, float a, float b, float dt, float epsilon) {
     return compliant_multiplier(c, a, b, dt, 0.0, 0.0, epsilon);
+}
+
+// The multiplier of a global volume constraint (global_multiplier in
+// src/physics/constraint.rs): A less the floor's held terms when the push is outward
+// (c / dt^2 + b < 0).
+float global_multiplier(float c, float a, float b, float held, float dt, float epsilon) {
+    float a_free = c / (dt * dt) + b < 0.0 ? a - held : a;
+    return implicit_multiplier(c, a_free, b, dt, epsilon);
 }
 
 // Softness 1 / (k dt^2 + kd dt) [1/kg] of a spring of stiffness k and damping kd solved as

@@ -111,6 +111,34 @@ pub fn implicit_accumulate<V: Vector>(
     *b += grad.dot(v * (V::Real::ONE / dt) + f * w);
 }
 
+/// The part of a global volume constraint's `A` that the floor takes from a surface node it
+/// holds (physics.md, "One global volume constraint"): `w g_y^2` for a node that faces down
+/// (`g_y < 0`) and that the floor pushes (`floor_force > 0`), else 0. When the constraint
+/// pushes outward, such a node is pushed into the floor, which takes the vertical share of the
+/// push back (`floor_held` in glsl/physics/implicit.glsl).
+#[inline]
+pub fn floor_held<R: Real>(grad_y: R, w: R, floor_force: R) -> R {
+    if floor_force > R::ZERO && grad_y < R::ZERO {
+        w * grad_y * grad_y
+    } else {
+        R::ZERO
+    }
+}
+
+/// The multiplier of a global volume constraint from its value `c`, its `A`, the sum part
+/// of its `B` and the floor's terms `held` (the sum of [`floor_held`] over its surface
+/// nodes): [`implicit_multiplier`] with `A - held` when the push is outward
+/// (`c / dt^2 + b < 0`, volume to gain), which presses the held nodes into the floor, and
+/// with `A` otherwise (`global_multiplier` in glsl/physics/implicit.glsl).
+#[inline]
+pub fn global_multiplier<R: Real>(c: R, a: R, b: R, held: R, dt: R, epsilon: R) -> Option<R> {
+    let a = match c / (dt * dt) + b < R::ZERO {
+        true => a - held,
+        false => a,
+    };
+    implicit_multiplier(c, a, b, dt, epsilon)
+}
+
 /// The multiplier from a constraint's value `c` and its accumulated `A` and sum part of `B`
 /// ([`implicit_accumulate`]): `(c / dt^2 + b) / a`, `None` when `a <= epsilon` or not
 /// finite. The hard constraint: [`compliant_multiplier`] with softness 0.

@@ -58,9 +58,9 @@ pub(super) struct Outputs<'a> {
     pub tet_out: SharedSlice<'a, [Vec3A; 4]>,
     /// The Chebyshev forces two iterations back (total, floor).
     pub chebyshev: Option<(SharedSlice<'a, Vec3A>, SharedSlice<'a, f32>)>,
-    /// One partial sum per chunk of every object's surface nodes, object after object
-    /// (global constraints).
-    pub partial: SharedSlice<'a, f32>,
+    /// Per chunk of every object's surface nodes, object after object (global
+    /// constraints): the chunk's partial sums of `B` and of the floor's held terms.
+    pub partial: SharedSlice<'a, [f32; 2]>,
     /// Anderson acceleration's history planes, per-chunk sums and multipliers' history
     /// (`anderson > 0`).
     pub anderson: Option<(
@@ -401,10 +401,11 @@ pub(super) fn global_chunks(global: &Global) -> Vec<(usize, usize)> {
 }
 
 /// The partial sums of `B` of every object's global volume constraint against the current
-/// forces, over fixed chunks of [`CHUNK`] surface nodes split among the members.
+/// forces, and of the floor's held terms ([`floor_held`]), over fixed chunks of [`CHUNK`]
+/// surface nodes split among the members.
 ///
 /// # Safety
-/// Nobody may write `f` during the call, and every member must call it at the same point
+/// Nobody may write `f` or the floor forces during the call, and every member must call it at the same point
 /// (each writes its own chunks of `partial`).
 unsafe fn global_sums(
     member: Member<'_>,
@@ -417,20 +418,27 @@ unsafe fn global_sums(
         .flat_map(|(o, (_, count))| (0..count).map(move |c| (o, c)))
         .collect();
     let mine = member.block(chunks.len());
-    // SAFETY: nobody writes `f`; the members write disjoint chunks of `partial` (the
-    // caller's promise).
-    let (f, partial) = unsafe { (outputs.f.whole(), outputs.partial.part(mine.clone())) };
+    // SAFETY: nobody writes `f` or the floor forces; the members write disjoint chunks of
+    // `partial` (the caller's promise).
+    let (f, floor_force, partial) = unsafe {
+        (
+            outputs.f.whole(),
+            outputs.floor_force.whole(),
+            outputs.partial.part(mine.clone()),
+        )
+    };
     for (&(o, c), partial) in chunks[mine].iter().zip(partial) {
         let object = &global.data.objects[o];
         let range = object.node_first as usize..(object.node_first + object.node_count) as usize;
         let (surface, grad) = (&global.data.nodes[range.clone()], &global.grad[range]);
         let chunk = c * CHUNK..((c + 1) * CHUNK).min(surface.len());
-        let (mut a, mut b) = (0.0f32, 0.0f32);
+        let (mut a, mut b, mut held) = (0.0f32, 0.0f32, 0.0f32);
         for (&i, &g) in surface[chunk.clone()].iter().zip(&grad[chunk]) {
             let i = i as usize;
             implicit_accumulate(&mut a, &mut b, g, w[i], 1.0, v[i], f[i], dt);
+            held += floor_held(g.y, w[i], floor_force[i]);
         }
-        *partial = b;
+        *partial = [b, held];
     }
 }
 
@@ -463,10 +471,12 @@ unsafe fn global_apply(
         )
     };
     for (o, (first, chunks)) in global_chunks(global).into_iter().enumerate() {
-        let b: f32 = partial[first..first + chunks].iter().sum();
+        let sums = &partial[first..first + chunks];
+        let b: f32 = sums.iter().map(|s| s[0]).sum();
+        let held: f32 = sums.iter().map(|s| s[1]).sum();
         let (c, a) = global.c_and_a[o];
         let c = inputs.k.solve.hard(c);
-        let lambda = implicit_multiplier(c, a, b, dt, inputs.k.epsilon).unwrap_or(0.0);
+        let lambda = global_multiplier(c, a, b, held, dt, inputs.k.epsilon).unwrap_or(0.0);
         for &k in &mine[o] {
             let (i, g) = (
                 global.data.nodes[k as usize] as usize,

@@ -6,7 +6,9 @@ use glam::DVec3;
 use super::{ReferenceBackend, StepForces};
 use crate::collider;
 use crate::model::{GlobalObject, GlobalVolume};
-use crate::physics::{face_volume, floor_solve, implicit_accumulate, implicit_multiplier};
+use crate::physics::{
+    face_volume, floor_held, floor_solve, global_multiplier, implicit_accumulate,
+};
 
 impl ReferenceBackend {
     /// Per object of the global volume constraints: `C_g` and the gradient on each of its
@@ -61,14 +63,15 @@ impl ReferenceBackend {
         let p = &self.problem.params;
         for (object, (c, grad, lambda)) in global.objects.iter().zip(&mut step.global) {
             let nodes = &global.nodes[object.node_first as usize..][..object.node_count as usize];
-            let (mut a, mut b) = (0.0, 0.0);
+            let (mut a, mut b, mut held) = (0.0, 0.0, 0.0);
             for (&i, &g) in nodes.iter().zip(grad.iter()) {
                 let i = i as usize;
                 let w = self.problem.model.inv_mass[i];
                 implicit_accumulate(&mut a, &mut b, g, w, 1.0, self.v[i], step.total[i], p.dt);
+                held += floor_held(g.y, w, step.floor[i]);
             }
             let c = step.solve.hard(*c);
-            *lambda = implicit_multiplier(c, a, b, p.dt, p.constraint_epsilon).unwrap_or(0.0);
+            *lambda = global_multiplier(c, a, b, held, p.dt, p.constraint_epsilon).unwrap_or(0.0);
         }
     }
 

@@ -71,7 +71,7 @@ impl ParallelBackend {
             let chunks = iterations::global_chunks(g);
             chunks.last().map_or(0, |(first, count)| first + count)
         });
-        let mut partial = vec![0.0f32; chunks];
+        let mut partial = vec![[0.0f32; 2]; chunks];
         let ParallelBackend {
             x,
             v,
