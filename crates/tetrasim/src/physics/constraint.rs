@@ -219,6 +219,67 @@ mod tests {
         ]
     }
 
+    /// One pass of a global constraint over four surface nodes, one of them resting on the
+    /// floor and facing down, then the floor solved again: with the floor's terms the
+    /// linearised condition `C + dt sum_k g_k . v_k(t + dt) = 0` holds after the floor took
+    /// its share; with the whole `A` (`implicit_multiplier`) it does not.
+    #[test]
+    fn the_global_multiplier_restores_the_volume_past_the_floor() {
+        use crate::physics::floor_solve;
+        let dt = 1e-3;
+        let grad = [
+            DVec3::new(0.1, -1.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(-1.1, 0.0, 0.2),
+        ];
+        let w = [1.0, 0.5, 2.0, 1.0];
+        let c = -1e-6;
+        // Every node at rest with no net force; node 0 on the floor (y = 0) under 10 N of
+        // weight, which a floor force of 10 N holds (its total force holds both).
+        let floor_force = [10.0, 0.0, 0.0, 0.0];
+        // `C + dt sum_k g_k . v_k(t + dt)` after the push and the floor's solve of node 0.
+        let left = |lambda: f64| -> f64 {
+            let mut sum = 0.0;
+            for k in 0..4 {
+                let mut f = grad[k] * -lambda;
+                if k == 0 {
+                    f = floor_solve(f, floor_force[0], 0.0, 0.0, w[0], dt).0;
+                }
+                sum += grad[k].dot(dt * w[k] * f);
+            }
+            c + dt * sum
+        };
+        let (mut a, mut b, mut held) = (0.0, 0.0, 0.0);
+        for k in 0..4 {
+            implicit_accumulate(
+                &mut a,
+                &mut b,
+                grad[k],
+                w[k],
+                1.0,
+                DVec3::ZERO,
+                DVec3::ZERO,
+                dt,
+            );
+            held += floor_held(grad[k].y, w[k], floor_force[k]);
+        }
+        assert_eq!(held, 1.0);
+        let with = global_multiplier(c, a, b, held, dt, 1e-20).unwrap();
+        let without = implicit_multiplier(c, a, b, dt, 1e-20).unwrap();
+        assert!(
+            left(with).abs() < 1e-15,
+            "with the floor's terms: {:e}",
+            left(with)
+        );
+        assert!(left(without).abs() > 1e-7, "without: {:e}", left(without));
+        // Pushing inward lifts the node off the floor: A stays whole.
+        assert_eq!(
+            global_multiplier(-c, a, b, held, dt, 1e-20),
+            implicit_multiplier(-c, a, b, dt, 1e-20)
+        );
+    }
+
     #[test]
     fn volume_gradient_matches_finite_differences() {
         let p = tet();
