@@ -405,8 +405,8 @@ pub(super) fn global_chunks(global: &Global) -> Vec<(usize, usize)> {
 /// surface nodes split among the members.
 ///
 /// # Safety
-/// Nobody may write `f` or the floor forces during the call, and every member must call it at the same point
-/// (each writes its own chunks of `partial`).
+/// Nobody may write `f` or the floor forces during the call, and every member must call it
+/// at the same point (each writes its own chunks of `partial`).
 unsafe fn global_sums(
     member: Member<'_>,
     inputs: &Inputs<'_>,
