@@ -6,7 +6,7 @@
 // same fixed order (strided per invocation, then a shared-memory tree), so all of them compute the same multiplier (bit-identical reruns),
 // then each surface node of its chunk gets F -= lambda grad_k and its floor contact is
 // solved again, then (variant `colliders`) its kinematic colliders' contacts. Mirrors
-// global_pass in src/backend/cpu/parallel/mod.rs.
+// global_apply in src/backend/cpu/parallel/iterations.rs.
 // @variant plain:
 // @variant colliders: COLLIDERS_ON
 #include "common/version.glsl"

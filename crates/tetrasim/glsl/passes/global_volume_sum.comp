@@ -5,8 +5,8 @@
 // (common/global_chunk.glsl) sums its surface nodes' share of
 // B = sum_k grad_k . (v_k / dt + w_k F_k) and of the floor's held terms (floor_held: the
 // floor force is F.w) in shared memory, in a fixed order, into the z and w of its
-// GlobalState entry; global_volume then adds the chunks up. Mirrors global_pass in
-// src/backend/cpu/parallel/mod.rs.
+// GlobalState entry; global_volume then adds the chunks up. Mirrors global_sums in
+// src/backend/cpu/parallel/iterations.rs.
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "common/workgroup_sum.glsl"
