@@ -7,6 +7,8 @@
 //!   `vulkan`: one sweep then 28 iterations let it rise less than 2 mm after its first contact
 //!   (issue 26's bar; 1.67 mm on lavapipe, `cpu` 1.68 mm), where one sweep alone lets it rise
 //!   more than 40 mm; and two runs give the same bits (no float atomics in the solve).
+//! - Workgroups narrower than a subgroup (`--workgroup-size 4`) follow `cpu-ref` too: the
+//!   workgroup sums' narrow path.
 
 mod common;
 mod gpu_support;
@@ -15,6 +17,7 @@ use common::{
     ball_mesh, max_distance, near_floor_model, over_tilted_plane, rebound, run_frames, Rebound,
 };
 use tetrasim::backend::cpu::ReferenceBackend;
+use tetrasim::backend::vulkan::EngineOptions;
 use tetrasim::params::{Method, SpringKind};
 use tetrasim::{Backend, Model, SimParams};
 
@@ -101,6 +104,38 @@ fn vulkan_follows_cpu_ref_with_minres_on_a_tilted_collider() {
     println!("tilted plane: vulkan within {with:.2e} diagonals (without MINRES {without:.2e})");
     assert!(with < POSITION_FRACTION, "{with:.2e} diagonals apart");
     assert!(without > 10.0 * with.max(1e-7), "MINRES changed nothing");
+}
+
+#[test]
+fn workgroups_narrower_than_a_subgroup_follow_cpu_ref() {
+    if !gpu_support::vulkan_available() {
+        return;
+    }
+    // Workgroups of 4 invocations, narrower than any subgroup (lavapipe's 8, NVIDIA's 32):
+    // the global volume constraint's and MINRES's workgroup sums take their narrow path
+    // (glsl/common/workgroup_sum.glsl). Without it a shuffle would read absent lanes; on
+    // lavapipe those read 0, so there this checks the sums, on NVIDIA the path too.
+    let model = near_floor_model(&ball_mesh(3.0));
+    let params = SimParams {
+        method: Method::Volume,
+        iterations: 2,
+        minres: 20,
+        ..SimParams::default()
+    };
+    let mut reference = ReferenceBackend::new(&model, &params).unwrap();
+    run_frames(&mut reference, FRAMES);
+    let want = reference.state().unwrap();
+    let options = EngineOptions {
+        workgroup_size: Some(4),
+        ..EngineOptions::default()
+    };
+    let mut gpu = gpu_support::validated_with(&model, &params, options);
+    run_frames(&mut gpu, FRAMES);
+    let apart =
+        max_distance(&gpu.state().unwrap().positions, &want.positions) / model.bounds_diagonal();
+    println!("workgroups of 4: vulkan within {apart:.2e} diagonals of cpu-ref");
+    assert!(apart < POSITION_FRACTION, "{apart:.2e} diagonals apart");
+    gpu_support::assert_no_validation_messages(&gpu);
 }
 
 #[test]

@@ -142,7 +142,7 @@ shared bool s_last;
 
 // Row workgroup `w`'s partial of the pass's dot product from each invocation's `value`;
 // true in the last row workgroup to finish, whose invocations then hold the total in
-// `value`: the partials added in one fixed order (strided, then the tree), so the total
+// `value`: the partials added in one fixed order (strided, then the workgroup sum), so the total
 // does not depend on which workgroup is last. Every invocation of a row workgroup calls it.
 bool reduce_last_at(inout float value, uint w) {
     float unused = 0.0;

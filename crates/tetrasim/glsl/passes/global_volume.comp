@@ -3,7 +3,8 @@
 // (physics.md, "One global volume constraint"), after global_volume_sum. Every workgroup
 // adds its object's chunk partials (common/global_chunk.glsl: C_g + V0, A, B and the
 // floor's held terms) in the
-// same fixed order (strided per invocation, then a shared-memory tree), so all of them compute the same multiplier (bit-identical reruns),
+// same fixed order (strided per invocation, then common/workgroup_sum.glsl), so all of them
+// compute the same multiplier (bit-identical reruns),
 // then each surface node of its chunk gets F -= lambda grad_k and its floor contact is
 // solved again, then (variant `colliders`) its kinematic colliders' contacts. Mirrors
 // global_apply in src/backend/cpu/parallel/iterations.rs.
@@ -41,7 +42,7 @@ WORKGROUP_SUM_PAIR(workgroup_sum2, float)
 void main() {
     uint index = global_object_index();
     GlobalObject object = objects[index];
-    // The chunk partials in parallel, then a shared-memory tree: a fixed order, so every
+    // The chunk partials in parallel, then the workgroup sum: a fixed order, so every
     // workgroup of the object gets the same sums (a loop of CHUNKS dependent loads per
     // workgroup took 14 us per iteration on the horse on an H200).
     vec4 partial = vec4(0.0);

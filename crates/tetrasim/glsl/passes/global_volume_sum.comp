@@ -4,7 +4,7 @@
 // constraint groups, over the whole GPU: every chunk of an object
 // (common/global_chunk.glsl) sums its surface nodes' share of
 // B = sum_k grad_k . (v_k / dt + w_k F_k) and of the floor's held terms (floor_held: the
-// floor force is F.w) in shared memory, in a fixed order, into the z and w of its
+// floor force is F.w) in a fixed order (common/workgroup_sum.glsl), into the z and w of its
 // GlobalState entry; global_volume then adds the chunks up. Mirrors global_sums in
 // src/backend/cpu/parallel/iterations.rs.
 #include "common/version.glsl"

@@ -98,6 +98,10 @@ pub struct DeviceInfo {
     pub max_storage_buffers: u32,
     /// Subgroup size (invocations).
     pub subgroup_size: u32,
+    /// Whether compute shaders have the subgroup operations the engine's reductions use
+    /// (`VK_SUBGROUP_FEATURE_BASIC_BIT` and `SHUFFLE_BIT` in the compute stage;
+    /// `glsl/common/workgroup_sum.glsl`).
+    pub subgroup_shuffle: bool,
     /// Nanoseconds per timestamp tick.
     pub timestamp_period_ns: f32,
     /// Whether the chosen compute queue supports timestamps (valid bits > 0).
@@ -213,6 +217,12 @@ impl DeviceInfo {
                 max_shared_memory: limits.max_compute_shared_memory_size,
                 max_storage_buffers: limits.max_per_stage_descriptor_storage_buffers,
                 subgroup_size: subgroup.subgroup_size,
+                subgroup_shuffle: subgroup
+                    .supported_stages
+                    .contains(vk::ShaderStageFlags::COMPUTE)
+                    && subgroup.supported_operations.contains(
+                        vk::SubgroupFeatureFlags::BASIC | vk::SubgroupFeatureFlags::SHUFFLE,
+                    ),
                 timestamp_period_ns: limits.timestamp_period,
                 timestamps: compute.is_some_and(|(_, f)| f.timestamp_valid_bits > 0)
                     && limits.timestamp_period > 0.0,
@@ -240,6 +250,13 @@ impl DeviceInfo {
         }
         if self.compute_family.is_none() {
             return Some("it has no compute queue".into());
+        }
+        if !self.subgroup_shuffle {
+            return Some(
+                "its compute shaders lack subgroup shuffles (VK_SUBGROUP_FEATURE_SHUFFLE_BIT), \
+                 which the engine's reductions use"
+                    .into(),
+            );
         }
         None
     }
@@ -395,7 +412,7 @@ pub fn select(devices: &[DeviceInfo], selector: &DeviceSelector) -> Result<usize
             .map(|d| d.index)
             .ok_or_else(|| {
                 Error::Gpu(format!(
-                    "no Vulkan 1.2 device with a compute queue among: {}",
+                    "no Vulkan 1.2 device with a compute queue and subgroup shuffles among: {}",
                     names()
                 ))
             }),
@@ -441,6 +458,7 @@ mod tests {
             max_shared_memory: 32768,
             max_storage_buffers: 32,
             subgroup_size: 32,
+            subgroup_shuffle: true,
             timestamp_period_ns: 1.0,
             timestamps: true,
             float_atomic_add: false,
@@ -469,6 +487,18 @@ mod tests {
         assert_eq!(select(&devices, &"INTEGRATED".parse().unwrap()).unwrap(), 1);
         assert!(select(&devices, &"nvidia".parse().unwrap()).is_err());
         assert!(select(&[], &DeviceSelector::Auto).is_err());
+    }
+
+    #[test]
+    fn devices_without_subgroup_shuffles_are_skipped_with_the_reason() {
+        let mut no_shuffle = fake(0, "discrete", REQUIRED_API);
+        no_shuffle.subgroup_shuffle = false;
+        let devices = [no_shuffle, fake(1, "cpu", REQUIRED_API)];
+        assert_eq!(select(&devices, &DeviceSelector::Auto).unwrap(), 1);
+        let refused = select(&devices, &DeviceSelector::Index(0))
+            .unwrap_err()
+            .to_string();
+        assert!(refused.contains("subgroup shuffles"), "{refused}");
     }
 
     #[test]
