@@ -10,6 +10,7 @@
 #include "common/bindings.glsl"
 #include "common/workgroup_sum.glsl"
 #include "common/minres.glsl"
+#include "physics/implicit.glsl"
 
 // The nodes grabs hold (specialisation constant 3; 0: GrabNodes is not read).
 layout(constant_id = 3) const uint GRABBED = 0u;
@@ -26,19 +27,14 @@ void main() {
     if (i >= pc.node_count) {
         return;
     }
-    vec3 held = vec3(0.0);
     float inv_mass = positions[i].w;
-    if (forces[i].w > 0.0) {
-        held = vec3(0.0, 1.0, 0.0);
-    }
 #ifdef COLLIDERS_ON
     vec3 push = contacts[i].xyz;
-    if (forces[i].w <= 0.0 && push != vec3(0.0)) {
-        held = normalize(push);
-    }
     if (GRABBED > 0u && grab_nodes[i] != 0xffffffffu) {
         inv_mass = 0.0;
     }
+#else
+    vec3 push = vec3(0.0);
 #endif
-    node_vectors[pc.node_count + i] = vec4(held, inv_mass);
+    node_vectors[pc.node_count + i] = vec4(held_direction(forces[i].w > 0.0, push), inv_mass);
 }

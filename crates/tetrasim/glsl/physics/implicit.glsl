@@ -25,11 +25,22 @@ void implicit_accumulate(inout float a, inout float b, vec3 grad, float w, float
     b += dot(grad, v / dt + w * f);
 }
 
-// The part of a global volume constraint's A that the floor takes from a surface node it
-// holds (floor_held in src/physics/constraint.rs): w g_y^2 for a node facing down that the
-// floor pushes, else 0.
-float floor_held(float grad_y, float w, float floor_force) {
-    return floor_force > 0.0 && grad_y < 0.0 ? w * grad_y * grad_y : 0.0;
+// The direction a node's contacts hold it along (held_direction in
+// src/physics/constraint.rs): +Y where the floor pushes it, else the direction of the
+// colliders' force on it, else 0.
+vec3 held_direction(bool floor_pushes, vec3 collider_force) {
+    if (floor_pushes) {
+        return vec3(0.0, 1.0, 0.0);
+    }
+    return collider_force != vec3(0.0) ? normalize(collider_force) : vec3(0.0);
+}
+
+// The part of a global volume constraint's A that a contact takes from a surface node it
+// holds along `held` (contact_held in src/physics/constraint.rs): w (g . held)^2 where the
+// gradient points into the contact, else 0.
+float contact_held(vec3 grad, float w, vec3 held) {
+    float along = dot(grad, held);
+    return along < 0.0 ? w * along * along : 0.0;
 }
 
 // The multiplier of a compliant, damped constraint (compliant_multiplier in
@@ -58,7 +69,7 @@ float implicit_multiplier(float c, float a, float b, float dt, float epsilon) {
 }
 
 // The multiplier of a global volume constraint (global_multiplier in
-// src/physics/constraint.rs): A less the floor's held terms when the push is outward
+// src/physics/constraint.rs): A less the contacts' held terms when the push is outward
 // (c / dt^2 + b < 0).
 float global_multiplier(float c, float a, float b, float held, float dt, float epsilon) {
     float a_free = c / (dt * dt) + b < 0.0 ? a - held : a;

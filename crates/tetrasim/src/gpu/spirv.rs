@@ -212,12 +212,13 @@ mod tests {
         // inversion_floor: gather; spring_constraint, distance, volume, inversion_floor: block;
         // constraint_apply: sums, gather,
         // chebyshev, gather_chebyshev, sums_colliders, gather_colliders; global_volume,
-        // integrate, contact_apply and anderson_mix: colliders (their `plain` variants keep
+        // global_volume_sum, integrate, contact_apply and anderson_mix: colliders (their
+        // `plain` variants keep
         // the shader's own key); integrate: split, colliders_split; split_velocity:
         // colliders; contact_measure: colliders, bodies, colliders_bodies; minres_setup and
         // minres_forces: colliders; minres_rows: one per mix of its four row segments (15);
         // minres_finish: s, v, sv.
-        assert_eq!(variants, 56);
+        assert_eq!(variants, 57);
     }
 
     #[test]

@@ -111,24 +111,42 @@ pub fn implicit_accumulate<V: Vector>(
     *b += grad.dot(v * (V::Real::ONE / dt) + f * w);
 }
 
-/// The part of a global volume constraint's `A` that the floor takes from a surface node it
-/// holds (physics.md, "One global volume constraint"): `w g_y^2` for a node that faces down
-/// (`g_y < 0`) and that the floor pushes (`floor_force > 0`), else 0. When the constraint
-/// pushes outward, such a node is pushed into the floor, which takes the vertical share of the
-/// push back (`floor_held` in glsl/physics/implicit.glsl).
+/// The direction a node's contacts hold it along: `+Y` where the floor pushes it
+/// (`floor_pushes`: its floor force is positive), else the direction of the kinematic
+/// colliders' force on it (`collider_force`, zero where none pushes it), else zero. MINRES
+/// holds its nodes along the same direction ([`crate::physics::Mobility::held_by`];
+/// `held_direction` in glsl/physics/implicit.glsl).
 #[inline]
-pub fn floor_held<R: Real>(grad_y: R, w: R, floor_force: R) -> R {
-    if floor_force > R::ZERO && grad_y < R::ZERO {
-        w * grad_y * grad_y
+pub fn held_direction<V: Vector>(floor_pushes: bool, collider_force: V) -> V {
+    if floor_pushes {
+        V::UNIT_Y
+    } else if collider_force != V::ZERO {
+        collider_force * (V::Real::ONE / collider_force.length())
     } else {
-        R::ZERO
+        V::ZERO
+    }
+}
+
+/// The part of a global volume constraint's `A` that a contact takes from a surface node it
+/// holds along `held` ([`held_direction`]; physics.md, "One global volume constraint"):
+/// `w (g . held)^2` where the gradient points into the contact (`g . held < 0`), else 0.
+/// When the constraint pushes outward, such a node is pushed into the floor or the
+/// collider, which takes that share of the push back. On the floor it is `w g_y^2` for a
+/// node facing down (`contact_held` in glsl/physics/implicit.glsl).
+#[inline]
+pub fn contact_held<V: Vector>(grad: V, w: V::Real, held: V) -> V::Real {
+    let along = grad.dot(held);
+    if along < V::Real::ZERO {
+        w * along * along
+    } else {
+        V::Real::ZERO
     }
 }
 
 /// The multiplier of a global volume constraint from its value `c`, its `A`, the sum part
-/// of its `B` and the floor's terms `held` (the sum of [`floor_held`] over its surface
+/// of its `B` and the contacts' terms `held` (the sum of [`contact_held`] over its surface
 /// nodes): [`implicit_multiplier`] with `A - held` when the push is outward
-/// (`c / dt^2 + b < 0`, volume to gain), which presses the held nodes into the floor, and
+/// (`c / dt^2 + b < 0`, volume to gain), which presses the held nodes into their contacts, and
 /// with `A` otherwise (`global_multiplier` in glsl/physics/implicit.glsl).
 #[inline]
 pub fn global_multiplier<R: Real>(c: R, a: R, b: R, held: R, dt: R, epsilon: R) -> Option<R> {
@@ -262,7 +280,11 @@ mod tests {
                 DVec3::ZERO,
                 dt,
             );
-            held += floor_held(grad[k].y, w[k], floor_force[k]);
+            held += contact_held(
+                grad[k],
+                w[k],
+                held_direction(floor_force[k] > 0.0, DVec3::ZERO),
+            );
         }
         assert_eq!(held, 1.0);
         let with = global_multiplier(c, a, b, held, dt, 1e-20).unwrap();

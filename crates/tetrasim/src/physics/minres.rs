@@ -26,7 +26,7 @@ use std::ops::Range;
 
 use glam::DVec3;
 
-use super::{Real, Vector};
+use super::{held_direction, Real, Vector};
 
 /// How a node moves under a force in the solve: its inverse mass, less the direction a
 /// contact holds.
@@ -50,11 +50,7 @@ impl Mobility {
     /// A node's mobility in a step's solve: the floor holds it along `+Y` when it pushes
     /// it, a collider along its push `collider` (zero: none), a grab in every direction.
     pub fn held_by(inv_mass: f64, floor: bool, collider: DVec3, grabbed: bool) -> Self {
-        let held = match (floor, collider != DVec3::ZERO) {
-            (true, _) => DVec3::Y,
-            (false, true) => collider.normalize(),
-            (false, false) => DVec3::ZERO,
-        };
+        let held = held_direction(floor, collider);
         let inv_mass = if grabbed { 0.0 } else { inv_mass };
         Mobility { inv_mass, held }
     }

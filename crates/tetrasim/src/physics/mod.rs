@@ -39,9 +39,9 @@ pub use chebyshev::{
     chebyshev_rho, chebyshev_rho_limit, chebyshev_weights, CHEBYSHEV_MAX_REVERSAL,
 };
 pub use constraint::{
-    compliant_multiplier, distance_constraint, face_volume, floor_held, global_multiplier,
-    implicit_accumulate, implicit_lambda, implicit_multiplier, inversion_floor, spring_constraint,
-    spring_softness, volume_constraint, volume_softness,
+    compliant_multiplier, contact_held, distance_constraint, face_volume, global_multiplier,
+    held_direction, implicit_accumulate, implicit_lambda, implicit_multiplier, inversion_floor,
+    spring_constraint, spring_softness, volume_constraint, volume_softness,
 };
 pub use contact::{contact_push, end_position, surface_friction, Solve};
 pub use integrate::{

@@ -32,7 +32,8 @@ impl Schedule {
     /// every stage that solves the floor ([`PassKind::has_floor_constant`]) solves their
     /// contacts (a grabbed node's attachment first) too, reading their data, poses and
     /// attachments and keeping their force in [`BufferId::ColliderContacts`]; MINRES's
-    /// setup reads their forces and the grabbed nodes.
+    /// setup reads their forces and the grabbed nodes, and `global_volume_sum` their forces
+    /// (the nodes they hold).
     pub fn with_colliders(mut self, colliders: u32, grabs: bool) -> Self {
         use Access::{Read, ReadWrite};
         use BufferId::*;
@@ -54,6 +55,10 @@ impl Schedule {
                 stage
                     .bindings
                     .extend([(ColliderContacts, Read), (GrabNodes, Read)]);
+            }
+            // The global volume constraints count the nodes the colliders hold.
+            for stage in (self.stages.iter_mut()).filter(|s| s.kind == PassKind::GlobalVolumeSum) {
+                stage.bindings.push((ColliderContacts, Read));
             }
         }
         self

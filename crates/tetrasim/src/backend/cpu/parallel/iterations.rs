@@ -401,11 +401,12 @@ pub(super) fn global_chunks(global: &Global) -> Vec<(usize, usize)> {
 }
 
 /// The partial sums of `B` of every object's global volume constraint against the current
-/// forces, and of the floor's held terms ([`floor_held`]), over fixed chunks of [`CHUNK`]
-/// surface nodes split among the members.
+/// forces, and of the contacts' held terms ([`contact_held`]: the floor's and the
+/// colliders'), over fixed chunks of [`CHUNK`] surface nodes split among the members.
 ///
 /// # Safety
-/// Nobody may write `f` or the floor forces during the call, and every member must call it
+/// Nobody may write `f`, the floor forces or the collider forces during the call, and every
+/// member must call it
 /// at the same point (each writes its own chunks of `partial`).
 unsafe fn global_sums(
     member: Member<'_>,
@@ -418,12 +419,13 @@ unsafe fn global_sums(
         .flat_map(|(o, (_, count))| (0..count).map(move |c| (o, c)))
         .collect();
     let mine = member.block(chunks.len());
-    // SAFETY: nobody writes `f` or the floor forces; the members write disjoint chunks of
-    // `partial` (the caller's promise).
-    let (f, floor_force, partial) = unsafe {
+    // SAFETY: nobody writes `f`, the floor forces or the collider forces; the members write
+    // disjoint chunks of `partial` (the caller's promise).
+    let (f, floor_force, contact, partial) = unsafe {
         (
             outputs.f.whole(),
             outputs.floor_force.whole(),
+            outputs.contact.whole(),
             outputs.partial.part(mine.clone()),
         )
     };
@@ -436,7 +438,8 @@ unsafe fn global_sums(
         for (&i, &g) in surface[chunk.clone()].iter().zip(&grad[chunk]) {
             let i = i as usize;
             implicit_accumulate(&mut a, &mut b, g, w[i], 1.0, v[i], f[i], dt);
-            held += floor_held(g.y, w[i], floor_force[i]);
+            let push = contact.get(i).copied().unwrap_or(Vec3A::ZERO);
+            held += contact_held(g, w[i], held_direction(floor_force[i] > 0.0, push));
         }
         *partial = [b, held];
     }

@@ -7,7 +7,7 @@ use super::{ReferenceBackend, StepForces};
 use crate::collider;
 use crate::model::{GlobalObject, GlobalVolume};
 use crate::physics::{
-    face_volume, floor_held, floor_solve, global_multiplier, implicit_accumulate,
+    contact_held, face_volume, floor_solve, global_multiplier, held_direction, implicit_accumulate,
 };
 
 impl ReferenceBackend {
@@ -68,7 +68,8 @@ impl ReferenceBackend {
                 let i = i as usize;
                 let w = self.problem.model.inv_mass[i];
                 implicit_accumulate(&mut a, &mut b, g, w, 1.0, self.v[i], step.total[i], p.dt);
-                held += floor_held(g.y, w, step.floor[i]);
+                let along = held_direction(step.floor[i] > 0.0, step.contacts[i].force);
+                held += contact_held(g, w, along);
             }
             let c = step.solve.hard(*c);
             *lambda = global_multiplier(c, a, b, held, p.dt, p.constraint_epsilon).unwrap_or(0.0);

@@ -36,11 +36,13 @@ impl PassPlan {
                 Variant::Named("colliders_split")
             }
             (PassKind::Integrate, _) if schedule.split => Variant::Named("split"),
-            (PassKind::Integrate | PassKind::GlobalVolume | PassKind::SplitVelocity, _)
-                if solve =>
-            {
-                Variant::Named("colliders")
-            }
+            (
+                PassKind::Integrate
+                | PassKind::GlobalVolume
+                | PassKind::GlobalVolumeSum
+                | PassKind::SplitVelocity,
+                _,
+            ) if solve => Variant::Named("colliders"),
             (PassKind::SpringScatter, _) => Variant::Atomics,
             (
                 PassKind::SpringConstraint
