@@ -213,6 +213,13 @@ impl RunRecord {
         self.contact_time_s.filter(|&t| end < t)
     }
 
+    /// Whether the volume was measured after the last frame only (a scene run without a
+    /// metrics file: no per-frame readback), so that its minimum and averages are that
+    /// frame's.
+    pub fn measured_last_frame_only(&self) -> bool {
+        !self.volume_pct.is_empty() && self.volume_pct.len() < self.frames_run as usize
+    }
+
     /// Recomputes `min_volume_pct`, `avg_volume_pct`, `max_inverted_tets` and `frames_run`
     /// from the per-frame series.
     pub fn summarise(&mut self) {
@@ -263,6 +270,8 @@ pub fn table(records: &[RunRecord]) -> String {
             format!("diverged after {} frames", r.frames_run)
         } else if let Some(t) = r.ends_before_contact() {
             format!("ended before reaching the floor (at {t:.3} s): not the paper's experiment")
+        } else if r.measured_last_frame_only() {
+            "the last frame's volume only (a scene's output.json measures every frame)".into()
         } else {
             String::new()
         };
@@ -420,6 +429,18 @@ mod tests {
             "{text}"
         );
         assert!(text.contains("1.500") && text.contains("3.000"), "{text}");
+    }
+
+    #[test]
+    fn a_run_measured_after_its_last_frame_only_says_so() {
+        let every = record(vec![100.0, 96.0], vec![0, 0]);
+        assert!(!every.measured_last_frame_only());
+        assert!(!table(&[every]).contains("last frame"));
+        let mut last = record(vec![96.0], vec![0]);
+        last.frames_run = 230;
+        assert!(last.measured_last_frame_only());
+        let text = table(&[last]);
+        assert!(text.contains("the last frame's volume only"), "{text}");
     }
 
     #[test]
