@@ -22,7 +22,7 @@ use common::{
 use tetrasim::backend::cpu::ReferenceBackend;
 use tetrasim::backend::vulkan::EngineOptions;
 use tetrasim::params::{MassMode, Method, Placement, SpringKind};
-use tetrasim::{Backend, Model, ModelBuilder, SimParams};
+use tetrasim::{Backend, Model, ModelBuilder, SimParams, State};
 
 /// Frames of the comparisons with `cpu-ref`.
 const FRAMES: u32 = 100;
@@ -30,26 +30,40 @@ const FRAMES: u32 = 100;
 /// bounding-box diagonal (the GPU solves in f32, `cpu-ref` in f64).
 const POSITION_FRACTION: f64 = 1e-5;
 
-/// `vulkan`'s distance from `cpu-ref` with MINRES after `frames` frames of `params` on
+/// `vulkan`'s distance from `cpu-ref` with MINRES after [`FRAMES`] frames of `params` on
 /// `model` [diagonals], and the distance of the run without MINRES from the same
 /// reference; the validation layer stays silent.
 fn distance_from_reference(model: &Model, params: &SimParams) -> (f64, f64) {
-    let mut reference = ReferenceBackend::new(model, params).unwrap();
-    run_frames(&mut reference, FRAMES);
-    let want = reference.state().unwrap();
-    let diag = model.bounds_diagonal();
+    let reference = reference_state(model, params, FRAMES);
     let without = SimParams {
         minres: 0,
         ..params.clone()
     };
-    let mut out = [0.0; 2];
-    for (d, p) in out.iter_mut().zip([params, &without]) {
-        let mut gpu = gpu_support::validated(model, p);
-        run_frames(&mut gpu, FRAMES);
-        *d = max_distance(&gpu.state().unwrap().positions, &want.positions) / diag;
-        gpu_support::assert_no_validation_messages(&gpu);
-    }
-    (out[0], out[1])
+    let [with, without] = [params, &without]
+        .map(|p| apart_from(&reference, model, p, EngineOptions::default(), FRAMES));
+    (with, without)
+}
+
+/// `cpu-ref`'s state after `frames` frames of `params` on `model`.
+fn reference_state(model: &Model, params: &SimParams, frames: u32) -> State {
+    let mut reference = ReferenceBackend::new(model, params).unwrap();
+    run_frames(&mut reference, frames);
+    reference.state().unwrap()
+}
+
+/// `vulkan`'s distance from the state `reference` after `frames` frames of `params` on
+/// `model` with the engine `options` [diagonals]; the validation layer stays silent.
+fn apart_from(
+    reference: &State,
+    model: &Model,
+    params: &SimParams,
+    options: EngineOptions,
+    frames: u32,
+) -> f64 {
+    let mut gpu = gpu_support::validated_with(model, params, options);
+    run_frames(&mut gpu, frames);
+    gpu_support::assert_no_validation_messages(&gpu);
+    max_distance(&gpu.state().unwrap().positions, &reference.positions) / model.bounds_diagonal()
 }
 
 #[test]
@@ -109,23 +123,6 @@ fn vulkan_follows_cpu_ref_with_minres_on_a_tilted_collider() {
     assert!(without > 10.0 * with.max(1e-7), "MINRES changed nothing");
 }
 
-/// `vulkan`'s distance from `cpu-ref` after `frames` frames of `params` on `model` with the
-/// engine `options` [diagonals]; the validation layer stays silent.
-fn apart_from_reference(
-    model: &Model,
-    params: &SimParams,
-    options: EngineOptions,
-    frames: u32,
-) -> f64 {
-    let mut reference = ReferenceBackend::new(model, params).unwrap();
-    run_frames(&mut reference, frames);
-    let want = reference.state().unwrap();
-    let mut gpu = gpu_support::validated_with(model, params, options);
-    run_frames(&mut gpu, frames);
-    gpu_support::assert_no_validation_messages(&gpu);
-    max_distance(&gpu.state().unwrap().positions, &want.positions) / model.bounds_diagonal()
-}
-
 #[test]
 fn workgroups_narrower_than_a_subgroup_follow_cpu_ref() {
     if !gpu_support::vulkan_available() {
@@ -146,7 +143,8 @@ fn workgroups_narrower_than_a_subgroup_follow_cpu_ref() {
         workgroup_size: Some(4),
         ..EngineOptions::default()
     };
-    let apart = apart_from_reference(&model, &params, options, FRAMES);
+    let reference = reference_state(&model, &params, FRAMES);
+    let apart = apart_from(&reference, &model, &params, options, FRAMES);
     println!("workgroups of 4: vulkan within {apart:.2e} diagonals of cpu-ref");
     assert!(apart < POSITION_FRACTION, "{apart:.2e} diagonals apart");
 }
@@ -193,13 +191,14 @@ fn the_global_volume_counts_the_nodes_a_collider_holds_as_on_cpu_ref() {
         minres: 3,
         ..SimParams::default()
     };
+    let frames = 250;
     let reference = lowest_volume(
         &mut ReferenceBackend::new(&model, &params).unwrap(),
         rest,
-        200,
+        frames,
     );
     let mut gpu = gpu_support::validated(&model, &params);
-    let lowest = lowest_volume(&mut gpu, rest, 250);
+    let lowest = lowest_volume(&mut gpu, rest, frames);
     gpu_support::assert_no_validation_messages(&gpu);
     println!("lowest total volume: vulkan {lowest:.5} %, cpu-ref {reference:.5} %");
     assert!(

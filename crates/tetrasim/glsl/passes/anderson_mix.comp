@@ -1,8 +1,9 @@
 #version 460
 // Pass `anderson_mix`: the second half of Anderson acceleration (src/physics/anderson.rs),
 // after anderson_sum, from iteration 1 on. Every workgroup adds the CHUNKS rows of
-// AndersonSums in the same fixed order (strided per invocation, then common/workgroup_sum.glsl
-// eight terms at a time, as global_volume does with two), so all of them solve the same weights gamma (invocation 0,
+// AndersonSums in the same fixed order (strided per invocation, then the workgroup sum of
+// common/workgroup_sum.glsl, eight terms at a time where global_volume sums two), so all of
+// them solve the same weights gamma (invocation 0,
 // anderson_weights); then each node's next input x = g - sum_j gamma_j dg_j is kept and
 // becomes its forces, whose floor and colliders' contacts are solved again
 // (passes/node_contacts.glsl); the compliant multipliers are mixed with the

@@ -2,7 +2,7 @@
 // Pass `global_volume`: the second half of one iteration of the global volume constraints
 // (physics.md, "One global volume constraint"), after global_volume_sum. Every workgroup
 // adds its object's chunk partials (common/global_chunk.glsl: C_g + V0, A, B and the
-// floor's held terms) in the
+// contacts' held terms) in the
 // same fixed order (strided per invocation, then common/workgroup_sum.glsl), so all of them
 // compute the same multiplier (bit-identical reruns),
 // then each surface node of its chunk gets F -= lambda grad_k and its floor contact is

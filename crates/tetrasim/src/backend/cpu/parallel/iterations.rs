@@ -406,8 +406,7 @@ pub(super) fn global_chunks(global: &Global) -> Vec<(usize, usize)> {
 ///
 /// # Safety
 /// Nobody may write `f`, the floor forces or the collider forces during the call, and every
-/// member must call it
-/// at the same point (each writes its own chunks of `partial`).
+/// member must call it at the same point (each writes its own chunks of `partial`).
 unsafe fn global_sums(
     member: Member<'_>,
     inputs: &Inputs<'_>,
