@@ -56,7 +56,7 @@ fn records_have_a_time_axis_and_short_runs_are_flagged() {
     let short = tetrasim(&args);
     assert!(short.status.success(), "{}", stderr(&short));
     let table = String::from_utf8_lossy(&short.stdout);
-    assert!(table.contains("ended before reaching the floor"), "{table}");
+    assert!(table.contains("ended before its first contact"), "{table}");
     let warning = stderr(&short);
     assert!(
         warning.contains("warning: volume on cpu (") && warning.contains(") ran 30 frames"),
@@ -88,6 +88,59 @@ fn records_have_a_time_axis_and_short_runs_are_flagged() {
     args.extend(["--mesh", &mesh, "--frames", "5", "--no-floor"]);
     let free = tetrasim(&args);
     assert!(!String::from_utf8_lossy(&free.stdout).contains("ended before"));
+}
+
+#[test]
+fn a_run_that_ends_before_landing_on_a_collider_is_flagged() {
+    // No floor: a plane collider 0.3 m below it, so the lowest node (0.1 m up, at rest)
+    // falls 0.4 m.
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = ball(dir.path());
+    let json = dir.path().join("run.json");
+    let scene = dir.path().join("plane.toml");
+    let write = |frames: u32| {
+        let text = format!(
+            "[solver]\nframes = {frames}\n\n[[object]]\nmesh = \"{mesh}\"\nmethod = \"volume\"\n\
+             drop_height = 0.1\n\n[[collider]]\ntype = \"plane\"\nnormal = [0.0, 1.0, 0.0]\n\
+             offset = -0.3\n\n[output]\njson = \"{}\"\n",
+            json.display()
+        );
+        std::fs::write(&scene, text).unwrap();
+    };
+    let run = |frames: u32| {
+        write(frames);
+        tetrasim(&[
+            "run",
+            "--scene",
+            scene.to_str().unwrap(),
+            "--backend",
+            "cpu",
+        ])
+    };
+    let short = run(30);
+    assert!(short.status.success(), "{}", stderr(&short));
+    let table = String::from_utf8_lossy(&short.stdout);
+    assert!(
+        table.contains("ended before its first contact (at 0.286 s)"),
+        "{table}"
+    );
+    assert!(
+        stderr(&short).contains("ended before the body first reached the floor or a collider"),
+        "{}",
+        stderr(&short)
+    );
+    let records: Vec<RunRecord> =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let contact = records[0].contact_time_s.unwrap();
+    assert!(
+        (contact - (2.0 * 0.4 / 9.81f64).sqrt()).abs() < 1e-8,
+        "{contact}"
+    );
+
+    let long = run(300);
+    assert!(long.status.success(), "{}", stderr(&long));
+    assert!(!String::from_utf8_lossy(&long.stdout).contains("ended before"));
+    assert!(!stderr(&long).contains("warning: volume"));
 }
 
 #[test]

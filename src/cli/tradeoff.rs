@@ -124,12 +124,13 @@ pub fn execute_tradeoff(args: TradeoffArgs) -> anyhow::Result<()> {
     if total <= args.warmup {
         anyhow::bail!("--frames {total} must exceed --warmup {}", args.warmup);
     }
-    if let Some(t) = model.floor_contact_time(preset.params.gravity) {
+    if let Some(t) = model.contact_time(preset.params.gravity, preset.params.floor) {
         let end = f64::from(total) * preset.params.frame_time();
         if end < t {
             eprintln!(
-                "warning: {total} frames ({end:.3} s) end before the body reaches the floor (at \
-                 {t:.3} s): the volume figures will be those of a free fall, not of the drop"
+                "warning: {total} frames ({end:.3} s) end before the body first reaches the floor \
+                 or a collider (at {t:.3} s): the volume figures will be those of a free fall, not \
+                 of the drop"
             );
         }
     }

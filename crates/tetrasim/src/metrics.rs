@@ -107,9 +107,9 @@ pub struct RunRecord {
     /// per-frame series; empty in records older than the field).
     #[serde(default)]
     pub time_s: Vec<f64>,
-    /// When the body first reaches the floor falling from its start [s]
-    /// ([`crate::model::Model::floor_contact_time`]); `None` without a floor or when it
-    /// never does.
+    /// When the body first reaches the floor or a fixed collider falling from its start [s]
+    /// ([`crate::model::Model::contact_time`]); `None` when it never does (nothing to land
+    /// on, or only moving colliders).
     #[serde(default)]
     pub contact_time_s: Option<f64>,
     /// Volume percentage after each completed frame.
@@ -180,11 +180,7 @@ impl RunRecord {
             params: params.clone(),
             derived: RecordFacts::of(problem),
             time_s: Vec::with_capacity(frames as usize),
-            contact_time_s: if params.floor {
-                model.floor_contact_time(params.gravity)
-            } else {
-                None
-            },
+            contact_time_s: model.contact_time(params.gravity, params.floor),
             volume_pct: Vec::with_capacity(frames as usize),
             inverted_tets: Vec::with_capacity(frames as usize),
             local_error_pct: Vec::with_capacity(frames as usize),
@@ -269,7 +265,7 @@ pub fn table(records: &[RunRecord]) -> String {
         let note = if r.diverged {
             format!("diverged after {} frames", r.frames_run)
         } else if let Some(t) = r.ends_before_contact() {
-            format!("ended before reaching the floor (at {t:.3} s): not the paper's experiment")
+            format!("ended before its first contact (at {t:.3} s): not the paper's experiment")
         } else if r.measured_last_frame_only() {
             "the last frame's volume only (a scene's output.json measures every frame)".into()
         } else {
@@ -292,8 +288,8 @@ pub fn table(records: &[RunRecord]) -> String {
     out
 }
 
-/// A warning for each record whose run ended before the body reached the floor, saying
-/// how many frames the drop needs; empty when every run reached it.
+/// A warning for each record whose run ended before the body reached the floor or a fixed
+/// collider, saying how many frames the drop needs; empty when every run reached it.
 pub fn short_run_warnings(records: &[RunRecord]) -> String {
     let mut out = String::new();
     for r in records {
@@ -301,9 +297,9 @@ pub fn short_run_warnings(records: &[RunRecord]) -> String {
             let frame_time = r.params.frame_time();
             let _ = writeln!(
                 out,
-                "warning: {} on {} ({}) ran {} frames ({:.3} s) and ended before the body reached \
-                 the floor (at {t:.3} s, frame {}): its volume figures are those of a free fall, \
-                 not of the paper's drop",
+                "warning: {} on {} ({}) ran {} frames ({:.3} s) and ended before the body first \
+                 reached the floor or a collider (at {t:.3} s, frame {}): its volume figures are \
+                 those of a free fall, not of a drop",
                 r.method,
                 r.backend,
                 r.mesh,

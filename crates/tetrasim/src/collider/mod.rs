@@ -8,6 +8,7 @@
 //! [`Shape::Plane`] is any other half-space.
 
 mod clamp;
+mod first_contact;
 mod grab;
 mod grid;
 mod motion;
@@ -18,6 +19,7 @@ use std::sync::Arc;
 use glam::{DQuat, DVec3};
 
 pub use clamp::{drive, Clamp};
+pub use first_contact::{free_fall_contact_time, HORIZON_S};
 pub use grab::{attachments, Attachment, Grab};
 pub use grid::DistanceGrid;
 use motion::{finite_vector, param, unit_quaternion};

@@ -338,17 +338,37 @@ impl Model {
         Ok(self)
     }
 
-    /// When the first free node would reach the floor `y = 0` falling freely from the start
-    /// state under `gravity` (along -Y) [s]: 0 if one starts on or below it, `None` if none
-    /// ever does. Exact until the first contact, since nothing but gravity acts on a body
-    /// that starts at rest in its shape (an estimate for a deformed start).
-    pub fn floor_contact_time(&self, gravity: f64) -> Option<f64> {
+    /// When the first free node would touch the floor (when `floor`) or a fixed collider,
+    /// falling freely from the start state under `gravity` (along -Y) [s]: the earlier of
+    /// [`Self::floor_contact_time`] and [`crate::collider::free_fall_contact_time`]; `None`
+    /// if neither is ever reached (a collider: within [`crate::collider::HORIZON_S`]).
+    pub fn contact_time(&self, gravity: f64, floor: bool) -> Option<f64> {
+        let floor = floor.then(|| self.floor_contact_time(gravity)).flatten();
+        let free: Vec<(DVec3, DVec3)> = self.free_nodes().map(|(p, v)| (*p, *v)).collect();
+        let collider = match self.colliders.is_empty() {
+            true => None,
+            false => crate::collider::free_fall_contact_time(&self.colliders, &free, gravity),
+        };
+        floor.into_iter().chain(collider).min_by(f64::total_cmp)
+    }
+
+    /// The start position and velocity of every node that can move.
+    fn free_nodes(&self) -> impl Iterator<Item = (&DVec3, &DVec3)> {
         self.positions
             .iter()
             .zip(&self.velocities)
             .zip(&self.inv_mass)
             .filter(|(_, &w)| w > 0.0)
-            .filter_map(|((p, v), _)| {
+            .map(|(pv, _)| pv)
+    }
+
+    /// When the first free node would reach the floor `y = 0` falling freely from the start
+    /// state under `gravity` (along -Y) [s]: 0 if one starts on or below it, `None` if none
+    /// ever does. Exact until the first contact, since nothing but gravity acts on a body
+    /// that starts at rest in its shape (an estimate for a deformed start).
+    pub fn floor_contact_time(&self, gravity: f64) -> Option<f64> {
+        self.free_nodes()
+            .filter_map(|(p, v)| {
                 let (y, vy) = (p.y, v.y);
                 if y <= 0.0 {
                     return Some(0.0);
