@@ -87,6 +87,8 @@ pub struct GlobalCounts {
     /// The most surface nodes or faces of one object: the global passes give every object
     /// as many chunks (workgroups) as this needs.
     pub largest: u32,
+    /// The most surface nodes of one object (MINRES's global row has an entry for each).
+    pub largest_nodes: u32,
 }
 
 impl GlobalCounts {
@@ -100,6 +102,12 @@ impl GlobalCounts {
                 .objects
                 .iter()
                 .map(|o| o.node_count.max(o.face_count))
+                .max()
+                .unwrap_or(0),
+            largest_nodes: global
+                .objects
+                .iter()
+                .map(|o| o.node_count)
                 .max()
                 .unwrap_or(0),
         }

@@ -9,6 +9,17 @@ impl EnginePlan {
         MinresCounts::of(&self.schedule, self.counts, self.global, workgroup)
     }
 
+    /// MINRES's global rows' loop: the most surface nodes of one object, and how many of
+    /// them each invocation of the object's one workgroup sums in `minres_rows` and
+    /// `minres_product` (glsl/common/minres.glsl); `None` without MINRES's global rows.
+    /// The cost model spreads a pass's work evenly over the multiprocessors, so it does not
+    /// count this loop (docs/GPU.md, "MINRES's object rows in one workgroup").
+    pub fn minres_object_loop(&self) -> Option<(u32, u32)> {
+        let m = self.minres_counts().filter(|m| m.objects > 0)?;
+        let nodes = self.global?.largest_nodes;
+        Some((nodes, nodes.div_ceil(m.workgroup.max(1))))
+    }
+
     /// Whether buffer `id` is built.
     pub fn has(&self, id: BufferId) -> bool {
         self.buffers.iter().any(|b| b.id == id)
