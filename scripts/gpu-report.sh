@@ -168,12 +168,22 @@ SETTINGS
     # Issue 22's candidate default (docs/BENCHMARKS.md, "One sweep, then MINRES" and "With
     # MINRES's close"): one sweep of 1, 2 or 8 colour groups, then MINRES (ending with the
     # global volume constraints, or with an inversion sweep), at the seed preset.
-    for s in gauss-seidel:1+global+minres7 gauss-seidel:2+global+minres7 \
-             gauss-seidel:2+global+minres8 gauss-seidel:8+global+minres10+inversion1; do
-      f="$R/stiff_bench_1it_${s//[:+]/-}"
-      timeout 60 "$B/tetrasim" bench --mesh "$M/bunny20k" --mesh "$M/horse86m" --no-bundled --method volume \
-        --backend vulkan --solver "$s" --iterations 1 --json "$f.json" > "$f.txt" 2>&1
-      echo "$s, 1 iteration:"; grep -E 'ms/frame' "$f.txt" | head -4
+    # With an old build bundled (gpu-bundle.sh --old), it runs these too: e.g. a build of
+    # docs/experiments/minres_object_chunks.patch, whose MINRES passes only a GPU can judge.
+    for v in $builds; do
+      for s in gauss-seidel:1+global+minres7 gauss-seidel:2+global+minres7 \
+               gauss-seidel:2+global+minres8 gauss-seidel:8+global+minres10+inversion1; do
+        f="$R/stiff_bench_1it_${s//[:+]/-}"; [ "$v" = old ] && f="${f}_old"
+        timeout 60 "$(bin_of "$v")" bench --mesh "$M/bunny20k" --mesh "$M/horse86m" --no-bundled \
+          --method volume --backend vulkan --solver "$s" --iterations 1 --json "$f.json" > "$f.txt" 2>&1
+        echo "$v $s, 1 iteration:"; grep -E 'ms/frame' "$f.txt" | head -4
+      done
+      [ "$v" = old ] || continue
+      f="$R/stiff_horse_minres25_inversion8_old.txt"
+      timeout 60 "$B/tetrasim-old" run --mesh "$M/horse86m" --no-fit --drop-height 0.1 --density 1000 \
+        --method volume --springs implicit --backend vulkan --frames 400 --iterations 1 --minres 25 \
+        --inversion-sweeps 8 > "$f" 2>&1
+      echo "old horse minres25_inversion8: $(sed -n 3p "$f")"
     done ;;
   tests)
     export CI=true
