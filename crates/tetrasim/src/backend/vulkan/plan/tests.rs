@@ -4,7 +4,7 @@ use super::*;
 use crate::params::Solver;
 use crate::schedule::Domain;
 
-const COUNTS: PlanCounts = PlanCounts {
+pub(super) const COUNTS: PlanCounts = PlanCounts {
     nodes: 10,
     springs: 30,
     tets: 12,
@@ -26,7 +26,7 @@ pub(super) fn volume_sweep() -> [SweepPlan; 1] {
 }
 
 /// One object's global volume constraint over 8 surface nodes and 12 faces.
-const ONE_OBJECT: GlobalCounts = GlobalCounts {
+pub(super) const ONE_OBJECT: GlobalCounts = GlobalCounts {
     objects: 1,
     nodes: 8,
     faces: 12,
@@ -583,39 +583,4 @@ fn minres_builds_its_rows_buffers_and_passes_after_the_iterations() {
         .find(|p| p.name() == "minres_nodes")
         .unwrap();
     assert_eq!((nodes.lanes(), nodes.elements), (2, 2 * 64));
-}
-
-#[test]
-fn plan_names_the_minres_loop_its_model_leaves_out() {
-    let sweeps = volume_sweep();
-    let params = SimParams {
-        method: Method::Volume,
-        iterations: 2,
-        minres: 4,
-        ..SimParams::default()
-    };
-    let small = EnginePlan::new(COUNTS, &params, 64, false, &sweeps, Some(ONE_OBJECT));
-    assert_eq!(small.minres_object_loop(), Some((8, 1)));
-    assert!(!small.render().contains("not counted"));
-    // horse86m: every one of its 24228 nodes is on the surface.
-    let horse = GlobalCounts {
-        nodes: 24228,
-        faces: 48452,
-        largest: 48452,
-        largest_nodes: 24228,
-        ..ONE_OBJECT
-    };
-    let plan = EnginePlan::new(COUNTS, &params, 256, false, &sweeps, Some(horse));
-    assert_eq!(plan.minres_object_loop(), Some((24228, 95)));
-    let text = plan.render();
-    assert!(
-        text.contains("24228 surface nodes summed by one workgroup per object (95 per invocation)"),
-        "{text}"
-    );
-    let without = SimParams {
-        minres: 0,
-        ..params
-    };
-    let off = EnginePlan::new(COUNTS, &without, 256, false, &sweeps, Some(horse));
-    assert_eq!(off.minres_object_loop(), None);
 }
