@@ -344,11 +344,12 @@ impl Model {
     /// if neither is ever reached (a collider: within [`crate::collider::HORIZON_S`]).
     pub fn contact_time(&self, gravity: f64, floor: bool) -> Option<f64> {
         let floor = floor.then(|| self.floor_contact_time(gravity)).flatten();
-        let free: Vec<(DVec3, DVec3)> = self.free_nodes().map(|(p, v)| (*p, *v)).collect();
-        let collider = match self.colliders.is_empty() {
-            true => None,
-            false => crate::collider::free_fall_contact_time(&self.colliders, &free, gravity),
-        };
+        let collider = (!self.colliders.is_empty())
+            .then(|| {
+                let free: Vec<(DVec3, DVec3)> = self.free_nodes().map(|(p, v)| (*p, *v)).collect();
+                crate::collider::free_fall_contact_time(&self.colliders, &free, gravity)
+            })
+            .flatten();
         floor.into_iter().chain(collider).min_by(f64::total_cmp)
     }
 
