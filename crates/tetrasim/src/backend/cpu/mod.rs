@@ -8,6 +8,7 @@ mod parallel;
 mod reference;
 mod shared;
 mod team;
+mod team_choice;
 
 pub use parallel::ParallelBackend;
 pub use reference::{Forces, ReferenceBackend};

@@ -6,7 +6,8 @@
 //! once, which a shared pool (busy with other work, or with another team's broadcast)
 //! cannot promise. Its size is rayon's thread count where the backend is built
 //! (`RAYON_NUM_THREADS`, or the pool it is built in), capped so that each thread gets
-//! enough work to outweigh its barriers. The step's other passes run on the same threads
+//! enough work to outweigh its barriers; the backend then times that size and smaller ones
+//! on its first frames and keeps the fastest ([`super::team_choice`]). The step's other passes run on the same threads
 //! ([`Team::install`]), so that no second set of threads competes with the team. Results never depend on the size: each element
 //! is computed by exactly one thread with the same arithmetic whatever the partition.
 
@@ -18,7 +19,8 @@ use super::barrier::SpinBarrier;
 /// separates. Measured on 16 cores (docs/BENCHMARKS.md): with no cap at all, 16 threads
 /// were not slower than one even on the bundled 371-node box, and a cap of 512 nodes (8
 /// threads on the 4.6k-node bunny) cost the bunny a third of its 16-thread speed; this
-/// only keeps teams off toy meshes.
+/// only keeps teams off toy meshes. Where barriers cost more (a shared 2-core virtual
+/// machine), [`super::team_choice::TeamChoice`] finds that by timing.
 pub const MIN_NODES_PER_THREAD: usize = 64;
 
 /// Fewest constraints per team member in an average group (as
@@ -43,6 +45,11 @@ impl Team {
             .min(group_size / MIN_CONSTRAINTS_PER_THREAD)
             .max(1);
         Self::with_size(size)
+    }
+
+    /// The number of threads in the team.
+    pub(super) fn size(&self) -> usize {
+        self.size
     }
 
     /// A team of `size` threads (one if they cannot be started).

@@ -2,7 +2,9 @@
 //! bit-identical for teams of 1, 2, 3 and 4 threads (every solver, MINRES, implicit and
 //! explicit springs), and the 4-thread run follows the `cpu-ref` backend within the tolerance of
 //! `tests/cpu_matches_reference.rs`. The teams are built with their size given, past the
-//! cap on small meshes ([`crate::backend::cpu::team::Team::for_work`]).
+//! cap on small meshes ([`crate::backend::cpu::team::Team::for_work`]). So is a backend that
+//! changes teams from frame to frame while it times them
+//! ([`crate::backend::cpu::team_choice::TeamChoice`]).
 
 use super::*;
 use crate::backend::cpu::ReferenceBackend;
@@ -35,11 +37,17 @@ fn model() -> Model {
 
 /// The state after [`FRAMES`] frames on a team of `threads`.
 fn run(problem: &Problem, threads: usize) -> State {
-    let mut backend = ParallelBackend::from_problem(problem).with_team_size(threads);
+    run_choosing(problem, &[threads])
+}
+
+/// The state after [`FRAMES`] frames on teams of the candidate `sizes`, each in turn while
+/// the backend times them ([`TeamChoice`](crate::backend::cpu::team_choice::TeamChoice)).
+fn run_choosing(problem: &Problem, sizes: &[usize]) -> State {
+    let mut backend = ParallelBackend::from_problem(problem).with_team_sizes(sizes);
     for frame in 0..FRAMES {
         backend
             .step_frame()
-            .unwrap_or_else(|e| panic!("frame {frame} on {threads} threads: {e}"));
+            .unwrap_or_else(|e| panic!("frame {frame} on teams of {sizes:?}: {e}"));
     }
     backend.state().expect("the state")
 }
@@ -123,6 +131,10 @@ fn teams_of_any_size_give_the_same_bits() {
                 "{name}: {threads} threads differ from 1"
             );
         }
+        assert!(
+            bits(&run_choosing(&problem, &[4, 2, 1])) == bits(&one),
+            "{name}: teams of 4, 2 and 1 in turn differ from 1"
+        );
     }
 }
 

@@ -10,6 +10,7 @@ mod minres;
 use super::*;
 use crate::backend::cpu::shared::SharedSlice;
 use crate::backend::cpu::team::Team;
+use crate::backend::cpu::team_choice::TeamChoice;
 use crate::backend::ContactSample;
 use crate::collider::{Clamp, Collider, Grab};
 use crate::contact::{deepest, Contact};
@@ -49,8 +50,9 @@ pub struct ParallelBackend {
     chebyshev: Option<Chebyshev>,
     /// Anderson acceleration's arrays (`anderson > 0` with constraint iterations).
     anderson: Option<super::anderson::Anderson>,
-    /// The threads that run the constraint iterations.
-    team: Team,
+    /// The threads that run the step (the constraint iterations as a team), chosen by
+    /// timing the first frames.
+    teams: TeamChoice,
     /// The floor's normal force on each node in the current step [N] (`>= 0`).
     floor_force: Vec<f32>,
     /// The problem, when runs of it measure contact ([`Problem::measures_contact`]), and the
@@ -183,7 +185,7 @@ impl ParallelBackend {
                     .sum();
                 super::anderson::Anderson::new(params.anderson, n, constraints, volumes)
             }),
-            team: Team::for_work(n, mean_group_size(&sweeps)),
+            teams: TeamChoice::for_work(n, mean_group_size(&sweeps)),
             floor_force: vec![0.0; n],
             bodies: problem.bodies.is_some().then(|| problem.clone()),
             measured: problem.measures_contact().then(|| problem.clone()),
@@ -248,10 +250,11 @@ impl ParallelBackend {
         }
     }
 
-    /// The same backend on a team of `size` threads, whatever the work (tests).
+    /// The same backend choosing among teams of the given sizes, whatever the work (tests;
+    /// one size is a fixed team).
     #[cfg(test)]
-    pub(super) fn with_team_size(mut self, size: usize) -> Self {
-        self.team = Team::with_size(size);
+    pub(super) fn with_team_sizes(mut self, sizes: &[usize]) -> Self {
+        self.teams = TeamChoice::with_sizes(sizes);
         self
     }
 
@@ -569,14 +572,17 @@ impl Backend for ParallelBackend {
 
     fn step_frame(&mut self) -> Result<()> {
         // Taken out for the frame: the step borrows the rest of `self` mutably.
-        let team = std::mem::take(&mut self.team);
-        let result = team.install(|| self.frame_steps(&team));
-        self.team = team;
+        let mut teams = std::mem::take(&mut self.teams);
+        let start = std::time::Instant::now();
+        let team = teams.team();
+        let result = team.install(|| self.frame_steps(team));
+        teams.record(start.elapsed());
+        self.teams = teams;
         result
     }
 
     fn volume(&mut self) -> Result<VolumeSample> {
-        Ok(self.team.install(|| self.volume_sample()))
+        Ok(self.teams.team().install(|| self.volume_sample()))
     }
 
     fn state(&mut self) -> Result<State> {
