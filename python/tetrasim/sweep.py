@@ -4,6 +4,7 @@ processes otherwise. The same settings give the same records either way (the ``c
 
 from __future__ import annotations
 
+import multiprocessing
 import os
 from concurrent.futures import ProcessPoolExecutor
 from typing import Any, Dict, List, Optional, Sequence
@@ -109,5 +110,8 @@ def _on_processes(settings: List[Dict[str, Any]], processes: Optional[int]) -> L
     workers = processes or os.cpu_count() or 1
     if workers <= 1 or len(settings) <= 1:
         return [run_setting(s) for s in settings]
-    with ProcessPoolExecutor(max_workers=workers) as pool:
+    # Spawned, not forked: a fork copies no threads, so a child would wait forever on the
+    # engine's thread pool if this process had started it (any run on a small mesh does).
+    spawn = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(max_workers=workers, mp_context=spawn) as pool:
         return list(pool.map(run_setting, settings))
