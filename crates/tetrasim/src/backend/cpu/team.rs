@@ -33,6 +33,10 @@ pub(super) struct Team {
     size: usize,
     /// The team's threads (none for a team of one, which runs on the caller).
     pool: Option<rayon::ThreadPool>,
+    /// How many of the threads run [`Team::run`]'s closure (the others return at once;
+    /// [`Team::install`]'s parallel iterators use them all): `size` unless set lower
+    /// ([`Team::set_members`]).
+    members: usize,
 }
 
 impl Team {
@@ -63,10 +67,25 @@ impl Team {
                     .ok()
             })
             .flatten();
+        let size = if pool.is_some() { size } else { 1 };
         Team {
-            size: if pool.is_some() { size } else { 1 },
+            size,
             pool,
+            members: size,
         }
+    }
+
+    /// How many of the team's threads run [`Team::run`]'s closure from now on: `members`,
+    /// at least 1 and at most the team's size. The others only take part in
+    /// [`Team::install`]'s parallel iterators.
+    pub(super) fn set_members(&mut self, members: usize) {
+        self.members = members.clamp(1, self.size);
+    }
+
+    /// How many threads run [`Team::run`]'s closure.
+    #[cfg(test)]
+    pub(super) fn members(&self) -> usize {
+        self.members
     }
 
     /// Runs `op` on the team's pool, so that its parallel iterators use the team's threads
@@ -78,26 +97,30 @@ impl Team {
         }
     }
 
-    /// Runs `op` once on every member at the same time and returns when all have finished.
+    /// Runs `op` once on every member (the first [`Team::members`] threads; on the caller
+    /// for one) at the same time and returns when all have finished.
     /// `op` must call [`Member::wait`] the same number of times on every member; a panic
     /// in one member leaves the others waiting forever.
     pub(super) fn run(&self, op: impl Fn(Member<'_>) + Sync) {
-        let barrier = SpinBarrier::new(self.size);
+        let members = self.members;
+        let barrier = SpinBarrier::new(members);
         match &self.pool {
-            None => op(Member {
+            Some(pool) if members > 1 => {
+                pool.broadcast(|context| {
+                    if context.index() < members {
+                        op(Member {
+                            index: context.index(),
+                            size: members,
+                            barrier: &barrier,
+                        })
+                    }
+                });
+            }
+            _ => op(Member {
                 index: 0,
                 size: 1,
                 barrier: &barrier,
             }),
-            Some(pool) => {
-                pool.broadcast(|context| {
-                    op(Member {
-                        index: context.index(),
-                        size: context.num_threads(),
-                        barrier: &barrier,
-                    })
-                });
-            }
         }
     }
 }
@@ -110,10 +133,12 @@ impl Default for Team {
 }
 
 impl Clone for Team {
-    /// A new team of the same size: two backends never share threads, so a barrier
-    /// never waits for a thread busy with the other.
+    /// A new team of the same size and members: two backends never share threads, so a
+    /// barrier never waits for a thread busy with the other.
     fn clone(&self) -> Self {
-        Self::with_size(self.size)
+        let mut team = Self::with_size(self.size);
+        team.set_members(self.members);
+        team
     }
 }
 

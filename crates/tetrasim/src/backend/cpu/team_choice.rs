@@ -1,18 +1,19 @@
-//! Which team of threads runs a backend's frames, chosen by timing them: the largest team
-//! [`Team::for_work`] allows is not always the fastest. A barrier's cost depends on the
-//! machine: on 16 dedicated cores a team of 16 is not slower than one even on a 371-node
-//! mesh, while on a shared 2-core virtual machine a team of two makes the bundled meshes
-//! 1.2 to 1.3x slower than one thread (docs/BENCHMARKS.md, "The `cpu` backend's threads").
+//! How many of a team's threads run a backend's constraint iterations, chosen by timing the
+//! first frames: the largest team [`Team::for_work`] allows is not always the fastest. A
+//! barrier's cost depends on the machine: on 16 dedicated cores a team of 16 is not slower
+//! than one even on a 371-node mesh, while on a shared 2-core virtual machine a team of two
+//! makes the bundled meshes 1.2 to 1.4x slower than one thread (docs/BENCHMARKS.md, "The
+//! `cpu` backend's threads").
 //!
-//! So the backend tries the allowed size and its halvings down to one thread, largest first:
-//! after one untimed frame, each runs a frame in turn until one is more than [`SLOWER`] times
-//! the fastest so far (it and the smaller ones are dropped: halving the team again is not
-//! expected to help). The candidates left run in turn until each has run [`ROUNDS`] frames,
-//! and the one with the fastest frame runs every frame after that; the others' threads are
-//! let go.
-//! On a machine where the largest team is clearly fastest that costs one frame of the next
-//! size. A team's size never changes a result ([`Team`]), so the choice changes speed
-//! only: states are bit-identical whichever team runs which frame.
+//! So the iterations run on the team's size and its halvings down to one thread, largest
+//! first ([`Team::set_members`]; the step's other passes always use every thread of the
+//! team). After one untimed frame, each size runs a frame in turn until one is more than
+//! [`SLOWER`] times the fastest so far: it and the smaller ones are dropped, since halving
+//! again is not expected to help. The sizes left run in turn until each has run [`ROUNDS`]
+//! frames, and the one with the fastest frame runs every frame after that. Where the largest
+//! size is clearly fastest, that costs one frame on half the threads. The number of threads
+//! never changes a result ([`Team`]), so the choice changes speed only: states are
+//! bit-identical whichever size runs which frame.
 
 use std::time::Duration;
 
@@ -25,11 +26,12 @@ pub const ROUNDS: u32 = 3;
 /// the descent.
 pub const SLOWER: f64 = 1.25;
 
-/// The candidate teams and their timings, then the chosen team.
-#[derive(Debug)]
+/// The team, its candidate member counts and their timings, then the chosen count.
+#[derive(Debug, Clone)]
 pub(super) struct TeamChoice {
-    /// Largest first; only the chosen one once chosen.
-    teams: Vec<Team>,
+    team: Team,
+    /// The candidate member counts, largest first; only the chosen one once chosen.
+    sizes: Vec<usize>,
     /// Each candidate's fastest timed frame.
     fastest: Vec<Duration>,
     /// Each candidate's timed frames.
@@ -44,16 +46,30 @@ impl TeamChoice {
     /// The candidates for `nodes` nodes and groups of `group_size` constraints on average:
     /// [`Team::for_work`]'s size, then its halvings (rounded up) down to 1.
     pub(super) fn for_work(nodes: usize, group_size: usize) -> Self {
-        Self::with_sizes(&halvings(Team::for_work(nodes, group_size).size()))
+        let team = Team::for_work(nodes, group_size);
+        let sizes = halvings(team.size());
+        Self::new(team, sizes)
     }
 
-    /// Candidates of the given sizes, largest first (tests; one size is a fixed team).
+    /// A team of the first size choosing among the given sizes, largest first (tests; one
+    /// size is a fixed team).
+    #[cfg(test)]
     pub(super) fn with_sizes(sizes: &[usize]) -> Self {
-        let teams: Vec<Team> = sizes.iter().map(|&s| Team::with_size(s)).collect();
+        Self::new(Team::with_size(sizes[0]), sizes.to_vec())
+    }
+
+    /// `team` choosing among `sizes` (largest first, none above its size).
+    fn new(mut team: Team, mut sizes: Vec<usize>) -> Self {
+        sizes.retain(|&s| s <= team.size());
+        if sizes.is_empty() {
+            sizes.push(1);
+        }
+        team.set_members(sizes[0]);
         TeamChoice {
-            fastest: vec![Duration::MAX; teams.len()],
-            runs: vec![0; teams.len()],
-            teams,
+            team,
+            fastest: vec![Duration::MAX; sizes.len()],
+            runs: vec![0; sizes.len()],
+            sizes,
             next: 0,
             warm: false,
         }
@@ -61,26 +77,31 @@ impl TeamChoice {
 
     /// Whether the choice is made (at once for a single candidate).
     pub(super) fn chosen(&self) -> bool {
-        self.teams.len() == 1
+        self.sizes.len() == 1
     }
 
-    /// The team that runs the next frame.
+    /// The team, with the members that run the next frame.
     pub(super) fn team(&self) -> &Team {
-        &self.teams[self.next]
+        &self.team
     }
 
-    /// The size of the team that runs the next frame.
+    /// How many members run the next frame.
     #[cfg(test)]
     fn size(&self) -> usize {
-        self.team().size()
+        self.team.members()
     }
 
     /// Records how long the frame that [`Self::team`] ran took and picks the next frame's
     /// team (module docs).
     pub(super) fn record(&mut self, elapsed: Duration) {
-        if self.chosen() {
-            return;
+        if !self.chosen() {
+            self.choose_next(elapsed);
+            self.team.set_members(self.sizes[self.next]);
         }
+    }
+
+    /// [`Self::record`]'s choice of the next frame's candidate.
+    fn choose_next(&mut self, elapsed: Duration) {
         if !self.warm {
             self.warm = true;
             return;
@@ -97,22 +118,22 @@ impl TeamChoice {
                 .unwrap_or(Duration::MAX);
             if k > 0 && elapsed.as_secs_f64() > SLOWER * best.as_secs_f64() {
                 self.keep(k);
-            } else if k + 1 < self.teams.len() {
+            } else if k + 1 < self.sizes.len() {
                 self.next = k + 1;
                 return;
             }
         }
         // The rounds: the candidate with the fewest frames, the largest first.
-        match (0..self.teams.len())
+        match (0..self.sizes.len())
             .filter(|&c| self.runs[c] < ROUNDS)
             .min_by_key(|&c| self.runs[c])
         {
             Some(c) => self.next = c,
             None => {
-                let best = (0..self.teams.len())
+                let best = (0..self.sizes.len())
                     .min_by_key(|&c| (self.fastest[c], c))
                     .unwrap_or(0);
-                self.teams.swap(0, best);
+                self.sizes.swap(0, best);
                 self.fastest.swap(0, best);
                 self.runs.swap(0, best);
                 self.keep(1);
@@ -120,9 +141,9 @@ impl TeamChoice {
         }
     }
 
-    /// Drops the candidates from `count` on (their threads are let go).
+    /// Drops the candidates from `count` on.
     fn keep(&mut self, count: usize) {
-        self.teams.truncate(count);
+        self.sizes.truncate(count);
         self.fastest.truncate(count);
         self.runs.truncate(count);
         self.next = self.next.min(count - 1);
@@ -132,21 +153,7 @@ impl TeamChoice {
 impl Default for TeamChoice {
     /// A team of one, chosen: the caller's thread.
     fn default() -> Self {
-        Self::with_sizes(&[1])
-    }
-}
-
-impl Clone for TeamChoice {
-    /// New teams of the same sizes, the choice as far as it got (two backends never share
-    /// threads).
-    fn clone(&self) -> Self {
-        TeamChoice {
-            teams: self.teams.clone(),
-            fastest: self.fastest.clone(),
-            runs: self.runs.clone(),
-            next: self.next,
-            warm: self.warm,
-        }
+        Self::new(Team::default(), vec![1])
     }
 }
 
