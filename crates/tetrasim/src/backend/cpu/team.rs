@@ -6,10 +6,11 @@
 //! once, which a shared pool (busy with other work, or with another team's broadcast)
 //! cannot promise. Its size is rayon's thread count where the backend is built
 //! (`RAYON_NUM_THREADS`, or the pool it is built in), capped so that each thread gets
-//! enough work to outweigh its barriers; the backend then times that size and smaller ones
-//! on its first frames and keeps the fastest ([`super::team_choice`]). The step's other passes run on the same threads
-//! ([`Team::install`]), so that no second set of threads competes with the team. Results never depend on the size: each element
-//! is computed by exactly one thread with the same arithmetic whatever the partition.
+//! enough work to outweigh its barriers; the backend then times that many threads and fewer
+//! on its first frames and keeps the fastest ([`super::team_choice`]). The step's other
+//! passes run on the same threads ([`Team::install`]), so that no second set of threads
+//! competes with the team. Results never depend on the size: each element is computed by
+//! exactly one thread with the same arithmetic whatever the partition.
 
 use std::ops::Range;
 
@@ -97,8 +98,9 @@ impl Team {
         }
     }
 
-    /// Runs `op` once on every member (the first [`Team::members`] threads; on the caller
-    /// for one) at the same time and returns when all have finished.
+    /// Runs `op` once on every member (the first threads, as many as
+    /// [`Team::set_members`] gave; on the caller for one) at the same time and returns when
+    /// all have finished.
     /// `op` must call [`Member::wait`] the same number of times on every member; a panic
     /// in one member leaves the others waiting forever.
     pub(super) fn run(&self, op: impl Fn(Member<'_>) + Sync) {
