@@ -110,8 +110,9 @@ def _on_processes(settings: List[Dict[str, Any]], processes: Optional[int]) -> L
     workers = processes or os.cpu_count() or 1
     if workers <= 1 or len(settings) <= 1:
         return [run_setting(s) for s in settings]
-    # Spawned, not forked: a fork copies no threads, so a child would wait forever on the
-    # engine's thread pool if this process had started it (any run on a small mesh does).
+    # Spawned, not forked: a fork copies no threads, so a child would wait forever on
+    # rayon's global pool if this process had started it (a run whose team is one thread,
+    # as with RAYON_NUM_THREADS=1, does).
     spawn = multiprocessing.get_context("spawn")
     with ProcessPoolExecutor(max_workers=workers, mp_context=spawn) as pool:
         return list(pool.map(run_setting, settings))

@@ -183,8 +183,8 @@ mod tests {
         assert!(TeamChoice::with_sizes(&[1]).chosen());
     }
 
-    /// Runs frames that take `time(size)` (the first one 100 ms, untimed) until the choice
-    /// is made; returns the sizes that ran them and the chosen size.
+    /// Runs frames that take `time(size, frame)` (the first one 100 ms, untimed) until the
+    /// choice is made; returns the sizes that ran them and the chosen size.
     fn choose(sizes: &[usize], time: impl Fn(usize, u32) -> Duration) -> (Vec<usize>, usize) {
         let mut choice = TeamChoice::with_sizes(sizes);
         let mut ran = Vec::new();

@@ -50,9 +50,9 @@ pub struct ParallelBackend {
     chebyshev: Option<Chebyshev>,
     /// Anderson acceleration's arrays (`anderson > 0` with constraint iterations).
     anderson: Option<super::anderson::Anderson>,
-    /// The threads that run the step (the constraint iterations as a team), chosen by
-    /// timing the first frames.
-    teams: TeamChoice,
+    /// The threads that run the step, and how many of them run the constraint iterations
+    /// (chosen by timing the first frames).
+    team: TeamChoice,
     /// The floor's normal force on each node in the current step [N] (`>= 0`).
     floor_force: Vec<f32>,
     /// The problem, when runs of it measure contact ([`Problem::measures_contact`]), and the
@@ -185,7 +185,7 @@ impl ParallelBackend {
                     .sum();
                 super::anderson::Anderson::new(params.anderson, n, constraints, volumes)
             }),
-            teams: TeamChoice::for_work(n, mean_group_size(&sweeps)),
+            team: TeamChoice::for_work(n, mean_group_size(&sweeps)),
             floor_force: vec![0.0; n],
             bodies: problem.bodies.is_some().then(|| problem.clone()),
             measured: problem.measures_contact().then(|| problem.clone()),
@@ -250,11 +250,11 @@ impl ParallelBackend {
         }
     }
 
-    /// The same backend choosing among teams of the given sizes, whatever the work (tests;
-    /// one size is a fixed team).
+    /// The same backend on a team of `sizes[0]` threads choosing among the given thread
+    /// counts for its iterations, whatever the work (tests; one size is a fixed team).
     #[cfg(test)]
     pub(super) fn with_team_sizes(mut self, sizes: &[usize]) -> Self {
-        self.teams = TeamChoice::with_sizes(sizes);
+        self.team = TeamChoice::with_sizes(sizes);
         self
     }
 
@@ -572,17 +572,17 @@ impl Backend for ParallelBackend {
 
     fn step_frame(&mut self) -> Result<()> {
         // Taken out for the frame: the step borrows the rest of `self` mutably.
-        let mut teams = std::mem::take(&mut self.teams);
+        let mut choice = std::mem::take(&mut self.team);
         let start = std::time::Instant::now();
-        let team = teams.team();
+        let team = choice.team();
         let result = team.install(|| self.frame_steps(team));
-        teams.record(start.elapsed());
-        self.teams = teams;
+        choice.record(start.elapsed());
+        self.team = choice;
         result
     }
 
     fn volume(&mut self) -> Result<VolumeSample> {
-        Ok(self.teams.team().install(|| self.volume_sample()))
+        Ok(self.team.team().install(|| self.volume_sample()))
     }
 
     fn state(&mut self) -> Result<State> {
