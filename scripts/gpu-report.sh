@@ -26,7 +26,7 @@
 # a run cut short still returns what it measured.
 set -u
 b=target/gpu-bundle
-[ -d "$b/bin" ] || { echo "gpu-report.sh: $b is missing; run scripts/gpu-bundle.sh first" >&2; exit 2; }
+[ -f "$b/binaries.tar.xz" ] || { echo "gpu-report.sh: $b/binaries.tar.xz is missing; run scripts/gpu-bundle.sh first" >&2; exit 2; }
 steps=${*:-bench blocks implicit stiff tests threads tradeoff scaling}
 for s in $steps; do
   case $s in bench|blocks|implicit|stiff|tests|threads|tradeoff|scaling) ;;
@@ -43,7 +43,14 @@ ldconfig 2>/dev/null
 mkdir -p /tmp/vl && dpkg -x "$b"/debs/vulkan-validationlayers_*.deb /tmp/vl
 export VK_LAYER_PATH=/tmp/vl/usr/share/vulkan/explicit_layer.d
 export LD_LIBRARY_PATH=/tmp/vl/usr/lib/x86_64-linux-gnu${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
-B=$b/bin; M=$b/meshes
+# The CLI builds and the test binaries, packed by gpu-bundle.sh into one xz archive: unpacked
+# by xz where the machine has it, else by Python's lzma (the GPU machines' image has python3).
+U=/tmp/gpu-binaries; rm -rf "$U"; mkdir -p "$U"
+if command -v xz >/dev/null; then xz -dc "$b/binaries.tar.xz" | tar xf - -C "$U"
+else python3 -c 'import lzma, shutil, sys; shutil.copyfileobj(lzma.open(sys.argv[1]), sys.stdout.buffer)' \
+  "$b/binaries.tar.xz" | tar xf - -C "$U"; fi
+[ -x "$U/bin/tetrasim" ] || { echo "gpu-report.sh: could not unpack $b/binaries.tar.xz (no xz, no python3?)" >&2; exit 2; }
+B=$U/bin; M=$b/meshes
 "$B/tetrasim" info > /tmp/info.txt 2>&1
 grep -q '^device 0' /tmp/info.txt || export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
 "$B/tetrasim" info > /tmp/info.txt 2>&1
@@ -187,8 +194,7 @@ SETTINGS
     done ;;
   tests)
     export CI=true
-    rm -rf /tmp/gpu-tests && mkdir -p /tmp/gpu-tests && tar xzf "$b/tests.tgz" -C /tmp/gpu-tests
-    for t in /tmp/gpu-tests/tests/*; do
+    for t in "$U"/tests/*; do
       n=$(basename "$t")
       (cd "$built" && timeout 150 "$t" > "$R/test_$n.txt" 2>&1); c=$?
       echo "test $n: exit $c: $(grep -E '^test result' "$R/test_$n.txt" | tail -1)"
