@@ -13,15 +13,20 @@ use tetrasim::error::{Error, Result};
 use tetrasim::model::Model;
 use tetrasim::params::{Method, SimParams};
 
-/// Whether the method runs constraint iterations (`distance`, `volume`).
+/// Whether the method runs constraint iterations (`distance`, `volume`, `neo-hookean`).
 pub fn has_iterations(method: Method) -> bool {
-    matches!(method, Method::Distance | Method::Volume)
+    matches!(
+        method,
+        Method::Distance | Method::Volume | Method::NeoHookean
+    )
 }
 
-/// Elements one iteration of `method` visits: tets for `volume`, springs otherwise.
+/// Elements one iteration of `method` visits: tets for `volume`, nodes for `neo-hookean`,
+/// springs otherwise.
 pub fn elements(model: &Model, method: Method) -> usize {
     match method {
         Method::Volume => model.tets.len(),
+        Method::NeoHookean => model.node_count(),
         Method::Mss | Method::MssNode | Method::Distance => model.springs.len(),
     }
 }

@@ -28,6 +28,10 @@ pub enum MethodChoice {
     Distance,
     /// Springs and volume constraints.
     Volume,
+    /// Finite elements (stable Neo-Hookean; needs the material's E, nu and density; cpu and
+    /// cpu-ref). Experimental: its solve does not yet bring stiff bodies to rest at the
+    /// default settings (docs/PHYSICS.md, "Finite elements").
+    NeoHookean,
     /// mss, distance and volume (the paper's three), in that order.
     All,
 }
@@ -40,6 +44,7 @@ impl MethodChoice {
             MethodChoice::MssNode => vec![Method::MssNode],
             MethodChoice::Distance => vec![Method::Distance],
             MethodChoice::Volume => vec![Method::Volume],
+            MethodChoice::NeoHookean => vec![Method::NeoHookean],
             MethodChoice::All => vec![Method::Mss, Method::Distance, Method::Volume],
         }
     }

@@ -217,7 +217,7 @@ pub struct MaterialOverrides {
     /// --ks; use with --density (scene key `youngs_modulus`).
     #[cfg_attr(feature = "clap", arg(long = "youngs", value_name = "PA", conflicts_with_all = ["ks", "kd"]))]
     pub youngs_modulus: Option<f64>,
-    /// Poisson's ratio in [0, 0.5] of the --youngs material: compliant volume constraints
+    /// Poisson's ratio in (-1, 0.5] of the --youngs material: compliant volume constraints
     /// (bulk modulus E / (3 (1 - 2 nu))); default and 0.5: incompressible (scene key
     /// `poisson_ratio`).
     #[cfg_attr(

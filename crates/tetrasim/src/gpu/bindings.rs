@@ -169,4 +169,12 @@ bindings! {
     MINRES_SUMS = 51,
     /// MINRES's recurrence per iteration (vec4).
     MINRES_STATE = 52,
+    /// [`super::GpuElasticTet`]-shaped 64 bytes per tet (finite elements): shape gradients of
+    /// corners 1..3 with the rest volume, mu_s and lambda_s in w, then alpha and the damping
+    /// time.
+    ELASTIC_TETS = 53,
+    /// Node -> tet corners CSR offsets (N + 1; finite elements).
+    NODE_TET_OFFSETS = 54,
+    /// Node -> tet corners CSR items (`4 tet + corner`; finite elements).
+    NODE_TET_ITEMS = 55,
 }

@@ -519,6 +519,9 @@ mod tests {
             ("MinresSums", binding::MINRES_SUMS),
             ("MinresDone", binding::MINRES_SUMS),
             ("MinresState", binding::MINRES_STATE),
+            ("ElasticTets", binding::ELASTIC_TETS),
+            ("NodeTetOffsets", binding::NODE_TET_OFFSETS),
+            ("NodeTetItems", binding::NODE_TET_ITEMS),
         ]
         .into_iter()
         .collect();

@@ -19,6 +19,12 @@ pub struct ElementMaterial {
     /// Per tet: compliance `alpha_t` of its volume constraint [m^3/Pa]; 0 is the paper's hard
     /// constraint.
     pub volume_compliance: Vec<f64>,
+    /// Per tet: Lame's `(mu, lambda)` [Pa] of the finite elements (zeros without a Young's
+    /// modulus and a Poisson's ratio below 0.5).
+    pub tet_lame: Vec<[f64; 2]>,
+    /// Per tet: the damping time `beta` [s] of the finite elements' stiffness-proportional
+    /// damping.
+    pub tet_damping: Vec<f64>,
 }
 
 impl ElementMaterial {
@@ -34,6 +40,8 @@ impl ElementMaterial {
                 spring_stiffness: vec![params.ks; springs],
                 spring_damping: vec![params.kd; springs],
                 volume_compliance: vec![0.0; model.tets.len()],
+                tet_lame: vec![[0.0; 2]; model.tets.len()],
+                tet_damping: vec![0.0; model.tets.len()],
             };
         };
         let stiffness: Vec<f64> = edge_volumes(model)
@@ -49,10 +57,16 @@ impl ElementMaterial {
             }
             _ => vec![0.0; model.tets.len()],
         };
+        let lame = match params.poisson_ratio {
+            Some(nu) if nu < 0.5 => crate::physics::lame(e, nu),
+            _ => (0.0, 0.0),
+        };
         ElementMaterial {
             spring_damping: stiffness.iter().map(|&k| beta * k).collect(),
             spring_stiffness: stiffness,
             volume_compliance: compliance,
+            tet_lame: vec![[lame.0, lame.1]; model.tets.len()],
+            tet_damping: vec![beta; model.tets.len()],
         }
     }
 
@@ -68,6 +82,8 @@ impl ElementMaterial {
             spring_stiffness: join(&a.spring_stiffness, &b.spring_stiffness),
             spring_damping: join(&a.spring_damping, &b.spring_damping),
             volume_compliance: join(&a.volume_compliance, &b.volume_compliance),
+            tet_lame: [&a.tet_lame[..], &b.tet_lame[..]].concat(),
+            tet_damping: join(&a.tet_damping, &b.tet_damping),
         }
     }
 }

@@ -164,6 +164,7 @@ impl Model {
                     .collect(),
             ),
             Method::Volume => Some(self.tet_degree.clone()),
+            Method::NeoHookean => Some(vec![1; self.node_count()]),
         }
     }
 
@@ -180,6 +181,7 @@ impl Model {
         let n = self.node_count();
         match (method, solver) {
             (Method::Mss | Method::MssNode, _) => None,
+            (Method::NeoHookean, _) => Some(ConstraintGroups::nodes_coloured(&self.springs, n)),
             (Method::Distance, Solver::Jacobi | Solver::Chebyshev) => {
                 Some(ConstraintGroups::single(&self.springs, n))
             }
@@ -241,13 +243,20 @@ impl Model {
             }
         };
         let mut sweeps = Vec::new();
-        if params.springs == SpringKind::Implicit {
+        if params.method == Method::NeoHookean {
+            sweeps.push(Sweep {
+                kind: ConstraintKind::Elastic,
+                groups: ConstraintGroups::nodes_coloured(&self.springs, n),
+                blocks: None,
+            });
+        }
+        if params.springs == SpringKind::Implicit && params.has_springs() {
             sweeps.push(split(ConstraintKind::Spring));
         }
         match params.method {
             Method::Distance => sweeps.push(split(ConstraintKind::Distance)),
             Method::Volume => sweeps.push(split(ConstraintKind::Volume)),
-            Method::Mss | Method::MssNode => {}
+            Method::Mss | Method::MssNode | Method::NeoHookean => {}
         }
         sweeps
     }
@@ -274,6 +283,9 @@ pub enum ConstraintKind {
     Distance,
     /// The volume constraint `C = V - V0`, hard or with the material's compliance.
     Volume,
+    /// A node's Newton step on the finite elements' energy of its tets (its "constraint" is
+    /// the node itself; groups are node colours).
+    Elastic,
 }
 
 impl ConstraintKind {

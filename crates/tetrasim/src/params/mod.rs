@@ -11,6 +11,9 @@ mod contact;
 pub use contact::ContactMode;
 mod placement;
 pub use placement::Placement;
+mod elastic;
+mod method;
+pub use method::Method;
 mod inversion;
 mod minres;
 pub use inversion::{default_inversion_floor, MAX_INVERSION_SWEEPS};
@@ -20,47 +23,6 @@ pub use crate::physics::{
     chebyshev_rho, chebyshev_rho_limit, chebyshev_weights, ANDERSON_MAX_MEMORY,
     MINRES_MAX_ITERATIONS,
 };
-
-/// The simulation method (physics.md, "Methods").
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
-#[serde(rename_all = "kebab-case")]
-pub enum Method {
-    /// Springs only, spring-centric scatter.
-    Mss,
-    /// Springs only, node-centric gather (same physics as `mss`).
-    MssNode,
-    /// Springs plus an implicit distance constraint on every spring.
-    Distance,
-    /// Springs plus an implicit volume constraint on every tetrahedron.
-    Volume,
-}
-
-impl Method {
-    /// Every method, in the paper's order.
-    pub const ALL: [Method; 4] = [
-        Method::Mss,
-        Method::MssNode,
-        Method::Distance,
-        Method::Volume,
-    ];
-
-    /// The name used on the command line, in JSON and in reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::Mss => "mss",
-            Method::MssNode => "mss-node",
-            Method::Distance => "distance",
-            Method::Volume => "volume",
-        }
-    }
-}
-
-impl std::fmt::Display for Method {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
 
 /// How node masses are assigned.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -360,8 +322,10 @@ impl SimParams {
     /// Whether the time step solves constraints in iterations: a constraint method, or
     /// implicit springs.
     pub fn has_constraints(&self) -> bool {
-        matches!(self.method, Method::Distance | Method::Volume)
-            || self.springs == SpringKind::Implicit
+        matches!(
+            self.method,
+            Method::Distance | Method::Volume | Method::NeoHookean
+        ) || self.springs == SpringKind::Implicit
     }
 
     /// Whether the global volume constraints are solved: asked for (by default with
@@ -474,6 +438,7 @@ impl SimParams {
         }
         self.validate_minres()?;
         self.validate_inversion()?;
+        self.validate_elastic()?;
         if let Some(e) = self.youngs_modulus {
             positive_finite("youngs_modulus", e)?;
         }
@@ -490,10 +455,10 @@ impl SimParams {
             }
         }
         if let Some(nu) = self.poisson_ratio {
-            if !(0.0..=0.5).contains(&nu) {
+            if !(nu > -1.0 && nu <= 0.5) {
                 return Err(Error::param(
                     "poisson_ratio",
-                    format!("must be in [0, 0.5], got {nu}"),
+                    format!("must be in (-1, 0.5], got {nu}"),
                 ));
             }
         }
@@ -522,7 +487,8 @@ impl SimParams {
                         ),
                     ))
                 }
-                Method::Mss | Method::Volume => {}
+                // Refused earlier (`validate_elastic`).
+                Method::Mss | Method::Volume | Method::NeoHookean => {}
             }
             if self.solver == Solver::Chebyshev {
                 return Err(Error::param(

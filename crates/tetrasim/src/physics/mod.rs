@@ -27,6 +27,7 @@ mod anderson;
 mod chebyshev;
 mod constraint;
 mod contact;
+mod elastic;
 mod integrate;
 mod minres;
 mod spring;
@@ -44,6 +45,10 @@ pub use constraint::{
     spring_constraint, spring_softness, volume_constraint, volume_softness,
 };
 pub use contact::{contact_push, end_position, surface_friction, Solve};
+pub use elastic::{
+    elastic_corner, elastic_energy, elastic_rate, elastic_step, lame, shape_gradients,
+    stable_neo_hookean, ElasticTet, Sym3,
+};
 pub use integrate::{
     coulomb_friction, floor_force, floor_friction, floor_solve, integrate_node, symplectic_euler,
 };

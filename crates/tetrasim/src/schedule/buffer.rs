@@ -126,6 +126,13 @@ pub enum BufferId {
     MinresSums,
     /// 64 bytes per MINRES iteration + 1: the recurrence's scalars (`minres`).
     MinresState,
+    /// 64 bytes per tet: the finite elements' shape gradients, rest volume and material
+    /// (`neo-hookean`).
+    ElasticTets,
+    /// N + 1 u32: node -> tet corners offsets (`neo-hookean`).
+    NodeTetOffsets,
+    /// 4 T u32: node -> tet corners items, `4 tet + corner` (`neo-hookean`).
+    NodeTetItems,
 }
 
 impl BufferId {
@@ -185,6 +192,9 @@ impl BufferId {
             BufferId::MinresNodeVectors => "minres node vectors",
             BufferId::MinresSums => "minres sums",
             BufferId::MinresState => "minres state",
+            BufferId::ElasticTets => "elastic tets",
+            BufferId::NodeTetOffsets => "node-tet offsets",
+            BufferId::NodeTetItems => "node-tet items",
         }
     }
 
@@ -244,6 +254,9 @@ impl BufferId {
             BufferId::MinresNodeVectors => binding::MINRES_NODE_VECTORS,
             BufferId::MinresSums => binding::MINRES_SUMS,
             BufferId::MinresState => binding::MINRES_STATE,
+            BufferId::ElasticTets => binding::ELASTIC_TETS,
+            BufferId::NodeTetOffsets => binding::NODE_TET_OFFSETS,
+            BufferId::NodeTetItems => binding::NODE_TET_ITEMS,
         }
     }
 }

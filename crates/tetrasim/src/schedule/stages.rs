@@ -47,6 +47,9 @@ pub enum PassKind {
     Distance,
     /// Volume constraints of a group.
     Volume,
+    /// Finite elements (`neo-hookean`): one Newton step per node of a node colour group
+    /// (Vertex Block Descent; [`crate::physics::elastic_step`]).
+    Elastic,
     /// Constraint forces applied to the nodes, then the floor.
     ConstraintApply,
     /// The global volume constraint's reduction `B` over the surface, per chunk of surface
@@ -123,7 +126,7 @@ pub enum PassKind {
 
 impl PassKind {
     /// Every pass, in execution order.
-    pub const ALL: [PassKind; 32] = [
+    pub const ALL: [PassKind; 33] = [
         PassKind::ClampDrive,
         PassKind::SpringScatter,
         PassKind::SpringGather,
@@ -136,6 +139,7 @@ impl PassKind {
         PassKind::SpringConstraint,
         PassKind::Distance,
         PassKind::Volume,
+        PassKind::Elastic,
         PassKind::ConstraintApply,
         PassKind::GlobalVolumeSum,
         PassKind::GlobalVolume,
@@ -173,6 +177,7 @@ impl PassKind {
             PassKind::SpringConstraint => "spring_constraint",
             PassKind::Distance => "distance",
             PassKind::Volume => "volume",
+            PassKind::Elastic => "elastic",
             PassKind::ConstraintApply => "constraint_apply",
             PassKind::GlobalVolumeSum => "global_volume_sum",
             PassKind::GlobalVolume => "global_volume",
@@ -211,6 +216,7 @@ impl PassKind {
             PassKind::SpringConstraint => file::PASSES_SPRING_CONSTRAINT_COMP,
             PassKind::Distance => file::PASSES_DISTANCE_COMP,
             PassKind::Volume => file::PASSES_VOLUME_COMP,
+            PassKind::Elastic => file::PASSES_ELASTIC_COMP,
             PassKind::ConstraintApply => file::PASSES_CONSTRAINT_APPLY_COMP,
             PassKind::GlobalVolumeSum => file::PASSES_GLOBAL_VOLUME_SUM_COMP,
             PassKind::GlobalVolume => file::PASSES_GLOBAL_VOLUME_COMP,
@@ -303,7 +309,7 @@ impl Schedule {
         // Explicit spring forces are gathered per node for mss-node, and on the gather path
         // so that nothing in its step uses float atomics; implicit springs have no force
         // stage (F starts as m g, which `integrate` and the initial state leave).
-        if params.springs == SpringKind::Explicit {
+        if params.springs == SpringKind::Explicit && params.has_springs() {
             let gather_springs = method == Method::MssNode || gather;
             let mut bindings = vec![
                 (Positions, Read),

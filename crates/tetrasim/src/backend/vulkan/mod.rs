@@ -189,6 +189,12 @@ impl VulkanBackend {
         options: &EngineOptions,
     ) -> Result<Self> {
         let (model, params) = (&problem.model, &problem.params);
+        if params.method == crate::params::Method::NeoHookean {
+            return Err(Error::param(
+                "method",
+                "neo-hookean runs on the cpu-ref and cpu backends; the vulkan engine does not                  run the finite elements yet (use --backend cpu)",
+            ));
+        }
         let depth = options.frames_in_flight.unwrap_or(FRAMES_IN_FLIGHT);
         if !(1..=MAX_FRAMES_IN_FLIGHT).contains(&depth) {
             return Err(Error::param(

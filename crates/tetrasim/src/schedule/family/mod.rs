@@ -6,10 +6,12 @@
 //! [`PassKind`].
 
 mod distance;
+mod elastic;
 mod spring;
 mod volume;
 
 pub use distance::Distances;
+pub use elastic::{node_elements, ElasticNodes};
 pub use spring::ImplicitSprings;
 pub use volume::Volumes;
 
@@ -43,6 +45,8 @@ pub enum Family<R> {
     Distances(Distances<R>),
     /// Volume constraints.
     Volumes(Volumes<R>),
+    /// Finite elements' per-node steps.
+    Elastic(ElasticNodes<R>),
 }
 
 impl<R: Real> Family<R> {
@@ -53,6 +57,7 @@ impl<R: Real> Family<R> {
                 ConstraintKind::Spring => Family::Springs(ImplicitSprings::prepare(problem)),
                 ConstraintKind::Distance => Family::Distances(Distances::prepare(problem)),
                 ConstraintKind::Volume => Family::Volumes(Volumes::prepare(problem)),
+                ConstraintKind::Elastic => Family::Elastic(ElasticNodes::prepare(problem)),
             })
             .collect()
     }
@@ -65,6 +70,7 @@ impl ConstraintKind {
             ConstraintKind::Spring => spring::PASS,
             ConstraintKind::Distance => distance::PASS,
             ConstraintKind::Volume => volume::PASS,
+            ConstraintKind::Elastic => elastic::PASS,
         }
     }
 
@@ -73,6 +79,7 @@ impl ConstraintKind {
         match self {
             ConstraintKind::Spring | ConstraintKind::Distance => 2,
             ConstraintKind::Volume => 4,
+            ConstraintKind::Elastic => 1,
         }
     }
 
@@ -83,6 +90,7 @@ impl ConstraintKind {
             ConstraintKind::Spring => (Domain::Springs, spring::bindings()),
             ConstraintKind::Distance => (Domain::Springs, distance::bindings()),
             ConstraintKind::Volume => (Domain::Tets, volume::bindings()),
+            ConstraintKind::Elastic => (Domain::Nodes, elastic::bindings()),
         }
     }
 
@@ -98,6 +106,7 @@ impl ConstraintKind {
                 .groups
                 .node_slots(Distances::<f64>::elements(model), n),
             ConstraintKind::Volume => sweep.groups.node_slots(Volumes::<f64>::elements(model), n),
+            ConstraintKind::Elastic => sweep.groups.node_slots(&node_elements(model), n),
         }
     }
 }

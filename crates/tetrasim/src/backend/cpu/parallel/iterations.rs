@@ -18,6 +18,8 @@ pub(super) struct Inputs<'a> {
     pub inv_mass: &'a [f32],
     /// Per tet: its rest volume.
     pub rest_volume: &'a [f32],
+    /// Per tet: its nodes.
+    pub tets: &'a [[u32; 4]],
     pub k: Coefficients,
     pub floor: bool,
     /// The colliders of the step, when there are any.
@@ -56,6 +58,8 @@ pub(super) struct Outputs<'a> {
     pub pair_out: SharedSlice<'a, Vec3A>,
     /// Per volume constraint, in group order: force on each corner.
     pub tet_out: SharedSlice<'a, [Vec3A; 4]>,
+    /// Finite elements: per node, in group order, its step's force increment.
+    pub node_out: SharedSlice<'a, Vec3A>,
     /// The Chebyshev forces two iterations back (total, floor).
     pub chebyshev: Option<(SharedSlice<'a, Vec3A>, SharedSlice<'a, f32>)>,
     /// Per chunk of every object's surface nodes, object after object (global
@@ -98,6 +102,14 @@ pub(super) fn run(member: Member<'_>, inputs: &Inputs<'_>, outputs: &Outputs<'_>
                 // write disjoint blocks of the group's constraint results and multipliers
                 // and nobody writes `f`.
                 unsafe { solve(inputs, outputs, at.sweep, at.group, block) };
+            }
+            (PassKind::Elastic, Some(at)) => {
+                let range = inputs.sweeps[at.sweep].range(at.group);
+                let block = member.block(range.len());
+                let block = range.start + block.start..range.start + block.end;
+                // SAFETY: solve phase: the members write disjoint blocks of the group's
+                // node results and nobody writes `f`.
+                unsafe { elastic(inputs, outputs, at.sweep, block) };
             }
             (PassKind::InversionFloor, Some(at)) if inputs.sweeps[at.sweep].blocks.is_some() => {
                 let blocks = inputs.sweeps[at.sweep]
@@ -238,6 +250,46 @@ unsafe fn solve(
             let out = unsafe { outputs.tet_out.part(block.clone()) };
             solve_block(out, so_far, members, &tets[block], on, family);
         }
+        // Solved by `elastic` (its own pass).
+        Family::Elastic(_) => {}
+    }
+}
+
+/// The finite elements' node steps of `block` (positions in `members.items`) of sweep `s`
+/// against the current forces: each node's force increment
+/// ([`crate::schedule::family::ElasticNodes::step`]), its elastic force so far being its
+/// force less gravity, the floor's and the colliders'.
+///
+/// # Safety
+/// No other thread may touch `block` of the node results, or write `f`, the floor forces
+/// or the collider forces, during the call.
+unsafe fn elastic(
+    inputs: &Inputs<'_>,
+    outputs: &Outputs<'_>,
+    s: usize,
+    block: std::ops::Range<usize>,
+) {
+    let sweep = &inputs.sweeps[s];
+    let Family::Elastic(family) = &sweep.family else {
+        return;
+    };
+    let (x, v, w, k) = (inputs.x, inputs.v, inputs.inv_mass, inputs.k);
+    // SAFETY: nobody writes the forces; `block` of the results is ours (the caller's
+    // promise).
+    let (f, floor, contact, out) = unsafe {
+        (
+            outputs.f.whole(),
+            outputs.floor_force.whole(),
+            outputs.contact.whole(),
+            outputs.node_out.part(block.clone()),
+        )
+    };
+    let end = |j: usize| end_position(x[j], v[j], f[j], w[j], k.dt);
+    for (out, &i) in out.iter_mut().zip(&sweep.members.items[block]) {
+        let i = i as usize;
+        let pushed = contact.get(i).copied().unwrap_or(Vec3A::ZERO);
+        let phi = f[i] - k.gravity * family.mass[i] - Vec3A::Y * floor[i] - pushed;
+        *out = family.step(i, w[i], k.dt, phi, inputs.tets, |j| x[j], end);
     }
 }
 
@@ -366,7 +418,22 @@ unsafe fn apply(
                 chebyshev,
                 sweep,
                 g,
-                gather(out),
+                gather::<4, _>(out),
+            );
+        }
+        ConstraintKind::Elastic => {
+            // SAFETY: nobody writes the results (the caller's promise).
+            let out = unsafe { outputs.node_out.whole() };
+            apply_block(
+                first,
+                f,
+                floor_force,
+                reach,
+                contact,
+                chebyshev,
+                sweep,
+                g,
+                gather::<1, _>(out),
             );
         }
         _ => {
@@ -381,7 +448,7 @@ unsafe fn apply(
                 chebyshev,
                 sweep,
                 g,
-                gather(out),
+                gather::<2, _>(out),
             );
         }
     }

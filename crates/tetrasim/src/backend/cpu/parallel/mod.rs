@@ -111,6 +111,7 @@ impl Sweep {
         let members = &groups.members.items;
         let (pair_nodes, tet_nodes) = match kind {
             ConstraintKind::Volume => (Vec::new(), in_group_order(members, &model.tets)),
+            ConstraintKind::Elastic => (Vec::new(), Vec::new()),
             ConstraintKind::Spring | ConstraintKind::Distance => {
                 (in_group_order(members, &model.springs), Vec::new())
             }
@@ -409,6 +410,18 @@ impl NodeForces<2> for Vec3A {
         } else {
             -*self
         }
+    }
+}
+
+impl NodeForces<1> for Vec3A {
+    #[inline]
+    fn from_forces(forces: [Vec3A; 1]) -> Self {
+        forces[0]
+    }
+
+    #[inline]
+    fn corner(&self, _: usize) -> Vec3A {
+        *self
     }
 }
 

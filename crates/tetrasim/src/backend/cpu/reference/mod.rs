@@ -9,10 +9,9 @@ use crate::collider::{self, NodeContact};
 use crate::contact::{deepest, Contact};
 use crate::error::Result;
 use crate::model::Model;
-use crate::params::{ContactMode, SimParams};
+use crate::params::{ContactMode, Method, SimParams};
 use crate::physics::{
-    compliant_multiplier, implicit_accumulate, integrate_node, spring_constraint, spring_force,
-    tet_volume, Solve,
+    compliant_multiplier, implicit_accumulate, integrate_node, tet_volume, Solve,
 };
 use crate::problem::Problem;
 use crate::schedule::family::{ConstraintFamily, Family};
@@ -20,8 +19,10 @@ use crate::schedule::{Dispatch, GroupAt, PassKind, Schedule};
 
 mod anderson;
 mod blocks;
+mod elastic;
 mod inversion;
 mod minres;
+mod springs;
 mod step_forces;
 mod surfaces;
 
@@ -85,6 +86,9 @@ pub struct ReferenceBackend {
     /// Per spring, its implicit multiplier at the end of the last step: the next step's
     /// start with `warm_start` (zeros otherwise, and after [`Self::set_state`]).
     spring_warm: Vec<f64>,
+    /// Per node, the elastic force at the end of the last step (finite elements: the next
+    /// step's start; zeros otherwise, and after [`Self::set_state`]).
+    elastic_warm: Vec<DVec3>,
     /// The step it runs.
     schedule: Schedule,
     /// One time step's dispatches ([`Schedule::step`]).
@@ -130,6 +134,10 @@ impl ReferenceBackend {
             last_contacts: (0, Vec::new()),
             group_factors,
             spring_warm: vec![0.0; model.springs.len()],
+            elastic_warm: match params.method {
+                Method::NeoHookean => vec![DVec3::ZERO; n],
+                _ => Vec::new(),
+            },
             schedule,
             dispatches,
             families: Family::of_sweeps(problem),
@@ -142,6 +150,7 @@ impl ReferenceBackend {
         self.x.clone_from(&state.positions);
         self.v.clone_from(&state.velocities);
         self.spring_warm.fill(0.0);
+        self.elastic_warm.fill(DVec3::ZERO);
         Ok(())
     }
 
@@ -224,6 +233,7 @@ impl ReferenceBackend {
             (PassKind::SpringConstraint | PassKind::Distance | PassKind::Volume, Some(at)) => {
                 step.sum = self.solve_group(at, step)
             }
+            (PassKind::Elastic, Some(at)) => step.sum = self.elastic_group(at, step),
             (PassKind::InversionFloor, Some(at)) => step.sum = self.inversion_group(at, step),
             (PassKind::ConstraintApply, Some(at)) => self.apply_group(at, iteration, step),
             (PassKind::GlobalVolumeSum, _) => self.global_multipliers(step),
@@ -278,12 +288,16 @@ impl ReferenceBackend {
                 Family::Volumes(f) => {
                     self.sweep_blocks(members, blocks, f, solve, total, factors, volumes)
                 }
+                // Validation refuses blocks for the finite elements.
+                Family::Elastic(_) => vec![DVec3::ZERO; self.problem.model.node_count()],
             };
         }
         match &self.families[at.sweep] {
             Family::Springs(f) => self.sweep(members, f, solve, total, &a_scale, springs),
             Family::Distances(f) => self.sweep(members, f, solve, total, &a_scale, springs),
             Family::Volumes(f) => self.sweep(members, f, solve, total, &a_scale, volumes),
+            // Solved by `elastic_group` (its own pass).
+            Family::Elastic(_) => vec![DVec3::ZERO; self.problem.model.node_count()],
         }
     }
 
@@ -309,66 +323,6 @@ impl ReferenceBackend {
             (step.before_total, step.before_floor) = (t, f);
         }
         self.contact_solve(step);
-    }
-
-    /// With implicit springs: each spring's warm-start multiplier (zero without
-    /// `warm_start`) as the force `-lambda grad C` at the current positions.
-    fn warm_start_forces(&self) -> Vec<DVec3> {
-        let mut f = vec![DVec3::ZERO; self.problem.model.node_count()];
-        for (s, &lambda) in self.spring_warm.iter().enumerate() {
-            if lambda != 0.0 {
-                let ids = self.problem.model.springs[s].map(|i| i as usize);
-                let (_, grad) = spring_constraint(
-                    self.x[ids[0]],
-                    self.x[ids[1]],
-                    self.problem.model.rest_length[s],
-                );
-                for k in 0..2 {
-                    f[ids[k]] -= grad[k] * lambda;
-                }
-            }
-        }
-        f
-    }
-
-    /// Spring forces, one spring at a time, added to both ends.
-    pub fn spring_forces_scatter(&self) -> Vec<DVec3> {
-        let mut f = vec![DVec3::ZERO; self.problem.model.node_count()];
-        for (s, &[i, j]) in self.problem.model.springs.iter().enumerate() {
-            let (i, j) = (i as usize, j as usize);
-            let fi = self.spring(i, j, s);
-            f[i] += fi;
-            f[j] -= fi;
-        }
-        f
-    }
-
-    /// Spring forces, one node at a time, gathered over its springs (`node_springs`).
-    pub fn spring_forces_gather(&self) -> Vec<DVec3> {
-        (0..self.problem.model.node_count())
-            .map(|i| {
-                let mut f = DVec3::ZERO;
-                for &s in self.problem.model.node_springs.row(i) {
-                    let [a, b] = self.problem.model.springs[s as usize];
-                    let other = if a as usize == i { b } else { a };
-                    f += self.spring(i, other as usize, s as usize);
-                }
-                f
-            })
-            .collect()
-    }
-
-    /// Explicit force on node `i` of spring `s`, whose other end is `j`.
-    fn spring(&self, i: usize, j: usize, s: usize) -> DVec3 {
-        spring_force(
-            self.x[i],
-            self.x[j],
-            self.v[i],
-            self.v[j],
-            self.problem.model.rest_length[s],
-            self.problem.material.spring_stiffness[s],
-            self.problem.material.spring_damping[s],
-        )
     }
 
     /// One Jacobi sweep of the constraints `members` of `family` against the force `f`
@@ -476,6 +430,9 @@ impl ReferenceBackend {
         let f = forces.total();
         if self.problem.params.warm_start {
             std::mem::swap(&mut self.spring_warm, &mut forces.spring_multipliers);
+        }
+        if !self.elastic_warm.is_empty() {
+            self.elastic_warm.clone_from(&forces.constraints);
         }
         let p = &self.problem.params;
         let at = collider::at_step(&self.problem.model.colliders, self.steps, p.dt);

@@ -67,7 +67,24 @@ impl StepForces {
             gravity,
         };
         step.set_springs(vec![DVec3::ZERO; n]);
+        // Finite elements start from the last step's elastic forces (zeros otherwise).
+        for ((t, b), w) in
+            (step.total.iter_mut().zip(&mut step.before_total)).zip(&backend.elastic_warm)
+        {
+            *t += *w;
+            *b += *w;
+        }
         step
+    }
+
+    /// The elastic force so far on node `i`: the total less gravity, springs, the floor's
+    /// and the colliders' forces (finite elements: the forces their node steps added).
+    pub(super) fn elastic(&self, i: usize) -> DVec3 {
+        self.total[i]
+            - self.gravity[i]
+            - self.springs[i]
+            - DVec3::Y * self.floor[i]
+            - self.contacts[i].force
     }
 
     /// The spring forces: the total becomes gravity plus them (and so do the Chebyshev

@@ -77,6 +77,7 @@ impl ParallelBackend {
             v,
             inv_mass,
             rest_volume,
+            tets,
             k,
             floor,
             chebyshev,
@@ -92,6 +93,7 @@ impl ParallelBackend {
             body_contacts,
             pair_out,
             tet_out,
+            node_out,
             ..
         } = self;
         let (chebyshev_weights, chebyshev) = match chebyshev {
@@ -110,6 +112,7 @@ impl ParallelBackend {
             v,
             inv_mass,
             rest_volume,
+            tets,
             k: *k,
             floor: *floor,
             colliders: (!at.is_empty() || !attached.is_empty()).then_some(Colliders {
@@ -144,6 +147,7 @@ impl ParallelBackend {
                 .collect(),
             pair_out: SharedSlice::new(pair_out),
             tet_out: SharedSlice::new(tet_out),
+            node_out: SharedSlice::new(node_out),
             chebyshev,
             partial: SharedSlice::new(&mut partial),
             anderson: anderson.as_mut().map(|a| {

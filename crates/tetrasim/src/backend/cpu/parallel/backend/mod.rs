@@ -5,6 +5,7 @@
 use super::collide;
 use super::iterations::{self, Inputs, Outputs};
 
+mod integrate;
 mod iterate;
 mod minres;
 use super::*;
@@ -98,6 +99,10 @@ pub struct ParallelBackend {
     pair_out: Vec<Vec3A>,
     /// Per volume constraint, in group order: force on each corner.
     tet_out: Vec<[Vec3A; 4]>,
+    /// Finite elements: per node, in group order, its step's force increment.
+    node_out: Vec<Vec3A>,
+    /// Finite elements: each step starts from the last one's elastic forces.
+    elastic_warm: bool,
     frame: u32,
     /// Divergence speed limit [m/s] ([`crate::stability::speed_limit`]).
     speed_limit: f32,
@@ -238,6 +243,11 @@ impl ParallelBackend {
             } else {
                 Vec::new()
             },
+            node_out: match has(ConstraintKind::Elastic) {
+                true => vec![Vec3A::ZERO; model.node_count()],
+                false => Vec::new(),
+            },
+            elastic_warm: has(ConstraintKind::Elastic),
             tet_out: if has(ConstraintKind::Volume) {
                 vec![[Vec3A::ZERO; 4]; model.tets.len()]
             } else {
@@ -272,6 +282,10 @@ impl ParallelBackend {
             .map(|&p| Vec3A::from_dvec3(p))
             .collect();
         self.spring_warm.fill(0.0);
+        if self.elastic_warm {
+            let (g, mass) = (self.k.gravity, &self.mass);
+            (self.f.iter_mut().zip(mass)).for_each(|(f, &m)| *f = g * m);
+        }
         Ok(())
     }
 
@@ -329,89 +343,8 @@ impl ParallelBackend {
             .enumerate()
             .with_min_len(CHUNK)
             .for_each(|(i, f)| {
-                *f = k.gravity * mass[i] + gather(out)(ends.row(i));
+                *f = k.gravity * mass[i] + gather::<2, _>(out)(ends.row(i));
             });
-    }
-
-    /// Stage `integrate` (`solve` full) or `split_velocity` (split contact's velocity
-    /// solve): the floor's and the colliders' final solve, symplectic Euler with floor and
-    /// collider friction, then `F = m g` for the next solve. `integrate` moves the nodes
-    /// (with split contact, to the velocity solve's velocities), `split_velocity` keeps the
-    /// new velocities aside. Returns the first node that is non-finite or faster than the
-    /// speed limit.
-    fn integrate_pass(&mut self, at: &[ColliderAt<'_>], solve: Solve) -> Option<(usize, Bad)> {
-        let (w, k, mass) = (&self.inv_mass, self.k, &self.mass);
-        let limit2 = self.speed_limit * self.speed_limit;
-        let (on, dt) = (self.floor, self.k.dt);
-        let (clearance, attached) = (&self.clearance, &self.attached);
-        let pushed = std::sync::atomic::AtomicU32::new(0);
-        let split = !self.split_v.is_empty();
-        let split_v = SharedSlice::new(&mut self.split_v);
-        let bad = self
-            .x
-            .par_iter_mut()
-            .zip(self.v.par_iter_mut())
-            .zip(self.f.par_iter_mut().zip(self.floor_force.par_iter_mut()))
-            .enumerate()
-            .with_min_len(CHUNK)
-            .zip(self.contact.par_iter_mut())
-            .filter_map(|((i, ((x, v), (f, n))), c)| {
-                if on {
-                    (*f, *n) = floor_solve(*f, *n, x.y + solve.slack(x.y), v.y, w[i], dt);
-                }
-                let touch = match at.is_empty() && attached.is_empty() {
-                    true => None,
-                    false => {
-                        let held = attached.get(i).copied().flatten();
-                        let touch = collide(at, clearance[i], held, solve, f, c, *x, *v, w[i], dt);
-                        *c = Vec3A::ZERO;
-                        if touch.touching.is_some() {
-                            pushed.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        }
-                        touch.touching.is_some().then_some(touch)
-                    }
-                };
-                let (mut x1, mut v1) = integrate_node(*x, *v, *f, w[i], k.dt, *n, k.friction);
-                if let Some(touch) = touch {
-                    let v2 = collider::friction_of(
-                        at,
-                        &touch,
-                        x.to_dvec3(),
-                        v1.to_dvec3(),
-                        f64::from(dt),
-                    );
-                    v1 = Vec3A::from_dvec3(v2);
-                    x1 = *x + v1 * dt;
-                }
-                *n = 0.0;
-                *f = k.gravity * mass[i];
-                if split {
-                    // SAFETY: each node's entry is written or read by its own iteration only.
-                    let kept = unsafe { &mut split_v.part(i..i + 1)[0] };
-                    match solve {
-                        Solve::Velocity => {
-                            *kept = v1;
-                            x1 = *x;
-                        }
-                        Solve::Full => v1 = *kept,
-                    }
-                }
-                if solve == Solve::Full {
-                    (*x, *v) = (x1, v1);
-                }
-                if !(x1.is_finite() && v1.is_finite()) {
-                    Some((i, Bad::NonFinite))
-                } else if v1.length_squared() > limit2 {
-                    Some((i, Bad::TooFast(f64::from(v1.length()))))
-                } else {
-                    None
-                }
-            })
-            .min_by_key(|(i, _)| *i);
-        if solve == Solve::Full {
-            self.pushed = pushed.into_inner();
-        }
-        bad
     }
 
     /// One time step (physics.md steps 1-3): the schedule's dispatches in order, those of

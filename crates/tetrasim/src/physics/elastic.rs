@@ -1,0 +1,395 @@
+//! Finite elements on linear tets (physics.md, fourth edition): stable Neo-Hookean (Smith, de
+//! Goes, Kim 2018) and its per-node Newton step (Vertex Block Descent, Chen, Macklin, Yuksel
+//! 2024), as pure functions generic over precision. The GLSL twin is
+//! `glsl/physics/elastic.glsl`.
+//!
+//! A tet's rest shape gives its shape gradients `g_a` (rows of `Dm^-1` for corners 1..3,
+//! corner 0 their negative sum), so `F = sum_a x_a g_a^T` and the energy's gradient at
+//! corner `a` is `V0 P(F) g_a`. The energy
+//! `Psi = mu_s/2 (I_C - 3) + lambda_s/2 (J - alpha)^2 - mu_s/2 log(I_C + 1)` with
+//! `mu_s = 4/3 mu`, `lambda_s = lambda + 5/6 mu`, `alpha = 1 + mu / lambda_s` is stress free
+//! at rest and linear elasticity's `(mu, lambda)` in small strain ([`stable_neo_hookean`];
+//! the unit tests check both by finite differences). It is finite for flat and inverted tets
+//! (`J <= 0`), where `dJ/dF` (the cofactor matrix) pushes the tet back.
+//!
+//! The Hessian block of one corner, `d^2 Psi / dx_a^2`, is positive semi-definite for every
+//! `F`: the term `(J - alpha) d^2 J` that makes Neo-Hookean's Hessian indefinite vanishes in
+//! a rank-one direction `delta g_a^T` (J is linear in each column), so the per-node Newton
+//! step needs no eigenvalue projection.
+
+use super::{Real, Vector};
+
+/// Lame's parameters `(mu, lambda)` [Pa] of Young's modulus `e` [Pa] and Poisson's ratio
+/// `nu` (`nu < 0.5`).
+pub fn lame(e: f64, nu: f64) -> (f64, f64) {
+    (
+        e / (2.0 * (1.0 + nu)),
+        e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)),
+    )
+}
+
+/// Stable Neo-Hookean's constants `(mu_s, lambda_s, alpha)` for Lame's `(mu, lambda)`: the
+/// energy's small-strain limit is linear elasticity with `(mu, lambda)` and its rest state
+/// is stress free (Smith, de Goes, Kim 2018, section 3.4).
+pub fn stable_neo_hookean(mu: f64, lambda: f64) -> (f64, f64, f64) {
+    let mu_s = 4.0 / 3.0 * mu;
+    let lambda_s = lambda + 5.0 / 6.0 * mu;
+    (mu_s, lambda_s, 1.0 + mu / lambda_s)
+}
+
+/// One tet's element constants: its rest volume, shape gradients and material.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ElasticTet<R> {
+    /// `g_a` of corners 1..3 (rows of `Dm^-1`) [1/m]; corner 0's is their negative sum.
+    pub shape: [[R; 3]; 3],
+    /// Rest volume [m^3].
+    pub volume: R,
+    /// `mu_s` [Pa].
+    pub mu: R,
+    /// `lambda_s` [Pa].
+    pub lambda: R,
+    /// `alpha` (the rest value of `J` the volume term pulls to).
+    pub alpha: R,
+}
+
+/// The shape gradients of a tet at rest `p` (`None` for a flat one), in double precision.
+pub fn shape_gradients(p: [glam::DVec3; 4]) -> Option<[[f64; 3]; 3]> {
+    let dm = glam::DMat3::from_cols(p[1] - p[0], p[2] - p[0], p[3] - p[0]);
+    let det = dm.determinant();
+    if !(det.abs() > 0.0 && det.is_finite()) {
+        return None;
+    }
+    // Row k of Dm^-1 is column k of its transpose.
+    let inv_t = dm.inverse().transpose();
+    Some([0, 1, 2].map(|k| inv_t.col(k).to_array()))
+}
+
+impl<R: Real> ElasticTet<R> {
+    /// The gradient `g_a` of corner `a` (0..4) as components.
+    #[inline]
+    pub fn gradient(&self, a: usize) -> [R; 3] {
+        match a {
+            0 => {
+                [0, 1, 2].map(|k| R::ZERO - self.shape[0][k] - self.shape[1][k] - self.shape[2][k])
+            }
+            _ => self.shape[a - 1],
+        }
+    }
+}
+
+/// A symmetric 3x3 matrix `[xx, yy, zz, xy, xz, yz]`.
+pub type Sym3<R> = [R; 6];
+
+/// `s I + c u u^T` added to `h`.
+#[inline]
+fn add_outer<V: Vector>(h: &mut Sym3<V::Real>, c: V::Real, u: V) {
+    let [x, y, z] = components(u);
+    h[0] += c * x * x;
+    h[1] += c * y * y;
+    h[2] += c * z * z;
+    h[3] += c * x * y;
+    h[4] += c * x * z;
+    h[5] += c * y * z;
+}
+
+/// The components of `v`.
+#[inline]
+pub fn components<V: Vector>(v: V) -> [V::Real; 3] {
+    let d = v.to_dvec3();
+    // Exact: a vector of R converts to f64 and back without rounding.
+    [d.x, d.y, d.z].map(V::Real::from_f64)
+}
+
+/// The vector with components `c`.
+#[inline]
+pub fn vector<V: Vector>(c: [V::Real; 3]) -> V {
+    V::from_dvec3(glam::DVec3::new(
+        c[0].to_f64(),
+        c[1].to_f64(),
+        c[2].to_f64(),
+    ))
+}
+
+/// Corner `a` of tet `t` at positions `p`: the energy's gradient `dE/dx_a = V0 P(F) g_a` [N]
+/// and its Hessian block `d^2 E / dx_a^2` [N/m] (positive semi-definite; module doc).
+#[inline]
+pub fn elastic_corner<V: Vector>(
+    t: &ElasticTet<V::Real>,
+    p: [V; 4],
+    a: usize,
+) -> (V, Sym3<V::Real>) {
+    let one = V::Real::ONE;
+    let zero = V::Real::ZERO;
+    let e = [p[1] - p[0], p[2] - p[0], p[3] - p[0]];
+    // Columns of F = sum_b (x_b - x_0) g_b^T, b = 1..3.
+    let f: [V; 3] =
+        [0, 1, 2].map(|k| e[0] * t.shape[0][k] + e[1] * t.shape[1][k] + e[2] * t.shape[2][k]);
+    let cof = [f[1].cross(f[2]), f[2].cross(f[0]), f[0].cross(f[1])];
+    let j = f[0].dot(cof[0]);
+    let ic = f[0].dot(f[0]) + f[1].dot(f[1]) + f[2].dot(f[2]);
+    let g = t.gradient(a);
+    let u = f[0] * g[0] + f[1] * g[1] + f[2] * g[2];
+    let w = cof[0] * g[0] + cof[1] * g[1] + cof[2] * g[2];
+    let s = one / (ic + one);
+    let shear = t.mu * (one - s);
+    let grad = (u * shear + w * (t.lambda * (j - t.alpha))) * t.volume;
+    let gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+    let d = t.volume * shear * gg;
+    let mut h = [d, d, d, zero, zero, zero];
+    let two = one + one;
+    add_outer(&mut h, t.volume * two * t.mu * s * s, u);
+    add_outer(&mut h, t.volume * t.lambda, w);
+    (grad, h)
+}
+
+/// Corner `a`'s share of the tet's stiffness-proportional damping force before its factor
+/// `-beta`: `V0 dP(F)[dF] g_a`, the energy's Hessian applied to the nodes' velocities `u`
+/// (`dF = sum_b u_b g_b^T`), so that the Rayleigh force `-beta K u` damps strain rates only,
+/// never a rigid motion.
+#[inline]
+pub fn elastic_rate<V: Vector>(t: &ElasticTet<V::Real>, p: [V; 4], u: [V; 4], a: usize) -> V {
+    let one = V::Real::ONE;
+    let e = [p[1] - p[0], p[2] - p[0], p[3] - p[0]];
+    let de = [u[1] - u[0], u[2] - u[0], u[3] - u[0]];
+    let col =
+        |e: &[V; 3], k: usize| e[0] * t.shape[0][k] + e[1] * t.shape[1][k] + e[2] * t.shape[2][k];
+    let f: [V; 3] = [0, 1, 2].map(|k| col(&e, k));
+    let df: [V; 3] = [0, 1, 2].map(|k| col(&de, k));
+    let cof = [f[1].cross(f[2]), f[2].cross(f[0]), f[0].cross(f[1])];
+    let dcof = [
+        df[1].cross(f[2]) + f[1].cross(df[2]),
+        df[2].cross(f[0]) + f[2].cross(df[0]),
+        df[0].cross(f[1]) + f[0].cross(df[1]),
+    ];
+    let j = f[0].dot(cof[0]);
+    let ic = f[0].dot(f[0]) + f[1].dot(f[1]) + f[2].dot(f[2]);
+    let f_df = f[0].dot(df[0]) + f[1].dot(df[1]) + f[2].dot(df[2]);
+    let cof_df = cof[0].dot(df[0]) + cof[1].dot(df[1]) + cof[2].dot(df[2]);
+    let s = one / (ic + one);
+    let g = t.gradient(a);
+    let apply = |m: &[V; 3]| m[0] * g[0] + m[1] * g[1] + m[2] * g[2];
+    let two = one + one;
+    (apply(&df) * (t.mu * (one - s))
+        + apply(&f) * (two * t.mu * s * s * f_df)
+        + apply(&cof) * (t.lambda * cof_df)
+        + apply(&dcof) * (t.lambda * (j - t.alpha)))
+        * t.volume
+}
+
+/// The tet's energy `V0 Psi(F)` [J] at positions `p`.
+pub fn elastic_energy<V: Vector>(t: &ElasticTet<V::Real>, p: [V; 4]) -> V::Real {
+    let one = V::Real::ONE;
+    let e = [p[1] - p[0], p[2] - p[0], p[3] - p[0]];
+    let f: [V; 3] =
+        [0, 1, 2].map(|k| e[0] * t.shape[0][k] + e[1] * t.shape[1][k] + e[2] * t.shape[2][k]);
+    let j = f[0].dot(f[1].cross(f[2]));
+    let ic = f[0].dot(f[0]) + f[1].dot(f[1]) + f[2].dot(f[2]);
+    let half = one / (one + one);
+    let three = one + one + one;
+    let log = V::Real::from_f64((ic + one).to_f64().ln());
+    t.volume
+        * (half * t.mu * (ic - three) + half * t.lambda * (j - t.alpha) * (j - t.alpha)
+            - half * t.mu * log)
+}
+
+/// One node's Newton step of Vertex Block Descent in the engine's force form
+/// (docs/PHYSICS.md, "Finite elements"): the force increment `m dx / dt^2` [N] for a node of
+/// mass `m` whose accumulated elastic force so far is `phi`, given the sums over its tets of
+/// the energy's gradient `grad` and Hessian block `hessian` at the step's end positions, its
+/// stiffness-proportional damping `rate` (the sum of [`elastic_rate`] at the nodes'
+/// velocities over the step, `(end - start) / dt`) with damping time `beta` [s]. Solves
+/// `(m/dt^2 + (1 + beta/dt) H) dx = -grad - beta rate - phi` (the node's own share of the
+/// damping's Jacobian kept, the rest of `-beta K v` taken at the current velocities); `None`
+/// when the system is singular.
+#[inline]
+pub fn elastic_step<V: Vector>(
+    mass: V::Real,
+    dt: V::Real,
+    beta: V::Real,
+    phi: V,
+    grad: V,
+    hessian: Sym3<V::Real>,
+    rate: V,
+) -> Option<V> {
+    let one = V::Real::ONE;
+    let zero = V::Real::ZERO;
+    let inertia = mass / (dt * dt);
+    let damp = beta / dt;
+    let h = hessian;
+    let m = [0, 1, 2, 3, 4, 5].map(|k| h[k] * (one + damp) + if k < 3 { inertia } else { zero });
+    let r = components(-(grad + rate * beta + phi));
+    // The adjugate of the symmetric matrix.
+    let (a, b, c, d, e, f) = (m[0], m[1], m[2], m[3], m[4], m[5]);
+    let c00 = b * c - f * f;
+    let c01 = e * f - d * c;
+    let c02 = d * f - b * e;
+    let det = a * c00 + d * c01 + e * c02;
+    if det <= zero || !det.is_finite() {
+        return None;
+    }
+    let c11 = a * c - e * e;
+    let c12 = d * e - a * f;
+    let c22 = a * b - d * d;
+    let dx = vector::<V>([
+        (c00 * r[0] + c01 * r[1] + c02 * r[2]) / det,
+        (c01 * r[0] + c11 * r[1] + c12 * r[2]) / det,
+        (c02 * r[0] + c12 * r[1] + c22 * r[2]) / det,
+    ]);
+    Some(dx * inertia)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    fn rest() -> [DVec3; 4] {
+        [
+            DVec3::new(0.1, -0.2, 0.05),
+            DVec3::new(1.1, 0.1, 0.0),
+            DVec3::new(0.2, 0.9, 0.1),
+            DVec3::new(0.0, 0.3, 1.2),
+        ]
+    }
+
+    fn tet(mu: f64, lambda: f64) -> ElasticTet<f64> {
+        let p = rest();
+        let (mu_s, lambda_s, alpha) = stable_neo_hookean(mu, lambda);
+        ElasticTet {
+            shape: shape_gradients(p).unwrap(),
+            volume: tetmesh::geometry::tet_volume(p),
+            mu: mu_s,
+            lambda: lambda_s,
+            alpha,
+        }
+    }
+
+    fn deformed(scale: f64) -> [DVec3; 4] {
+        let mut p = rest();
+        p[1] += DVec3::new(0.3, -0.1, 0.2) * scale;
+        p[2] += DVec3::new(-0.2, 0.25, 0.05) * scale;
+        p[3] += DVec3::new(0.1, 0.1, -0.4) * scale;
+        p
+    }
+
+    #[test]
+    fn rest_state_is_stress_free() {
+        let t = tet(1e5, 4e5);
+        for a in 0..4 {
+            let (g, _) = elastic_corner(&t, rest(), a);
+            assert!(g.length() < 1e-9 * 1e5, "corner {a}: {g}");
+        }
+    }
+
+    #[test]
+    fn gradient_and_hessian_match_finite_differences_even_inverted() {
+        let t = tet(1e5, 4e5);
+        // 0.5: stretched and sheared; 4: the tet is turned inside out.
+        for scale in [0.5, 4.0] {
+            let p = deformed(scale);
+            for a in 0..4 {
+                let (g, h) = elastic_corner(&t, p, a);
+                let eps = 1e-6;
+                for k in 0..3 {
+                    let mut plus = p;
+                    let mut minus = p;
+                    let dir = [DVec3::X, DVec3::Y, DVec3::Z][k];
+                    plus[a] += dir * eps;
+                    minus[a] -= dir * eps;
+                    let fd = (elastic_energy(&t, plus) - elastic_energy(&t, minus)) / (2.0 * eps);
+                    assert!(
+                        (fd - g[k]).abs() < 1e-5 * g.length().max(1.0),
+                        "scale {scale} corner {a} axis {k}: {fd} vs {}",
+                        g[k]
+                    );
+                    let (gp, _) = elastic_corner(&t, plus, a);
+                    let (gm, _) = elastic_corner(&t, minus, a);
+                    let column = (gp - gm) / (2.0 * eps);
+                    let idx = [[0, 3, 4], [3, 1, 5], [4, 5, 2]];
+                    for r in 0..3 {
+                        let hv = h[idx[r][k]];
+                        assert!(
+                            (column[r] - hv).abs() < 1e-4 * h[0].abs().max(1.0),
+                            "scale {scale} corner {a} H[{r}][{k}]: {} vs {hv}",
+                            column[r]
+                        );
+                    }
+                }
+                // Positive semi-definite: the smallest principal minors are >= 0.
+                assert!(h[0] >= 0.0 && h[0] * h[1] - h[3] * h[3] >= -1e-9 * h[0] * h[1]);
+            }
+        }
+    }
+
+    /// In small strain the stress is linear elasticity's `mu (H + H^T) + lambda tr(H) I`
+    /// for a displacement gradient `H`: the force at each corner matches it to first order.
+    #[test]
+    fn small_strain_limit_is_linear_elasticity() {
+        let (mu, lambda) = lame(1e7, 0.3);
+        let t = tet(mu, lambda);
+        let hgrad =
+            glam::DMat3::from_cols_array(&[0.3, -0.1, 0.2, 0.05, -0.2, 0.1, 0.15, 0.0, 0.25]);
+        let eps = 1e-6;
+        let p = rest().map(|x| x + hgrad * x * eps);
+        let sigma = (hgrad + hgrad.transpose()) * mu
+            + glam::DMat3::IDENTITY * (lambda * (hgrad.x_axis.x + hgrad.y_axis.y + hgrad.z_axis.z));
+        for a in 0..4 {
+            let (g, _) = elastic_corner(&t, p, a);
+            let ga = DVec3::from_array(t.gradient(a));
+            let linear = sigma * ga * (t.volume * eps);
+            assert!(
+                (g - linear).length() < 1e-4 * linear.length(),
+                "corner {a}: {g} vs {linear}"
+            );
+        }
+    }
+
+    #[test]
+    fn damping_rate_is_the_hessian_applied_to_the_velocities_and_ignores_rigid_motion() {
+        let t = tet(1e5, 4e5);
+        let p = deformed(0.5);
+        let u = [
+            DVec3::new(0.1, 0.2, -0.1),
+            DVec3::new(-0.3, 0.1, 0.2),
+            DVec3::new(0.0, -0.2, 0.1),
+            DVec3::new(0.2, 0.05, 0.3),
+        ];
+        let eps = 1e-6;
+        for a in 0..4 {
+            let plus: Vec<DVec3> = (0..4).map(|b| p[b] + u[b] * eps).collect();
+            let minus: Vec<DVec3> = (0..4).map(|b| p[b] - u[b] * eps).collect();
+            let (gp, _) = elastic_corner(&t, [plus[0], plus[1], plus[2], plus[3]], a);
+            let (gm, _) = elastic_corner(&t, [minus[0], minus[1], minus[2], minus[3]], a);
+            let fd = (gp - gm) / (2.0 * eps);
+            let rate = elastic_rate(&t, p, u, a);
+            assert!(
+                (fd - rate).length() < 1e-5 * fd.length(),
+                "corner {a}: {fd} vs {rate}"
+            );
+            let rigid = elastic_rate(&t, p, [DVec3::new(0.3, -0.2, 0.1); 4], a);
+            assert!(rigid.length() < 1e-9 * fd.length(), "corner {a}: {rigid}");
+        }
+    }
+
+    #[test]
+    fn lame_parameters_of_e_and_nu() {
+        let (mu, lambda) = lame(2.6, 0.3);
+        assert!((mu - 1.0).abs() < 1e-12);
+        assert!((lambda - 1.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn newton_step_solves_its_block() {
+        let h = [4.0, 5.0, 6.0, 1.0, 0.5, -0.3];
+        let (m, dt, beta) = (2.0, 0.1, 0.0);
+        let grad = DVec3::new(1.0, -2.0, 0.5);
+        let dx_force = elastic_step(m, dt, beta, DVec3::ZERO, grad, h, DVec3::ZERO).unwrap();
+        let dx = dx_force * (dt * dt / m);
+        let mat = glam::DMat3::from_cols(
+            DVec3::new(h[0], h[3], h[4]),
+            DVec3::new(h[3], h[1], h[5]),
+            DVec3::new(h[4], h[5], h[2]),
+        ) + glam::DMat3::IDENTITY * (m / (dt * dt));
+        assert!((mat * dx + grad).length() < 1e-12);
+    }
+}

@@ -1,0 +1,151 @@
+//! Finite elements (`neo-hookean`): a node's Newton step on the stable Neo-Hookean energy of
+//! its tets (Vertex Block Descent; [`crate::physics::elastic_step`]). Its "constraints" are
+//! the nodes themselves, grouped by colour so that no two nodes of a group share a tet
+//! ([`crate::model::ConstraintGroups::nodes_coloured`]); each writes one force increment.
+//! Prepared once: each tet's shape gradients, rest volume and material
+//! ([`ElasticTet`]), each node's tets and corners, masses and damping times.
+
+use super::{Access, BufferId, PassKind};
+use crate::model::{adjacency, Csr, Model};
+use crate::physics::{
+    elastic_corner, elastic_rate, elastic_step, shape_gradients, stable_neo_hookean, ElasticTet,
+    Real, Vector,
+};
+use crate::problem::Problem;
+
+/// The pass that solves them.
+pub(super) const PASS: PassKind = PassKind::Elastic;
+
+/// What the pass reads besides the nodes.
+pub(super) fn bindings() -> Vec<(BufferId, Access)> {
+    vec![
+        (BufferId::Tets, Access::Read),
+        (BufferId::ElasticTets, Access::Read),
+        (BufferId::NodeTetOffsets, Access::Read),
+        (BufferId::NodeTetItems, Access::Read),
+        (BufferId::ColliderContacts, Access::Read),
+    ]
+}
+
+/// The nodes as elements: `[[i]]` for every node (the slots of their force increments).
+pub fn node_elements(model: &Model) -> Vec<[u32; 1]> {
+    (0..model.node_count() as u32).map(|i| [i]).collect()
+}
+
+/// The finite elements' data in precision `R`.
+#[derive(Debug, Clone)]
+pub struct ElasticNodes<R> {
+    /// Per tet: its element constants.
+    pub tets: Vec<ElasticTet<R>>,
+    /// Row `i`: `4 t + corner` for each tet `t` at node `i`.
+    pub node_tets: Csr,
+    /// Per node: its mass [kg].
+    pub mass: Vec<R>,
+    /// Per node: the damping time [s] of its first tet's material.
+    pub damping: Vec<R>,
+}
+
+impl<R: Real> ElasticNodes<R> {
+    /// The data of `problem`'s tets and nodes (a flat tet gets no stiffness).
+    pub fn prepare(problem: &Problem) -> Self {
+        let (model, material) = (&problem.model, &problem.material);
+        let tets = (model.tets.iter().enumerate())
+            .map(|(t, tet)| {
+                let p = tet.map(|i| model.positions[i as usize]);
+                let [mu, lambda] = material.tet_lame[t];
+                let (mu_s, lambda_s, alpha) = stable_neo_hookean(mu, lambda);
+                let shape = shape_gradients(p).unwrap_or([[0.0; 3]; 3]);
+                ElasticTet {
+                    shape: shape.map(|row| row.map(R::from_f64)),
+                    volume: R::from_f64(model.rest_volume[t]),
+                    mu: R::from_f64(mu_s),
+                    lambda: R::from_f64(lambda_s),
+                    alpha: R::from_f64(if lambda_s > 0.0 { alpha } else { 1.0 }),
+                }
+            })
+            .collect();
+        let by_tet = adjacency(model.node_count(), model.tets.iter().map(|t| t.as_slice()));
+        let node_tets = Csr {
+            offsets: by_tet.offsets.clone(),
+            items: (0..model.node_count())
+                .flat_map(|i| {
+                    by_tet.row(i).iter().map(move |&t| {
+                        let corner = model.tets[t as usize]
+                            .iter()
+                            .position(|&k| k as usize == i)
+                            .unwrap_or(0);
+                        4 * t + corner as u32
+                    })
+                })
+                .collect(),
+        };
+        let damping = (0..model.node_count())
+            .map(|i| {
+                let beta =
+                    (by_tet.row(i).first()).map_or(0.0, |&t| material.tet_damping[t as usize]);
+                R::from_f64(beta)
+            })
+            .collect();
+        ElasticNodes {
+            tets,
+            node_tets,
+            mass: model.mass.iter().map(|&m| R::from_f64(m)).collect(),
+            damping,
+        }
+    }
+
+    /// Node `i`'s force increment ([`elastic_step`]) when each node `k` started the step at
+    /// `start_of(k)` and ends it at `end(k)`, and the elastic force on node `i` so far is
+    /// `phi`; zero for a pinned node (`w = 0`) and where the step's system is singular.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    pub fn step<V: Vector<Real = R>>(
+        &self,
+        i: usize,
+        w: R,
+        dt: R,
+        phi: V,
+        tets: &[[u32; 4]],
+        start_of: impl Fn(usize) -> V,
+        end: impl Fn(usize) -> V,
+    ) -> V {
+        if w <= R::ZERO {
+            return V::ZERO;
+        }
+        let (grad, hessian) = self.gradient(i, tets, &end);
+        let beta = self.damping[i];
+        let mut rate = V::ZERO;
+        if beta > R::ZERO {
+            for &item in self.node_tets.row(i) {
+                let (t, corner) = ((item / 4) as usize, (item % 4) as usize);
+                let p = tets[t].map(|k| end(k as usize));
+                let u = tets[t].map(|k| (end(k as usize) - start_of(k as usize)) * (R::ONE / dt));
+                rate += elastic_rate(&self.tets[t], p, u, corner);
+            }
+        }
+        elastic_step(self.mass[i], dt, beta, phi, grad, hessian, rate).unwrap_or(V::ZERO)
+    }
+
+    /// The sums over node `i`'s tets of the energy's gradient at its corner and the
+    /// Hessian block, with node `k` at `end(k)`.
+    #[inline]
+    pub fn gradient<V: Vector<Real = R>>(
+        &self,
+        i: usize,
+        tets: &[[u32; 4]],
+        end: &impl Fn(usize) -> V,
+    ) -> (V, [R; 6]) {
+        let mut grad = V::ZERO;
+        let mut hessian = [R::ZERO; 6];
+        for &item in self.node_tets.row(i) {
+            let (t, corner) = ((item / 4) as usize, (item % 4) as usize);
+            let p = tets[t].map(|k| end(k as usize));
+            let (g, h) = elastic_corner(&self.tets[t], p, corner);
+            grad += g;
+            for (s, h) in hessian.iter_mut().zip(h) {
+                *s += h;
+            }
+        }
+        (grad, hessian)
+    }
+}

@@ -1,0 +1,214 @@
+//! Finite elements against physics we did not write (physics.md, fourth edition, "Checking it
+//! against physics we did not write"): the `neo-hookean` method at its default settings
+//! (10 iterations, dt 1 ms) on cantilevers 0.6 m long with a 0.1 m square section (E 10 MPa,
+//! 1000 kg/m^3, one end pinned, sagging under gravity until at rest), compared node by node
+//! with a linear-elastic finite-element solve of the same tets by scikit-fem (P1 elements;
+//! `tests/data/fem/`, made by `scripts/fem_reference.py`). The sag is 1.6 % of the length, so
+//! the small-strain solution is the reference for the large-strain element to well under 1 %.
+//!
+//! The field error is `|u - u_ref| / |u_ref|` over all nodes (2-norm). The bar is 5 %; the
+//! springs with volume constraints (method `volume`, implicit springs from the same E and
+//! nu) miss it by far on the same beams at their default 10 iterations (issue 51 measured 139 %
+//! on 288 tets and 8 to 14 times the sag on 2304), and the test checks that they still do.
+//!
+//! Not here yet: the same bar for `neo-hookean`. Its element is checked (physics/elastic.rs:
+//! stress-free rest, finite differences, the small-strain limit equal to linear elasticity),
+//! and `cpu` follows `cpu-ref` below, but its solve does not yet bring the beams to rest at
+//! the default settings (docs/PHYSICS.md, "Finite elements": the figures measured).
+
+use std::path::PathBuf;
+
+use glam::DVec3;
+use tetrasim::backend::cpu::{ParallelBackend, ReferenceBackend};
+use tetrasim::mesh::grid::box_tets;
+use tetrasim::params::{MassMode, Method, Placement, SpringKind};
+use tetrasim::{Backend, Model, ModelBuilder, SimParams};
+
+const E: f64 = 1e7;
+const DENSITY: f64 = 1000.0;
+
+/// The reference field of `cells` at `nu`: rest positions and displacements per node.
+fn reference(cells: [usize; 3], nu: f64) -> Vec<(DVec3, DVec3)> {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!(
+        "tests/data/fem/beam_{}x{}x{}_nu{nu:.2}.txt",
+        cells[0], cells[1], cells[2]
+    ));
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path:?}: {e}"));
+    text.lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+        .map(|l| {
+            let v: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
+            (DVec3::new(v[0], v[1], v[2]), DVec3::new(v[3], v[4], v[5]))
+        })
+        .collect()
+}
+
+fn material(method: Method, nu: f64) -> SimParams {
+    SimParams {
+        method,
+        springs: match method {
+            Method::NeoHookean => SpringKind::Explicit,
+            _ => SpringKind::Implicit,
+        },
+        youngs_modulus: Some(E),
+        poisson_ratio: Some(nu),
+        mass: MassMode::Density { density: DENSITY },
+        floor: false,
+        ..SimParams::default()
+    }
+}
+
+fn beam(cells: [usize; 3], params: &SimParams) -> Model {
+    let h = 0.6 / cells[0] as f64;
+    let mesh = box_tets(DVec3::ZERO, h, cells);
+    ModelBuilder::new(&mesh)
+        .placement(Placement {
+            fit_size: None,
+            drop_height: None,
+        })
+        .material(params)
+        .pinned_in_box(DVec3::splat(-1.0), DVec3::new(1e-9, 1.0, 1.0))
+        .build()
+        .unwrap()
+}
+
+/// The displacement field after `frames` frames on `backend`, and the largest speed of the
+/// last frame [m/s].
+fn settle(model: &Model, params: &SimParams, backend: &str, frames: u32) -> (Vec<DVec3>, f64) {
+    let mut backend: Box<dyn Backend> = match backend {
+        "cpu" => Box::new(ParallelBackend::new(model, params).unwrap()),
+        _ => Box::new(ReferenceBackend::new(model, params).unwrap()),
+    };
+    for _ in 0..frames {
+        backend.step_frame().unwrap();
+    }
+    let state = backend.state().unwrap();
+    let speed = state
+        .velocities
+        .iter()
+        .map(|v| v.length())
+        .fold(0.0, f64::max);
+    let u = (state.positions.iter().zip(&model.positions))
+        .map(|(x, x0)| *x - *x0)
+        .collect();
+    (u, speed)
+}
+
+/// `|u - u_ref| / |u_ref|` and the tip's mean sag against the reference's.
+fn field_error(model: &Model, u: &[DVec3], reference: &[(DVec3, DVec3)]) -> (f64, f64, f64) {
+    assert_eq!(u.len(), reference.len(), "node counts differ");
+    let (mut diff, mut norm) = (0.0, 0.0);
+    let (mut tip, mut tip_ref, mut n) = (0.0, 0.0, 0);
+    for ((x0, ui), (r0, ur)) in model.positions.iter().zip(u).zip(reference) {
+        assert!(
+            (*x0 - *r0).length() < 1e-9,
+            "node order differs: {x0} vs {r0}"
+        );
+        diff += (*ui - *ur).length_squared();
+        norm += ur.length_squared();
+        if (x0.x - 0.6).abs() < 1e-9 {
+            tip -= ui.y;
+            tip_ref -= ur.y;
+            n += 1;
+        }
+    }
+    ((diff / norm).sqrt(), tip / n as f64, tip_ref / n as f64)
+}
+
+/// The same comparison with the element swapped for the springs with volume constraints:
+/// their body is not the material's (measured here: the field error printed).
+#[test]
+fn springs_with_volume_constraints_miss_the_same_bar() {
+    let cells = [12, 2, 2];
+    let reference = reference(cells, 0.3);
+    let params = material(Method::Volume, 0.3);
+    let model = beam(cells, &params);
+    let (u, _) = settle(&model, &params, "cpu", 2000);
+    let (error, tip, tip_ref) = field_error(&model, &u, &reference);
+    println!(
+        "{cells:?} nu 0.3, volume with implicit springs: field error {:.1} %, tip sag {:.3} mm \
+         (scikit-fem {:.3} mm)",
+        100.0 * error,
+        1e3 * tip,
+        1e3 * tip_ref
+    );
+    assert!(
+        error > 0.2,
+        "the springs came within {error} of the FEM field"
+    );
+}
+
+/// `cpu` (f32, threads) follows `cpu-ref` (f64) on the finite elements: the same sag within
+/// 1e-3 of its size after a second of the coarse beam.
+#[test]
+fn cpu_follows_the_reference() {
+    let params = material(Method::NeoHookean, 0.3);
+    let model = beam([12, 2, 2], &params);
+    let (a, _) = settle(&model, &params, "cpu-ref", 300);
+    let (b, _) = settle(&model, &params, "cpu", 300);
+    let scale = a.iter().map(|u| u.length()).fold(0.0, f64::max);
+    let worst = a
+        .iter()
+        .zip(&b)
+        .map(|(a, b)| (*a - *b).length())
+        .fold(0.0, f64::max);
+    println!("cpu vs cpu-ref after 300 frames: {worst:.3e} m of {scale:.3e} m");
+    assert!(scale > 1e-3 && worst < 1e-3 * scale, "{worst} of {scale}");
+}
+
+#[test]
+fn a_material_that_cannot_act_is_refused_naming_its_key() {
+    let model = beam([2, 1, 1], &material(Method::NeoHookean, 0.3));
+    let refused = |params: SimParams, key: &str| {
+        let err = ReferenceBackend::new(&model, &params)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains(key), "{err} does not name {key}");
+    };
+    let nh = material(Method::NeoHookean, 0.3);
+    refused(
+        SimParams {
+            youngs_modulus: None,
+            poisson_ratio: None,
+            ..nh.clone()
+        },
+        "youngs_modulus",
+    );
+    refused(
+        SimParams {
+            poisson_ratio: None,
+            ..nh.clone()
+        },
+        "poisson_ratio",
+    );
+    for nu in [0.5, -1.0, 0.7] {
+        refused(
+            SimParams {
+                poisson_ratio: Some(nu),
+                ..nh.clone()
+            },
+            "poisson_ratio",
+        );
+    }
+    refused(
+        SimParams {
+            youngs_modulus: Some(-5.0),
+            ..nh.clone()
+        },
+        "youngs_modulus",
+    );
+    refused(
+        SimParams {
+            mass: MassMode::PerNode { mass: 1.0 },
+            ..nh.clone()
+        },
+        "density",
+    );
+    refused(
+        SimParams {
+            minres: 5,
+            ..nh.clone()
+        },
+        "minres",
+    );
+}
