@@ -29,7 +29,7 @@ fn contradictory_or_out_of_range_material_flags_are_refused() {
         ),
         (
             &["--youngs", "1e5", "--poisson", "0.7"][..],
-            &["poisson_ratio", "[0, 0.5]"][..],
+            &["poisson_ratio", "(-1, 0.5]"][..],
         ),
         (&["--youngs=-5"][..], &["youngs_modulus"][..]),
         (

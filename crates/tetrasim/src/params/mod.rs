@@ -185,7 +185,7 @@ pub struct SimParams {
     /// instead of `kd` (physics.md, "Material in physical units").
     #[serde(default)]
     pub youngs_modulus: Option<f64>,
-    /// Poisson's ratio in `[0, 0.5]` (needs `youngs_modulus`): the volume constraints become
+    /// Poisson's ratio in `(-1, 0.5]` (needs `youngs_modulus`): the volume constraints become
     /// compliant, `alpha_t = V0_t / K` with the bulk modulus `K = E / (3 (1 - 2 nu))`;
     /// `None` or 0.5 keeps them hard (incompressible), the paper's constraint.
     #[serde(default)]
