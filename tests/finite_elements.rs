@@ -1,20 +1,18 @@
 //! Finite elements against physics we did not write (physics.md, fourth edition, "Checking it
-//! against physics we did not write"): the `neo-hookean` method at its default settings
-//! (10 iterations, dt 1 ms) on cantilevers 0.6 m long with a 0.1 m square section (E 10 MPa,
-//! 1000 kg/m^3, one end pinned, sagging under gravity until at rest), compared node by node
-//! with a linear-elastic finite-element solve of the same tets by scikit-fem (P1 elements;
-//! `tests/data/fem/`, made by `scripts/fem_reference.py`). The sag is 1.6 % of the length, so
-//! the small-strain solution is the reference for the large-strain element to well under 1 %.
+//! against physics we did not write"): the `neo-hookean` method on cantilevers 0.6 m long
+//! with a 0.1 m square section (E 10 MPa, 1000 kg/m^3, one end pinned, sagging under gravity
+//! until at rest), compared node by node with a linear-elastic finite-element solve of the
+//! same tets by scikit-fem (P1 elements; `tests/data/fem/`, made by
+//! `scripts/fem_reference.py`). The sag is 1.6 % of the length, so the small-strain solution
+//! is the reference for the large-strain element to well under 1 %.
 //!
-//! The field error is `|u - u_ref| / |u_ref|` over all nodes (2-norm). The bar is 5 %; the
-//! springs with volume constraints (method `volume`, implicit springs from the same E and
-//! nu) miss it by far on the same beams at their default 10 iterations (issue 51 measured 139 %
-//! on 288 tets and 8 to 14 times the sag on 2304), and the test checks that they still do.
-//!
-//! Not here yet: the same bar for `neo-hookean`. Its element is checked (physics/elastic.rs:
-//! stress-free rest, finite differences, the small-strain limit equal to linear elasticity),
-//! and `cpu` follows `cpu-ref` below, but its solve does not yet bring the beams to rest at
-//! the default settings (docs/PHYSICS.md, "Finite elements": the figures measured).
+//! The field error is `|u - u_ref| / |u_ref|` over all nodes (2-norm); the bar is 5 %. The
+//! 288-tet beams meet it at the default settings (10 conjugate-gradient iterations a step,
+//! dt 1 ms); the 2304-tet beams at 20 iterations (at 10 they ring at twice the sag: the
+//! step's solve is not converged; docs/PHYSICS.md, "Finite elements"). The springs with
+//! volume constraints (method `volume`, implicit springs from the same E and nu) miss the
+//! bar by far on the same beam (issue 51 measured 139 % on 288 tets and 8 to 14 times the sag
+//! on 2304), and a test checks that they still do.
 
 use std::path::PathBuf;
 
@@ -72,26 +70,56 @@ fn beam(cells: [usize; 3], params: &SimParams) -> Model {
         .unwrap()
 }
 
+fn backend(model: &Model, params: &SimParams, backend: &str) -> Box<dyn Backend> {
+    match backend {
+        "cpu" => Box::new(ParallelBackend::new(model, params).unwrap()),
+        _ => Box::new(ReferenceBackend::new(model, params).unwrap()),
+    }
+}
+
+/// The largest node speed [m/s].
+fn top_speed(velocities: &[DVec3]) -> f64 {
+    velocities.iter().map(|v| v.length()).fold(0.0, f64::max)
+}
+
 /// The displacement field after `frames` frames on `backend`, and the largest speed of the
 /// last frame [m/s].
 fn settle(model: &Model, params: &SimParams, backend: &str, frames: u32) -> (Vec<DVec3>, f64) {
-    let mut backend: Box<dyn Backend> = match backend {
-        "cpu" => Box::new(ParallelBackend::new(model, params).unwrap()),
-        _ => Box::new(ReferenceBackend::new(model, params).unwrap()),
-    };
+    let mut backend = self::backend(model, params, backend);
     for _ in 0..frames {
         backend.step_frame().unwrap();
     }
     let state = backend.state().unwrap();
-    let speed = state
-        .velocities
-        .iter()
-        .map(|v| v.length())
-        .fold(0.0, f64::max);
     let u = (state.positions.iter().zip(&model.positions))
         .map(|(x, x0)| *x - *x0)
         .collect();
-    (u, speed)
+    (u, top_speed(&state.velocities))
+}
+
+/// The displacement field once no node moves faster than `still` [m/s] (checked every
+/// 100 frames), and the frames it took; panics after `most` frames.
+fn at_rest(
+    model: &Model,
+    params: &SimParams,
+    backend: &str,
+    still: f64,
+    most: u32,
+) -> (Vec<DVec3>, u32) {
+    let mut backend = self::backend(model, params, backend);
+    for frame in 1..=most {
+        backend.step_frame().unwrap();
+        if frame % 100 == 0 {
+            let state = backend.state().unwrap();
+            let speed = top_speed(&state.velocities);
+            if speed < still {
+                let u = (state.positions.iter().zip(&model.positions))
+                    .map(|(x, x0)| *x - *x0)
+                    .collect();
+                return (u, frame);
+            }
+        }
+    }
+    panic!("not at rest ({still} m/s) after {most} frames");
 }
 
 /// `|u - u_ref| / |u_ref|` and the tip's mean sag against the reference's.
@@ -113,6 +141,42 @@ fn field_error(model: &Model, u: &[DVec3], reference: &[(DVec3, DVec3)]) -> (f64
         }
     }
     ((diff / norm).sqrt(), tip / n as f64, tip_ref / n as f64)
+}
+
+/// `neo-hookean` on `cells` at `nu` with `iterations` on `backend`, at rest: its field
+/// within 5 % of scikit-fem's.
+fn beam_matches_fem(cells: [usize; 3], nu: f64, iterations: u32, backend: &str) {
+    let reference = reference(cells, nu);
+    let params = SimParams {
+        iterations,
+        ..material(Method::NeoHookean, nu)
+    };
+    let model = beam(cells, &params);
+    let (u, frames) = at_rest(&model, &params, backend, 2e-3, 6000);
+    let (error, tip, tip_ref) = field_error(&model, &u, &reference);
+    println!(
+        "{cells:?} nu {nu}, neo-hookean, {iterations} iterations on {backend}, at rest after \
+         {frames} frames: field error {:.2} %, tip sag {:.3} mm (scikit-fem {:.3} mm)",
+        100.0 * error,
+        1e3 * tip,
+        1e3 * tip_ref
+    );
+    assert!(error < 0.05, "field error {error} over the 5 % bar");
+}
+
+#[test]
+fn the_coarse_beams_match_fem_at_the_default_settings() {
+    let defaults = SimParams::default().iterations;
+    for nu in [0.3, 0.45] {
+        beam_matches_fem([12, 2, 2], nu, defaults, "cpu-ref");
+    }
+}
+
+#[test]
+fn the_fine_beams_match_fem_at_twenty_iterations() {
+    for nu in [0.3, 0.45] {
+        beam_matches_fem([24, 4, 4], nu, 20, "cpu");
+    }
 }
 
 /// The same comparison with the element swapped for the springs with volume constraints:
@@ -139,7 +203,8 @@ fn springs_with_volume_constraints_miss_the_same_bar() {
 }
 
 /// `cpu` (f32, threads) follows `cpu-ref` (f64) on the finite elements: the same sag within
-/// 1e-3 of its size after a second of the coarse beam.
+/// 1 % of its size after 0.3 s of the coarse beam (conjugate gradients carry the rounding
+/// of single precision further than the sweeps: measured 0.6 %).
 #[test]
 fn cpu_follows_the_reference() {
     let params = material(Method::NeoHookean, 0.3);
@@ -153,7 +218,7 @@ fn cpu_follows_the_reference() {
         .map(|(a, b)| (*a - *b).length())
         .fold(0.0, f64::max);
     println!("cpu vs cpu-ref after 300 frames: {worst:.3e} m of {scale:.3e} m");
-    assert!(scale > 1e-3 && worst < 1e-3 * scale, "{worst} of {scale}");
+    assert!(scale > 1e-3 && worst < 1e-2 * scale, "{worst} of {scale}");
 }
 
 #[test]

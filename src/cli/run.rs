@@ -29,8 +29,8 @@ pub enum MethodChoice {
     /// Springs and volume constraints.
     Volume,
     /// Finite elements (stable Neo-Hookean; needs the material's E, nu and density; cpu and
-    /// cpu-ref). Experimental: its solve does not yet bring stiff bodies to rest at the
-    /// default settings (docs/PHYSICS.md, "Finite elements").
+    /// cpu-ref): a Newton step per time step, --iterations conjugate-gradient iterations;
+    /// fine meshes need 20 or more (docs/PHYSICS.md, "Finite elements").
     NeoHookean,
     /// mss, distance and volume (the paper's three), in that order.
     All,

@@ -109,42 +109,6 @@ impl ConstraintGroups {
         Self::with_members(elements, nodes, members, colours)
     }
 
-    /// The nodes themselves as the elements (`[[i]]`, one per node), one group per colour
-    /// such that no two nodes joined by one of `edges` share a group, greedy in node order:
-    /// the groups of the finite elements' per-node solves, whose nodes of one group move
-    /// together without touching a common tet (every pair of a tet's nodes is an edge).
-    pub fn nodes_coloured(edges: &[[u32; 2]], nodes: usize) -> Self {
-        let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); nodes];
-        for &[a, b] in edges {
-            neighbours[a as usize].push(b);
-            neighbours[b as usize].push(a);
-        }
-        let mut colour = vec![u32::MAX; nodes];
-        let mut taken: Vec<usize> = Vec::new();
-        for i in 0..nodes {
-            let stamp = i + 1;
-            for &k in &neighbours[i] {
-                let c = colour[k as usize];
-                if c != u32::MAX {
-                    if taken.len() <= c as usize {
-                        taken.resize(c as usize + 1, 0);
-                    }
-                    taken[c as usize] = stamp;
-                }
-            }
-            colour[i] = (0..).find(|&c| taken.get(c) != Some(&stamp)).unwrap_or(0) as u32;
-        }
-        let colours = colour.iter().max().map_or(0, |&c| c + 1);
-        let members = Csr::from_pairs(colours.max(1) as usize, || {
-            colour
-                .iter()
-                .enumerate()
-                .map(|(i, &c)| (c as usize, i as u32))
-        });
-        let elements: Vec<[u32; 1]> = (0..nodes as u32).map(|i| [i]).collect();
-        Self::with_members(&elements, nodes, members, colours)
-    }
-
     fn with_members<const K: usize>(
         elements: &[[u32; K]],
         nodes: usize,
@@ -250,13 +214,6 @@ mod tests {
                 );
             }
         }
-        let nodes = ConstraintGroups::nodes_coloured(&[[0, 1], [1, 2], [0, 2], [2, 3]], 5);
-        assert_eq!(nodes.len(), 3, "a triangle needs three colours");
-        for (a, b) in [(0, 1), (1, 2), (0, 2), (2, 3)] {
-            let group_of = |i: u32| (0..3).find(|&g| nodes.group(g).contains(&i));
-            assert_ne!(group_of(a), group_of(b), "nodes {a} and {b} share an edge");
-        }
-        assert_eq!(nodes.members.items.len(), 5, "every node in one group");
         let full = ConstraintGroups::coloured(&tets, 43, 100);
         assert!(
             full.degree.iter().all(|&d| d <= 1),

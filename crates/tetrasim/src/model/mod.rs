@@ -181,7 +181,7 @@ impl Model {
         let n = self.node_count();
         match (method, solver) {
             (Method::Mss | Method::MssNode, _) => None,
-            (Method::NeoHookean, _) => Some(ConstraintGroups::nodes_coloured(&self.springs, n)),
+            (Method::NeoHookean, _) => Some(ConstraintGroups::single(&node_elements(n), n)),
             (Method::Distance, Solver::Jacobi | Solver::Chebyshev) => {
                 Some(ConstraintGroups::single(&self.springs, n))
             }
@@ -246,7 +246,7 @@ impl Model {
         if params.method == Method::NeoHookean {
             sweeps.push(Sweep {
                 kind: ConstraintKind::Elastic,
-                groups: ConstraintGroups::nodes_coloured(&self.springs, n),
+                groups: ConstraintGroups::single(&node_elements(n), n),
                 blocks: None,
             });
         }
@@ -284,7 +284,7 @@ pub enum ConstraintKind {
     /// The volume constraint `C = V - V0`, hard or with the material's compliance.
     Volume,
     /// A node's Newton step on the finite elements' energy of its tets (its "constraint" is
-    /// the node itself; groups are node colours).
+    /// the node itself; one group of all nodes).
     Elastic,
 }
 
@@ -475,4 +475,10 @@ pub fn adjacency<'e>(nodes: usize, elements: impl Iterator<Item = &'e [u32]> + C
             .enumerate()
             .flat_map(|(e, element)| element.iter().map(move |&v| (v as usize, e as u32)))
     })
+}
+
+/// The finite elements' "constraints": every node by itself, `[[i]]` (one group, all
+/// nodes: the conjugate gradients update them together).
+fn node_elements(nodes: usize) -> Vec<[u32; 1]> {
+    (0..nodes as u32).map(|i| [i]).collect()
 }

@@ -71,12 +71,13 @@ impl SimParams {
                 ));
             }
         }
-        if self.solver == Solver::Jacobi {
+        if self.solver != Solver::GaussSeidel {
             return Err(Error::param(
                 "solver",
                 format!(
-                    "method {method} solves its nodes colour after colour (gauss-seidel or \
-                     chebyshev); jacobi would move neighbours against each other"
+                    "method {method} solves each step by preconditioned conjugate gradients, \
+                     one iteration per `iterations`; the sweep solvers (jacobi, chebyshev) do \
+                     not apply to it (leave solver at its default, gauss-seidel)"
                 ),
             ));
         }

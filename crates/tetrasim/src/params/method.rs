@@ -16,8 +16,9 @@ pub enum Method {
     /// Springs plus an implicit volume constraint on every tetrahedron.
     Volume,
     /// Finite elements: stable Neo-Hookean tets with the material's Young's modulus and
-    /// Poisson's ratio, solved by per-node Newton steps on node colours (Vertex Block
-    /// Descent; physics.md, fourth edition). No springs.
+    /// Poisson's ratio, solved each step by one Newton step whose linear system gets
+    /// `iterations` iterations of block-Jacobi preconditioned conjugate gradients
+    /// (docs/PHYSICS.md, "Finite elements"). No springs.
     NeoHookean,
 }
 

@@ -176,6 +176,81 @@ pub fn elastic_rate<V: Vector>(t: &ElasticTet<V::Real>, p: [V; 4], u: [V; 4], a:
         * t.volume
 }
 
+/// A tet's stiffness at one configuration, kept for products with it ([`elastic_product`]):
+/// the columns of `F` and of its cofactor matrix, and the factors of `V0 dP[dF]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ElasticLinear<V: Vector> {
+    f: [V; 3],
+    cof: [V; 3],
+    /// `V0 mu_s (1 - s)`, `V0 2 mu_s s^2`, `V0 lambda_s`, `V0 lambda_s (J - alpha)`, with
+    /// `s = 1 / (I_C + 1)`.
+    k: [V::Real; 4],
+}
+
+impl<V: Vector> Default for ElasticLinear<V> {
+    fn default() -> Self {
+        ElasticLinear {
+            f: [V::ZERO; 3],
+            cof: [V::ZERO; 3],
+            k: [V::Real::ZERO; 4],
+        }
+    }
+}
+
+/// Tet `t`'s stiffness at positions `p`.
+#[inline]
+pub fn elastic_linearise<V: Vector>(t: &ElasticTet<V::Real>, p: [V; 4]) -> ElasticLinear<V> {
+    let one = V::Real::ONE;
+    let e = [p[1] - p[0], p[2] - p[0], p[3] - p[0]];
+    let f: [V; 3] =
+        [0, 1, 2].map(|k| e[0] * t.shape[0][k] + e[1] * t.shape[1][k] + e[2] * t.shape[2][k]);
+    let cof = [f[1].cross(f[2]), f[2].cross(f[0]), f[0].cross(f[1])];
+    let j = f[0].dot(cof[0]);
+    let ic = f[0].dot(f[0]) + f[1].dot(f[1]) + f[2].dot(f[2]);
+    let s = one / (ic + one);
+    let v = t.volume;
+    ElasticLinear {
+        f,
+        cof,
+        k: [
+            v * t.mu * (one - s),
+            v * (one + one) * t.mu * s * s,
+            v * t.lambda,
+            v * t.lambda * (j - t.alpha),
+        ],
+    }
+}
+
+/// The tet's stiffness `lin` ([`elastic_linearise`]) times the corner displacements `d`:
+/// `V0 dP(F)[dF] g_a` at each corner `a` (the four [`elastic_rate`]s at once, `dF` formed
+/// once).
+#[inline]
+pub fn elastic_product<V: Vector>(
+    t: &ElasticTet<V::Real>,
+    lin: &ElasticLinear<V>,
+    d: [V; 4],
+) -> [V; 4] {
+    let de = [d[1] - d[0], d[2] - d[0], d[3] - d[0]];
+    let df: [V; 3] =
+        [0, 1, 2].map(|k| de[0] * t.shape[0][k] + de[1] * t.shape[1][k] + de[2] * t.shape[2][k]);
+    let (f, cof) = (&lin.f, &lin.cof);
+    let dcof = [
+        df[1].cross(f[2]) + f[1].cross(df[2]),
+        df[2].cross(f[0]) + f[2].cross(df[0]),
+        df[0].cross(f[1]) + f[0].cross(df[1]),
+    ];
+    let f_df = f[0].dot(df[0]) + f[1].dot(df[1]) + f[2].dot(df[2]);
+    let cof_df = cof[0].dot(df[0]) + cof[1].dot(df[1]) + cof[2].dot(df[2]);
+    let [shear, outer, lambda, j_term] = lin.k;
+    // Columns of V0 dP[dF].
+    let dp: [V; 3] = [0, 1, 2].map(|k| {
+        df[k] * shear + f[k] * (outer * f_df) + cof[k] * (lambda * cof_df) + dcof[k] * j_term
+    });
+    let corner = |g: [V::Real; 3]| dp[0] * g[0] + dp[1] * g[1] + dp[2] * g[2];
+    let (a, b, c) = (corner(t.shape[0]), corner(t.shape[1]), corner(t.shape[2]));
+    [-(a + b + c), a, b, c]
+}
+
 /// The tet's energy `V0 Psi(F)` [J] at positions `p`.
 pub fn elastic_energy<V: Vector>(t: &ElasticTet<V::Real>, p: [V; 4]) -> V::Real {
     let one = V::Real::ONE;
@@ -192,15 +267,14 @@ pub fn elastic_energy<V: Vector>(t: &ElasticTet<V::Real>, p: [V; 4]) -> V::Real 
             - half * t.mu * log)
 }
 
-/// One node's Newton step of Vertex Block Descent in the engine's force form
-/// (docs/PHYSICS.md, "Finite elements"): the force increment `m dx / dt^2` [N] for a node of
-/// mass `m` whose accumulated elastic force so far is `phi`, given the sums over its tets of
-/// the energy's gradient `grad` and Hessian block `hessian` at the step's end positions, its
-/// stiffness-proportional damping `rate` (the sum of [`elastic_rate`] at the nodes'
-/// velocities over the step, `(end - start) / dt`) with damping time `beta` [s]. Solves
-/// `(m/dt^2 + (1 + beta/dt) H) dx = -grad - beta rate - phi` (the node's own share of the
-/// damping's Jacobian kept, the rest of `-beta K v` taken at the current velocities); `None`
-/// when the system is singular.
+/// One node's Newton step of Vertex Block Descent in the engine's force form (measured
+/// against the global Newton step in docs/PHYSICS.md, "Finite elements"): the force
+/// increment `m dx / dt^2` [N] for a node of mass `m` whose accumulated elastic force so
+/// far is `phi`, given the sums over its tets of the energy's gradient `grad` and Hessian
+/// block `hessian` at the step's end positions, its stiffness-proportional damping `rate`
+/// (the sum of [`elastic_rate`] at the nodes' velocities over the step, `(end - start) /
+/// dt`) with damping time `beta` [s]. Solves `(m/dt^2 + (1 + beta/dt) H) dx = -grad - beta
+/// rate - phi`; `None` when the system is singular.
 #[inline]
 pub fn elastic_step<V: Vector>(
     mass: V::Real,
@@ -211,31 +285,71 @@ pub fn elastic_step<V: Vector>(
     hessian: Sym3<V::Real>,
     rate: V,
 ) -> Option<V> {
-    let one = V::Real::ONE;
-    let zero = V::Real::ZERO;
     let inertia = mass / (dt * dt);
-    let damp = beta / dt;
+    let block = node_block(mass, dt, beta, hessian);
+    let dx = sym3_apply(sym3_inverse(block)?, -(grad + rate * beta + phi));
+    Some(dx * inertia)
+}
+
+/// A node's block of the step's Newton matrix, `m/dt^2 I + (1 + beta/dt) H`, for its mass
+/// `mass`, damping time `beta` and the energy's Hessian block `hessian` at the node.
+#[inline]
+pub fn node_block<R: Real>(mass: R, dt: R, beta: R, hessian: Sym3<R>) -> Sym3<R> {
+    let inertia = mass / (dt * dt);
+    let damp = R::ONE + beta / dt;
     let h = hessian;
-    let m = [0, 1, 2, 3, 4, 5].map(|k| h[k] * (one + damp) + if k < 3 { inertia } else { zero });
-    let r = components(-(grad + rate * beta + phi));
-    // The adjugate of the symmetric matrix.
+    [0, 1, 2, 3, 4, 5].map(|k| h[k] * damp + if k < 3 { inertia } else { R::ZERO })
+}
+
+/// The inverse of a symmetric 3x3 matrix (its adjugate over its determinant); `None` when
+/// it is not positive definite enough to invert (determinant not positive or not finite).
+#[inline]
+pub fn sym3_inverse<R: Real>(m: Sym3<R>) -> Option<Sym3<R>> {
     let (a, b, c, d, e, f) = (m[0], m[1], m[2], m[3], m[4], m[5]);
     let c00 = b * c - f * f;
     let c01 = e * f - d * c;
     let c02 = d * f - b * e;
     let det = a * c00 + d * c01 + e * c02;
-    if det <= zero || !det.is_finite() {
+    if !(det > R::ZERO && det.is_finite()) {
         return None;
     }
     let c11 = a * c - e * e;
     let c12 = d * e - a * f;
     let c22 = a * b - d * d;
-    let dx = vector::<V>([
-        (c00 * r[0] + c01 * r[1] + c02 * r[2]) / det,
-        (c01 * r[0] + c11 * r[1] + c12 * r[2]) / det,
-        (c02 * r[0] + c12 * r[1] + c22 * r[2]) / det,
-    ]);
-    Some(dx * inertia)
+    let inv = R::ONE / det;
+    Some([c00, c11, c22, c01, c02, c12].map(|c| c * inv))
+}
+
+/// The symmetric 3x3 matrix `m` times `v`.
+#[inline]
+pub fn sym3_apply<V: Vector>(m: Sym3<V::Real>, v: V) -> V {
+    let [x, y, z] = components(v);
+    vector::<V>([
+        m[0] * x + m[3] * y + m[4] * z,
+        m[3] * x + m[1] * y + m[5] * z,
+        m[4] * x + m[5] * y + m[2] * z,
+    ])
+}
+
+/// Where a node's next step starts, as the elastic force to begin it with: Vertex Block
+/// Descent's adaptive initialisation (Chen et al. 2024, section 3.5) in the engine's force
+/// form. A node whose total force this step was `total` (mass `mass`, gravity vector
+/// `gravity`) starts the next with the acceleration `a~ = g_hat clamp(a . g_hat, 0, |g|)`,
+/// `a = total / mass`: only what it fell along gravity, never faster than free fall. The
+/// returned force `mass (a~ - gravity)` is added to gravity's: a node at rest (a = 0) starts
+/// where it is, so rest is the solve's fixed point at any iteration count; a falling one
+/// starts where inertia takes it; sideways or upward accelerations, which a full
+/// extrapolation would repeat (and which an unconverged solve then amplifies), are dropped.
+#[inline]
+pub fn elastic_start<V: Vector>(total: V, mass: V::Real, gravity: V) -> V {
+    let g = gravity.length();
+    if !(g > V::Real::ZERO && mass > V::Real::ZERO) {
+        return V::ZERO;
+    }
+    let down = gravity * (V::Real::ONE / g);
+    let along = (total.dot(down) * (V::Real::ONE / mass)).max(V::Real::ZERO);
+    let along = if along > g { g } else { along };
+    (down * along - gravity) * mass
 }
 
 #[cfg(test)]
@@ -369,6 +483,43 @@ mod tests {
             let rigid = elastic_rate(&t, p, [DVec3::new(0.3, -0.2, 0.1); 4], a);
             assert!(rigid.length() < 1e-9 * fd.length(), "corner {a}: {rigid}");
         }
+    }
+
+    #[test]
+    fn the_kept_stiffness_gives_the_same_products_as_the_rate() {
+        let t = tet(1e5, 4e5);
+        for (p, d) in [(deformed(0.5), 0.3), (deformed(-1.6), -0.7)] {
+            let u = [
+                DVec3::new(0.1, 0.2, -0.1),
+                DVec3::new(-0.3, 0.1, 0.2),
+                DVec3::new(0.0, -0.2, 0.1),
+                DVec3::new(0.2, 0.05, 0.3),
+            ]
+            .map(|u| u * d);
+            let kept = elastic_product(&t, &elastic_linearise(&t, p), u);
+            for (a, kept) in kept.iter().enumerate() {
+                let rate = elastic_rate(&t, p, u, a);
+                assert!(
+                    (*kept - rate).length() < 1e-12 * rate.length(),
+                    "corner {a}: {kept} vs {rate}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_step_starts_at_rest_where_the_node_is_and_falling_where_inertia_takes_it() {
+        let (m, g) = (2.0, DVec3::new(0.0, -9.81, 0.0));
+        // At rest (no net force) the start cancels gravity: the node starts where it is.
+        let rest = elastic_start(DVec3::ZERO, m, g);
+        assert!((rest + g * m).length() < 1e-12, "{rest}");
+        // Falling freely (net force m g): no elastic force to start with.
+        assert!(elastic_start(g * m, m, g).length() < 1e-12);
+        // Sideways or upward accelerations are dropped; faster than free fall is clamped.
+        let sideways = elastic_start(DVec3::new(5.0, 0.0, 0.0), m, g);
+        assert!((sideways + g * m).length() < 1e-12, "{sideways}");
+        assert!(elastic_start(g * (3.0 * m), m, g).length() < 1e-12);
+        assert_eq!(elastic_start(g * m, m, DVec3::ZERO), DVec3::ZERO);
     }
 
     #[test]

@@ -46,8 +46,9 @@ pub use constraint::{
 };
 pub use contact::{contact_push, end_position, surface_friction, Solve};
 pub use elastic::{
-    elastic_corner, elastic_energy, elastic_rate, elastic_step, lame, shape_gradients,
-    stable_neo_hookean, ElasticTet, Sym3,
+    elastic_corner, elastic_energy, elastic_linearise, elastic_product, elastic_rate,
+    elastic_start, elastic_step, lame, node_block, shape_gradients, stable_neo_hookean, sym3_apply,
+    sym3_inverse, ElasticLinear, ElasticTet, Sym3,
 };
 pub use integrate::{
     coulomb_friction, floor_force, floor_friction, floor_solve, integrate_node, symplectic_euler,

@@ -47,8 +47,9 @@ pub enum PassKind {
     Distance,
     /// Volume constraints of a group.
     Volume,
-    /// Finite elements (`neo-hookean`): one Newton step per node of a node colour group
-    /// (Vertex Block Descent; [`crate::physics::elastic_step`]).
+    /// Finite elements (`neo-hookean`): one iteration of the step's preconditioned
+    /// conjugate gradients on the Newton system of all nodes
+    /// ([`crate::schedule::family::ElasticNodes`]).
     Elastic,
     /// Constraint forces applied to the nodes, then the floor.
     ConstraintApply,

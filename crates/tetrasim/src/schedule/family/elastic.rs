@@ -1,15 +1,19 @@
-//! Finite elements (`neo-hookean`): a node's Newton step on the stable Neo-Hookean energy of
-//! its tets (Vertex Block Descent; [`crate::physics::elastic_step`]). Its "constraints" are
-//! the nodes themselves, grouped by colour so that no two nodes of a group share a tet
-//! ([`crate::model::ConstraintGroups::nodes_coloured`]); each writes one force increment.
+//! Finite elements (`neo-hookean`): each step one Newton step on the stable Neo-Hookean
+//! incremental potential, `(M/dt^2 + (1 + beta/dt) K) dx = b`, solved by block-Jacobi
+//! preconditioned conjugate gradients, one iteration per dispatch of the `elastic` pass
+//! (docs/PHYSICS.md, "Finite elements"). Its "constraints" are the nodes themselves, in one
+//! group; each iteration writes one force increment per node, `m/dt^2 alpha p`. Here: the
+//! per-node pieces both CPU backends share ([`ElasticNodes::newton_row`],
+//! [`ElasticNodes::product`]); the tets' stiffness and its products are
+//! [`crate::physics::elastic_linearise`] and [`crate::physics::elastic_product`].
 //! Prepared once: each tet's shape gradients, rest volume and material
 //! ([`ElasticTet`]), each node's tets and corners, masses and damping times.
 
 use super::{Access, BufferId, PassKind};
 use crate::model::{adjacency, Csr, Model};
 use crate::physics::{
-    elastic_corner, elastic_rate, elastic_step, shape_gradients, stable_neo_hookean, ElasticTet,
-    Real, Vector,
+    elastic_corner, elastic_rate, node_block, shape_gradients, stable_neo_hookean, sym3_inverse,
+    ElasticTet, Real, Sym3, Vector,
 };
 use crate::problem::Problem;
 
@@ -94,12 +98,15 @@ impl<R: Real> ElasticNodes<R> {
         }
     }
 
-    /// Node `i`'s force increment ([`elastic_step`]) when each node `k` started the step at
-    /// `start_of(k)` and ends it at `end(k)`, and the elastic force on node `i` so far is
-    /// `phi`; zero for a pinned node (`w = 0`) and where the step's system is singular.
+    /// Node `i`'s row of the step's Newton system, linearised where each node `k` ends
+    /// the step so far, `end(k)` (it started at `start_of(k)`), its elastic force so far
+    /// being `phi`: the residual `b_i = -(phi + dE/dx_i + beta (K v)_i)` [N] (`v` the
+    /// nodes' velocities over the step, `(end - start) / dt`; the step's equation is
+    /// `b = 0`) and the inverse of its diagonal block ([`node_block`]), the conjugate
+    /// gradients' preconditioner. Zero for a pinned node (`w = 0`), whose position is given.
     #[inline]
     #[allow(clippy::too_many_arguments)]
-    pub fn step<V: Vector<Real = R>>(
+    pub fn newton_row<V: Vector<Real = R>>(
         &self,
         i: usize,
         w: R,
@@ -108,9 +115,9 @@ impl<R: Real> ElasticNodes<R> {
         tets: &[[u32; 4]],
         start_of: impl Fn(usize) -> V,
         end: impl Fn(usize) -> V,
-    ) -> V {
+    ) -> (V, Sym3<R>) {
         if w <= R::ZERO {
-            return V::ZERO;
+            return (V::ZERO, [R::ZERO; 6]);
         }
         let (grad, hessian) = self.gradient(i, tets, &end);
         let beta = self.damping[i];
@@ -123,7 +130,32 @@ impl<R: Real> ElasticNodes<R> {
                 rate += elastic_rate(&self.tets[t], p, u, corner);
             }
         }
-        elastic_step(self.mass[i], dt, beta, phi, grad, hessian, rate).unwrap_or(V::ZERO)
+        let block = node_block(self.mass[i], dt, beta, hessian);
+        let inverse = sym3_inverse(block).unwrap_or([R::ZERO; 6]);
+        (-(grad + rate * beta + phi), inverse)
+    }
+
+    /// Node `i`'s entry of the Newton matrix times the direction `p`:
+    /// `m/dt^2 p_i + (1 + beta/dt) (K p)_i`, `K p` summed from its tets' corners
+    /// (`corner(4 t + c)`: [`crate::physics::elastic_product`] of tet `t` at its corner `c`). Zero for a
+    /// pinned node (`w = 0`; the direction is zero there).
+    #[inline]
+    pub fn product<V: Vector<Real = R>>(
+        &self,
+        i: usize,
+        w: R,
+        dt: R,
+        p: V,
+        corner: impl Fn(usize) -> V,
+    ) -> V {
+        if w <= R::ZERO {
+            return V::ZERO;
+        }
+        let mut k = V::ZERO;
+        for &item in self.node_tets.row(i) {
+            k += corner(item as usize);
+        }
+        p * (self.mass[i] / (dt * dt)) + k * (R::ONE + self.damping[i] / dt)
     }
 
     /// The sums over node `i`'s tets of the energy's gradient at its corner and the

@@ -60,6 +60,8 @@ pub(super) struct Outputs<'a> {
     pub tet_out: SharedSlice<'a, [Vec3A; 4]>,
     /// Finite elements: per node, in group order, its step's force increment.
     pub node_out: SharedSlice<'a, Vec3A>,
+    /// Finite elements: the conjugate gradients' vectors.
+    pub newton: super::elastic::NewtonShared<'a>,
     /// The Chebyshev forces two iterations back (total, floor).
     pub chebyshev: Option<(SharedSlice<'a, Vec3A>, SharedSlice<'a, f32>)>,
     /// Per chunk of every object's surface nodes, object after object (global
@@ -80,6 +82,7 @@ pub(super) fn run(member: Member<'_>, inputs: &Inputs<'_>, outputs: &Outputs<'_>
     let nodes = member.block(n);
     let surface = inputs.global.map_or(Vec::new(), |g| surface_in(g, &nodes));
     let reach = reach(inputs, nodes.clone());
+    let mut newton = super::elastic::NewtonScalars::default();
     for dispatch in inputs.dispatches {
         let iteration = dispatch.iteration.unwrap_or(0) as usize;
         match (inputs.stages[dispatch.stage], dispatch.group) {
@@ -104,12 +107,18 @@ pub(super) fn run(member: Member<'_>, inputs: &Inputs<'_>, outputs: &Outputs<'_>
                 unsafe { solve(inputs, outputs, at.sweep, at.group, block) };
             }
             (PassKind::Elastic, Some(at)) => {
-                let range = inputs.sweeps[at.sweep].range(at.group);
-                let block = member.block(range.len());
-                let block = range.start + block.start..range.start + block.end;
-                // SAFETY: solve phase: the members write disjoint blocks of the group's
-                // node results and nobody writes `f`.
-                unsafe { elastic(inputs, outputs, at.sweep, block) };
+                // SAFETY: every member calls it with the same arguments, and nobody else
+                // touches the forces, the node results or the vectors meanwhile.
+                unsafe {
+                    super::elastic::iteration(
+                        &member,
+                        inputs,
+                        outputs,
+                        at.sweep,
+                        iteration,
+                        &mut newton,
+                    )
+                };
             }
             (PassKind::InversionFloor, Some(at)) if inputs.sweeps[at.sweep].blocks.is_some() => {
                 let blocks = inputs.sweeps[at.sweep]
@@ -252,44 +261,6 @@ unsafe fn solve(
         }
         // Solved by `elastic` (its own pass).
         Family::Elastic(_) => {}
-    }
-}
-
-/// The finite elements' node steps of `block` (positions in `members.items`) of sweep `s`
-/// against the current forces: each node's force increment
-/// ([`crate::schedule::family::ElasticNodes::step`]), its elastic force so far being its
-/// force less gravity, the floor's and the colliders'.
-///
-/// # Safety
-/// No other thread may touch `block` of the node results, or write `f`, the floor forces
-/// or the collider forces, during the call.
-unsafe fn elastic(
-    inputs: &Inputs<'_>,
-    outputs: &Outputs<'_>,
-    s: usize,
-    block: std::ops::Range<usize>,
-) {
-    let sweep = &inputs.sweeps[s];
-    let Family::Elastic(family) = &sweep.family else {
-        return;
-    };
-    let (x, v, w, k) = (inputs.x, inputs.v, inputs.inv_mass, inputs.k);
-    // SAFETY: nobody writes the forces; `block` of the results is ours (the caller's
-    // promise).
-    let (f, floor, contact, out) = unsafe {
-        (
-            outputs.f.whole(),
-            outputs.floor_force.whole(),
-            outputs.contact.whole(),
-            outputs.node_out.part(block.clone()),
-        )
-    };
-    let end = |j: usize| end_position(x[j], v[j], f[j], w[j], k.dt);
-    for (out, &i) in out.iter_mut().zip(&sweep.members.items[block]) {
-        let i = i as usize;
-        let pushed = contact.get(i).copied().unwrap_or(Vec3A::ZERO);
-        let phi = f[i] - k.gravity * family.mass[i] - Vec3A::Y * floor[i] - pushed;
-        *out = family.step(i, w[i], k.dt, phi, inputs.tets, |j| x[j], end);
     }
 }
 

@@ -24,9 +24,9 @@ use crate::error::Result;
 use crate::model::{ConstraintKind, Csr, GlobalVolume, Model};
 use crate::params::{chebyshev_weights, ContactMode, Method, SimParams, Solver, SpringKind};
 use crate::physics::{
-    compliant_multiplier, contact_held, end_position, face_volume, floor_solve, global_multiplier,
-    held_direction, implicit_accumulate, implicit_multiplier, integrate_node, spring_constraint,
-    spring_force, tet_volume, Solve, Vector,
+    compliant_multiplier, contact_held, elastic_start, end_position, face_volume, floor_solve,
+    global_multiplier, held_direction, implicit_accumulate, implicit_multiplier, integrate_node,
+    spring_constraint, spring_force, tet_volume, Solve, Vector,
 };
 use crate::problem::Problem;
 use crate::schedule::family::{ConstraintFamily, Family};
@@ -35,6 +35,7 @@ use crate::schedule::{Dispatch, PassKind, Schedule};
 mod anderson;
 mod backend;
 mod blocks;
+mod elastic;
 mod inversion;
 mod iterations;
 #[cfg(test)]

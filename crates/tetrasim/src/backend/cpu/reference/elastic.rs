@@ -1,36 +1,168 @@
-//! `cpu-ref`'s finite elements: the node steps of one colour group.
+//! `cpu-ref`'s finite elements: each step one Newton step on the stable Neo-Hookean energy,
+//! its linear system solved by block-Jacobi preconditioned conjugate gradients, one
+//! iteration per dispatch of the `elastic` pass (docs/PHYSICS.md, "Finite elements").
 
 use glam::DVec3;
 
 use super::step_forces::StepForces;
 use super::ReferenceBackend;
-use crate::physics::end_position;
-use crate::schedule::family::Family;
+use crate::physics::{
+    elastic_energy, elastic_linearise, elastic_product, end_position, sym3_apply, ElasticLinear,
+    Sym3,
+};
+use crate::schedule::family::{ElasticNodes, Family};
 use crate::schedule::GroupAt;
 
+/// The conjugate gradients' state within a step: the positions the system is linearised at
+/// (where the step's first iteration found the nodes ending), the residual `r`, the
+/// preconditioned residual `z`, the search direction `p`, the inverse diagonal blocks and
+/// `r . z`.
+#[derive(Debug, Clone, Default)]
+pub(super) struct NewtonCg {
+    at: Vec<DVec3>,
+    /// Where inertia and gravity alone would take each node (the step's `y`), and the
+    /// displacement the iterations have added to `at` so far.
+    y: Vec<DVec3>,
+    dx: Vec<DVec3>,
+    /// The step's incremental potential at `at + dx` ([`ReferenceBackend::potential`]).
+    potential: f64,
+    /// Per tet: its stiffness at `at`.
+    linear: Vec<ElasticLinear<DVec3>>,
+    r: Vec<DVec3>,
+    z: Vec<DVec3>,
+    p: Vec<DVec3>,
+    inverse: Vec<Sym3<f64>>,
+    rz: f64,
+    /// Converged, or the direction met non-positive curvature: no further increments.
+    done: bool,
+}
+
 impl ReferenceBackend {
-    /// The finite elements' node steps of group `at` (a node colour) against the step's
-    /// forces: each node's force increment ([`ElasticNodes::step`]) at its own slot.
-    pub(super) fn elastic_group(&self, at: GroupAt, step: &StepForces) -> Vec<DVec3> {
+    /// Iteration `iteration` of the finite elements' conjugate gradients on group `at` (all
+    /// nodes), against the step's forces: the per-node force increments `m/dt^2 alpha p`.
+    /// The first iteration linearises the step's equation where the nodes end so far
+    /// ([`crate::schedule::family::ElasticNodes::newton_row`]).
+    pub(super) fn elastic_group(
+        &self,
+        at: GroupAt,
+        iteration: u32,
+        step: &mut StepForces,
+    ) -> Vec<DVec3> {
+        let n = self.problem.model.node_count();
+        let mut sum = vec![DVec3::ZERO; n];
         let Family::Elastic(nodes) = &self.families[at.sweep] else {
-            return vec![DVec3::ZERO; self.problem.model.node_count()];
+            return sum;
         };
         let (model, dt) = (&self.problem.model, self.problem.params.dt);
-        let w = &model.inv_mass;
-        let end = |k: usize| end_position(self.x[k], self.v[k], step.total[k], w[k], dt);
-        let mut sum = vec![DVec3::ZERO; model.node_count()];
-        for &i in self.problem.sweeps[at.sweep].groups.group(at.group) {
-            let i = i as usize;
-            sum[i] = nodes.step(
-                i,
-                w[i],
-                dt,
-                step.elastic(i),
-                &model.tets,
-                |k| self.x[k],
-                end,
-            );
+        let (w, tets) = (&model.inv_mass, &model.tets);
+        let members = self.problem.sweeps[at.sweep].groups.group(at.group);
+        if iteration == 0 {
+            let phi: Vec<DVec3> = (0..n).map(|i| step.elastic(i)).collect();
+            let (total, cg) = (&step.total, &mut step.newton);
+            cg.at = (0..n)
+                .map(|k| end_position(self.x[k], self.v[k], total[k], w[k], dt))
+                .collect();
+            cg.y = (0..n)
+                .map(|k| cg.at[k] - phi[k] * (w[k] * dt * dt))
+                .collect();
+            cg.dx = vec![DVec3::ZERO; n];
+            cg.potential = self.potential(nodes, &cg.at, &cg.y);
+            cg.linear = (tets.iter().zip(&nodes.tets))
+                .map(|(tet, t)| elastic_linearise(t, tet.map(|k| cg.at[k as usize])))
+                .collect();
+            cg.r = vec![DVec3::ZERO; n];
+            cg.inverse = vec![[0.0; 6]; n];
+            for &i in members {
+                let i = i as usize;
+                let (b, inverse) =
+                    nodes.newton_row(i, w[i], dt, phi[i], tets, |k| self.x[k], |k| cg.at[k]);
+                (cg.r[i], cg.inverse[i]) = (b, inverse);
+            }
+            cg.z = (cg.r.iter().zip(&cg.inverse))
+                .map(|(r, m)| sym3_apply(*m, *r))
+                .collect();
+            cg.p.clone_from(&cg.z);
+            cg.rz = dot(&cg.r, &cg.z);
+            cg.done = !positive(cg.rz);
         }
+        let cg = &mut step.newton;
+        if cg.done {
+            return sum;
+        }
+        let corners: Vec<[DVec3; 4]> = (tets.iter().zip(&nodes.tets).zip(&cg.linear))
+            .map(|((tet, t), linear)| elastic_product(t, linear, tet.map(|k| cg.p[k as usize])))
+            .collect();
+        let mut q = vec![DVec3::ZERO; n];
+        for &i in members {
+            let i = i as usize;
+            q[i] = nodes.product(i, w[i], dt, cg.p[i], |item| corners[item / 4][item % 4]);
+        }
+        let curvature = dot(&cg.p, &q);
+        if !positive(curvature) {
+            cg.done = true;
+            return sum;
+        }
+        // Backtracking: a step that raises the incremental potential (a large deformation
+        // the linearisation misjudges) is halved until it lowers it, and ends the solve.
+        let mut alpha = cg.rz / curvature;
+        let mut halved = 0;
+        loop {
+            let trial: Vec<DVec3> = (0..n)
+                .map(|k| cg.at[k] + cg.dx[k] + cg.p[k] * alpha)
+                .collect();
+            let potential = self.potential(nodes, &trial, &cg.y);
+            if potential <= cg.potential {
+                cg.potential = potential;
+                break;
+            }
+            if halved == MOST_HALVINGS {
+                cg.done = true;
+                return sum;
+            }
+            (alpha, halved) = (alpha * 0.5, halved + 1);
+        }
+        for &i in members {
+            let i = i as usize;
+            cg.dx[i] += cg.p[i] * alpha;
+            sum[i] = cg.p[i] * (alpha * nodes.mass[i] / (dt * dt));
+            cg.r[i] -= q[i] * alpha;
+            cg.z[i] = sym3_apply(cg.inverse[i], cg.r[i]);
+        }
+        let rz = dot(&cg.r, &cg.z);
+        let beta = rz / cg.rz;
+        for (p, z) in cg.p.iter_mut().zip(&cg.z) {
+            *p = *z + *p * beta;
+        }
+        cg.rz = rz;
+        cg.done = halved > 0 || !positive(rz);
         sum
     }
+
+    /// The step's incremental potential with the nodes at `x`:
+    /// `sum_i m_i / (2 dt^2) |x_i - y_i|^2` over the free nodes plus the tets' energy.
+    fn potential(&self, nodes: &ElasticNodes<f64>, x: &[DVec3], y: &[DVec3]) -> f64 {
+        let (model, dt) = (&self.problem.model, self.problem.params.dt);
+        let inertia: f64 = (0..x.len())
+            .filter(|&i| model.inv_mass[i] > 0.0)
+            .map(|i| nodes.mass[i] * (x[i] - y[i]).length_squared())
+            .sum::<f64>()
+            / (2.0 * dt * dt);
+        let energy: f64 = (model.tets.iter().zip(&nodes.tets))
+            .map(|(tet, t)| elastic_energy(t, tet.map(|k| x[k as usize])))
+            .sum();
+        inertia + energy
+    }
+}
+
+/// Halvings of a conjugate-gradient step before the solve gives up on its direction.
+const MOST_HALVINGS: u32 = 8;
+
+/// `sum_i a_i . b_i`, in node order.
+fn dot(a: &[DVec3], b: &[DVec3]) -> f64 {
+    a.iter().zip(b).map(|(a, b)| a.dot(*b)).sum()
+}
+
+/// Whether `x` is a positive number (not NaN): the conjugate gradients go on only then.
+fn positive(x: f64) -> bool {
+    x > 0.0
 }

@@ -11,7 +11,7 @@ use crate::error::Result;
 use crate::model::Model;
 use crate::params::{ContactMode, Method, SimParams};
 use crate::physics::{
-    compliant_multiplier, implicit_accumulate, integrate_node, tet_volume, Solve,
+    compliant_multiplier, elastic_start, implicit_accumulate, integrate_node, tet_volume, Solve,
 };
 use crate::problem::Problem;
 use crate::schedule::family::{ConstraintFamily, Family};
@@ -233,7 +233,9 @@ impl ReferenceBackend {
             (PassKind::SpringConstraint | PassKind::Distance | PassKind::Volume, Some(at)) => {
                 step.sum = self.solve_group(at, step)
             }
-            (PassKind::Elastic, Some(at)) => step.sum = self.elastic_group(at, step),
+            (PassKind::Elastic, Some(at)) => {
+                step.sum = self.elastic_group(at, iteration, step);
+            }
             (PassKind::InversionFloor, Some(at)) => step.sum = self.inversion_group(at, step),
             (PassKind::ConstraintApply, Some(at)) => self.apply_group(at, iteration, step),
             (PassKind::GlobalVolumeSum, _) => self.global_multipliers(step),
@@ -432,7 +434,11 @@ impl ReferenceBackend {
             std::mem::swap(&mut self.spring_warm, &mut forces.spring_multipliers);
         }
         if !self.elastic_warm.is_empty() {
-            self.elastic_warm.clone_from(&forces.constraints);
+            let gravity = DVec3::new(0.0, -self.problem.params.gravity, 0.0);
+            let mass = &self.problem.model.mass;
+            self.elastic_warm = (f.iter().zip(mass))
+                .map(|(&f, &m)| elastic_start(f, m, gravity))
+                .collect();
         }
         let p = &self.problem.params;
         let at = collider::at_step(&self.problem.model.colliders, self.steps, p.dt);

@@ -33,6 +33,8 @@ pub(super) struct StepForces {
     pub(super) before_floor: Vec<f64>,
     /// The current group's per-node constraint sums.
     pub(super) sum: Vec<DVec3>,
+    /// The finite elements' conjugate gradients within the step.
+    pub(super) newton: super::elastic::NewtonCg,
     /// Per global volume object: `C_g`, the surface gradients and the multiplier.
     pub(super) global: Vec<(f64, Vec<DVec3>, f64)>,
     /// The step's body contacts with their multipliers so far (`<= 0`: they push).
@@ -61,6 +63,7 @@ impl StepForces {
             before_total: Vec::new(),
             before_floor: Vec::new(),
             sum: Vec::new(),
+            newton: Default::default(),
             global: Vec::new(),
             bodies: Vec::new(),
             anderson: Default::default(),

@@ -31,11 +31,6 @@ impl ParallelBackend {
             .with_min_len(CHUNK)
             .zip(self.contact.par_iter_mut())
             .filter_map(|((i, ((x, v), (f, n))), c)| {
-                // Finite elements start the next step from this one's elastic forces.
-                let elastic = match warm {
-                    true => *f - k.gravity * mass[i] - Vec3A::Y * *n - *c,
-                    false => Vec3A::ZERO,
-                };
                 if on {
                     (*f, *n) = floor_solve(*f, *n, x.y + solve.slack(x.y), v.y, w[i], dt);
                 }
@@ -50,6 +45,12 @@ impl ParallelBackend {
                         }
                         touch.touching.is_some().then_some(touch)
                     }
+                };
+                // Finite elements start the next step where this one's fall (its total
+                // force after the floor and the colliders) takes them.
+                let elastic = match warm {
+                    true => elastic_start(*f, mass[i], k.gravity),
+                    false => Vec3A::ZERO,
                 };
                 let (mut x1, mut v1) = integrate_node(*x, *v, *f, w[i], k.dt, *n, k.friction);
                 if let Some(touch) = touch {

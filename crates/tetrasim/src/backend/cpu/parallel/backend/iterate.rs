@@ -94,6 +94,7 @@ impl ParallelBackend {
             pair_out,
             tet_out,
             node_out,
+            newton,
             ..
         } = self;
         let (chebyshev_weights, chebyshev) = match chebyshev {
@@ -148,6 +149,7 @@ impl ParallelBackend {
             pair_out: SharedSlice::new(pair_out),
             tet_out: SharedSlice::new(tet_out),
             node_out: SharedSlice::new(node_out),
+            newton: newton.share(),
             chebyshev,
             partial: SharedSlice::new(&mut partial),
             anderson: anderson.as_mut().map(|a| {

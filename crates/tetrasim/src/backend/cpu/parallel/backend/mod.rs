@@ -101,8 +101,10 @@ pub struct ParallelBackend {
     tet_out: Vec<[Vec3A; 4]>,
     /// Finite elements: per node, in group order, its step's force increment.
     node_out: Vec<Vec3A>,
-    /// Finite elements: each step starts from the last one's elastic forces.
+    /// Finite elements: each step starts where the last one's fall takes the nodes.
     elastic_warm: bool,
+    /// Finite elements: the conjugate gradients' vectors (empty otherwise).
+    newton: super::elastic::NewtonVectors,
     frame: u32,
     /// Divergence speed limit [m/s] ([`crate::stability::speed_limit`]).
     speed_limit: f32,
@@ -248,6 +250,10 @@ impl ParallelBackend {
                 false => Vec::new(),
             },
             elastic_warm: has(ConstraintKind::Elastic),
+            newton: match has(ConstraintKind::Elastic) {
+                true => super::elastic::NewtonVectors::new(model.node_count(), model.tets.len()),
+                false => Default::default(),
+            },
             tet_out: if has(ConstraintKind::Volume) {
                 vec![[Vec3A::ZERO; 4]; model.tets.len()]
             } else {
