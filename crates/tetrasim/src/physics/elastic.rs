@@ -110,6 +110,14 @@ pub fn vector<V: Vector>(c: [V::Real; 3]) -> V {
     ))
 }
 
+/// The columns of `sum_a p_a g_a^T` for corner values `p` of tet `t`: `F` of positions,
+/// `dF` of displacements or velocities.
+#[inline]
+fn columns<V: Vector>(t: &ElasticTet<V::Real>, p: [V; 4]) -> [V; 3] {
+    let e = [p[1] - p[0], p[2] - p[0], p[3] - p[0]];
+    [0, 1, 2].map(|k| e[0] * t.shape[0][k] + e[1] * t.shape[1][k] + e[2] * t.shape[2][k])
+}
+
 /// Corner `a` of tet `t` at positions `p`: the energy's gradient `dE/dx_a = V0 P(F) g_a` [N]
 /// and its Hessian block `d^2 E / dx_a^2` [N/m] (positive semi-definite; module doc).
 #[inline]
@@ -149,12 +157,7 @@ pub fn elastic_corner<V: Vector>(
 #[inline]
 pub fn elastic_rate<V: Vector>(t: &ElasticTet<V::Real>, p: [V; 4], u: [V; 4], a: usize) -> V {
     let one = V::Real::ONE;
-    let e = [p[1] - p[0], p[2] - p[0], p[3] - p[0]];
-    let de = [u[1] - u[0], u[2] - u[0], u[3] - u[0]];
-    let col =
-        |e: &[V; 3], k: usize| e[0] * t.shape[0][k] + e[1] * t.shape[1][k] + e[2] * t.shape[2][k];
-    let f: [V; 3] = [0, 1, 2].map(|k| col(&e, k));
-    let df: [V; 3] = [0, 1, 2].map(|k| col(&de, k));
+    let (f, df) = (columns(t, p), columns(t, u));
     let cof = [f[1].cross(f[2]), f[2].cross(f[0]), f[0].cross(f[1])];
     let dcof = [
         df[1].cross(f[2]) + f[1].cross(df[2]),
@@ -201,9 +204,7 @@ impl<V: Vector> Default for ElasticLinear<V> {
 #[inline]
 pub fn elastic_linearise<V: Vector>(t: &ElasticTet<V::Real>, p: [V; 4]) -> ElasticLinear<V> {
     let one = V::Real::ONE;
-    let e = [p[1] - p[0], p[2] - p[0], p[3] - p[0]];
-    let f: [V; 3] =
-        [0, 1, 2].map(|k| e[0] * t.shape[0][k] + e[1] * t.shape[1][k] + e[2] * t.shape[2][k]);
+    let f = columns(t, p);
     let cof = [f[1].cross(f[2]), f[2].cross(f[0]), f[0].cross(f[1])];
     let j = f[0].dot(cof[0]);
     let ic = f[0].dot(f[0]) + f[1].dot(f[1]) + f[2].dot(f[2]);
@@ -230,9 +231,7 @@ pub fn elastic_product<V: Vector>(
     lin: &ElasticLinear<V>,
     d: [V; 4],
 ) -> [V; 4] {
-    let de = [d[1] - d[0], d[2] - d[0], d[3] - d[0]];
-    let df: [V; 3] =
-        [0, 1, 2].map(|k| de[0] * t.shape[0][k] + de[1] * t.shape[1][k] + de[2] * t.shape[2][k]);
+    let df = columns(t, d);
     let (f, cof) = (&lin.f, &lin.cof);
     let dcof = [
         df[1].cross(f[2]) + f[1].cross(df[2]),
@@ -254,9 +253,7 @@ pub fn elastic_product<V: Vector>(
 /// The tet's energy `V0 Psi(F)` [J] at positions `p`.
 pub fn elastic_energy<V: Vector>(t: &ElasticTet<V::Real>, p: [V; 4]) -> V::Real {
     let one = V::Real::ONE;
-    let e = [p[1] - p[0], p[2] - p[0], p[3] - p[0]];
-    let f: [V; 3] =
-        [0, 1, 2].map(|k| e[0] * t.shape[0][k] + e[1] * t.shape[1][k] + e[2] * t.shape[2][k]);
+    let f = columns(t, p);
     let j = f[0].dot(f[1].cross(f[2]));
     let ic = f[0].dot(f[0]) + f[1].dot(f[1]) + f[2].dot(f[2]);
     let half = one / (one + one);
