@@ -276,4 +276,11 @@ fn a_material_that_cannot_act_is_refused_naming_its_key() {
         },
         "minres",
     );
+    refused(
+        SimParams {
+            omega: 0.8,
+            ..nh.clone()
+        },
+        "omega",
+    );
 }

@@ -71,6 +71,16 @@ impl SimParams {
                 ));
             }
         }
+        if self.omega != 1.0 {
+            return Err(Error::param(
+                "omega",
+                format!(
+                    "relaxes constraint sweeps; method {method} takes each conjugate-gradient \
+                     step whole (leave omega at 1, got {})",
+                    self.omega
+                ),
+            ));
+        }
         if self.solver != Solver::GaussSeidel {
             return Err(Error::param(
                 "solver",

@@ -30,6 +30,7 @@ mod contact;
 mod elastic;
 mod integrate;
 mod minres;
+mod rigid;
 mod spring;
 
 pub use anderson::{
@@ -56,5 +57,6 @@ pub use integrate::{
 pub use minres::{
     compliant_residual, Held, Mobility, NodeRows, StepRows, HELD_SHARE, MINRES_MAX_ITERATIONS,
 };
+pub use rigid::RigidPart;
 pub use spring::spring_force;
 pub use tetmesh::geometry::{tet_volume, Real, Vector};

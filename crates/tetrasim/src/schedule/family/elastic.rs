@@ -17,6 +17,11 @@ use crate::physics::{
 };
 use crate::problem::Problem;
 
+/// The largest strain change (step length over the shortest rest edge at a node) a
+/// conjugate-gradient step may make without a check of the incremental potential: the
+/// quadratic model's error is of third order in it, far below the step's gain.
+pub const TRUSTED_STRAIN: f64 = 0.01;
+
 /// The pass that solves them.
 pub(super) const PASS: PassKind = PassKind::Elastic;
 
@@ -47,6 +52,12 @@ pub struct ElasticNodes<R> {
     pub mass: Vec<R>,
     /// Per node: the damping time [s] of its first tet's material.
     pub damping: Vec<R>,
+    /// Per node: one over the shortest rest edge of its tets [1/m] (how far a step moves
+    /// the node for its tets' strains, [`ElasticNodes::trusted`]).
+    pub reach: Vec<R>,
+    /// The node ranges of the objects with no pinned node: the elastic forces on each sum to
+    /// no force and no torque ([`crate::physics::RigidPart`]).
+    pub free_objects: Vec<std::ops::Range<usize>>,
 }
 
 impl<R: Real> ElasticNodes<R> {
@@ -90,12 +101,45 @@ impl<R: Real> ElasticNodes<R> {
                 R::from_f64(beta)
             })
             .collect();
+        let mut shortest = vec![f64::INFINITY; model.node_count()];
+        for tet in &model.tets {
+            for (a, b) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
+                let (i, j) = (tet[a] as usize, tet[b] as usize);
+                let length = (model.positions[i] - model.positions[j]).length();
+                shortest[i] = shortest[i].min(length);
+                shortest[j] = shortest[j].min(length);
+            }
+        }
+        let reach = (shortest.iter())
+            .map(|&h| {
+                R::from_f64(if h > 0.0 && h.is_finite() {
+                    1.0 / h
+                } else {
+                    0.0
+                })
+            })
+            .collect();
+        let free_objects = (model.objects.windows(2))
+            .map(|w| w[0] as usize..w[1] as usize)
+            .filter(|nodes| model.inv_mass[nodes.clone()].iter().all(|&w| w > 0.0))
+            .collect();
         ElasticNodes {
             tets,
             node_tets,
             mass: model.mass.iter().map(|&m| R::from_f64(m)).collect(),
             damping,
+            reach,
+            free_objects,
         }
+    }
+
+    /// The strain change of moving node `i` by `step`: its length over the node's shortest
+    /// rest edge. A conjugate-gradient step whose largest strain change is at most
+    /// [`TRUSTED_STRAIN`] is taken as it is; a longer one is checked against the step's
+    /// incremental potential and halved until it lowers it.
+    #[inline]
+    pub fn strain<V: Vector<Real = R>>(&self, i: usize, step: V) -> R {
+        step.length() * self.reach[i]
     }
 
     /// Node `i`'s row of the step's Newton system, linearised where each node `k` ends

@@ -10,7 +10,11 @@ use super::iterations::{Inputs, Outputs};
 use super::*;
 use crate::backend::cpu::shared::SharedSlice;
 use crate::backend::cpu::team::Member;
-use crate::physics::{elastic_linearise, elastic_product, sym3_apply, ElasticLinear, Sym3};
+use crate::physics::{
+    elastic_energy, elastic_linearise, elastic_product, sym3_apply, ElasticLinear, ElasticTet,
+    RigidPart, Sym3,
+};
+use crate::schedule::family::{ElasticNodes, TRUSTED_STRAIN};
 
 /// Nodes per chunk of a dot product's partial sums.
 const CHUNK: usize = 256;
@@ -22,6 +26,11 @@ const CHUNK: usize = 256;
 #[derive(Debug, Clone, Default)]
 pub(super) struct NewtonVectors {
     at: Vec<Vec3A>,
+    /// Where inertia alone would take each node, the displacement added to `at` so far and
+    /// a trial position (the line search's).
+    y: Vec<Vec3A>,
+    dx: Vec<Vec3A>,
+    trial: Vec<Vec3A>,
     r: Vec<Vec3A>,
     z: Vec<Vec3A>,
     p: Vec<Vec3A>,
@@ -30,6 +39,8 @@ pub(super) struct NewtonVectors {
     linear: Vec<ElasticLinear<Vec3A>>,
     corners: Vec<[Vec3A; 4]>,
     sums: Vec<f64>,
+    /// Per chunk of tets: a partial sum of their energies.
+    tet_sums: Vec<f64>,
 }
 
 impl NewtonVectors {
@@ -37,6 +48,9 @@ impl NewtonVectors {
     pub(super) fn new(nodes: usize, tets: usize) -> Self {
         NewtonVectors {
             at: vec![Vec3A::ZERO; nodes],
+            y: vec![Vec3A::ZERO; nodes],
+            dx: vec![Vec3A::ZERO; nodes],
+            trial: vec![Vec3A::ZERO; nodes],
             r: vec![Vec3A::ZERO; nodes],
             z: vec![Vec3A::ZERO; nodes],
             p: vec![Vec3A::ZERO; nodes],
@@ -45,6 +59,7 @@ impl NewtonVectors {
             linear: vec![ElasticLinear::default(); tets],
             corners: vec![[Vec3A::ZERO; 4]; tets],
             sums: vec![0.0; nodes.div_ceil(CHUNK)],
+            tet_sums: vec![0.0; tets.div_ceil(CHUNK)],
         }
     }
 
@@ -52,6 +67,9 @@ impl NewtonVectors {
     pub(super) fn share(&mut self) -> NewtonShared<'_> {
         NewtonShared {
             at: SharedSlice::new(&mut self.at),
+            y: SharedSlice::new(&mut self.y),
+            dx: SharedSlice::new(&mut self.dx),
+            trial: SharedSlice::new(&mut self.trial),
             r: SharedSlice::new(&mut self.r),
             z: SharedSlice::new(&mut self.z),
             p: SharedSlice::new(&mut self.p),
@@ -60,6 +78,7 @@ impl NewtonVectors {
             linear: SharedSlice::new(&mut self.linear),
             corners: SharedSlice::new(&mut self.corners),
             sums: SharedSlice::new(&mut self.sums),
+            tet_sums: SharedSlice::new(&mut self.tet_sums),
         }
     }
 }
@@ -67,6 +86,9 @@ impl NewtonVectors {
 /// [`NewtonVectors`] shared by the team.
 pub(super) struct NewtonShared<'a> {
     at: SharedSlice<'a, Vec3A>,
+    y: SharedSlice<'a, Vec3A>,
+    dx: SharedSlice<'a, Vec3A>,
+    trial: SharedSlice<'a, Vec3A>,
     r: SharedSlice<'a, Vec3A>,
     z: SharedSlice<'a, Vec3A>,
     p: SharedSlice<'a, Vec3A>,
@@ -75,6 +97,7 @@ pub(super) struct NewtonShared<'a> {
     linear: SharedSlice<'a, ElasticLinear<Vec3A>>,
     corners: SharedSlice<'a, [Vec3A; 4]>,
     sums: SharedSlice<'a, f64>,
+    tet_sums: SharedSlice<'a, f64>,
 }
 
 /// What each member keeps between the iterations of a step (all members the same values).
@@ -84,16 +107,71 @@ pub(super) struct NewtonScalars {
     rz: f64,
     /// Converged, or the direction met non-positive curvature: no further increments.
     done: bool,
+    /// The step's incremental potential at `at + dx`, once a step has needed it.
+    potential: Option<f64>,
 }
 
 /// Iteration `iteration` of sweep `s`'s conjugate gradients as `member`: the force
 /// increments `m/dt^2 alpha p` in the node results. Four phases between barriers (the
 /// first iteration linearises the step in three more); the caller's wait ends the last.
+/// The last iteration of the step also removes the rigid part of each free object's
+/// elastic forces, as `cpu-ref` does (two more phases).
 ///
 /// # Safety
 /// Every member must call it with the same arguments; nobody else may touch the forces,
 /// the node results or the vectors during the call.
 pub(super) unsafe fn iteration(
+    member: &Member<'_>,
+    inputs: &Inputs<'_>,
+    outputs: &Outputs<'_>,
+    s: usize,
+    iteration: usize,
+    scalars: &mut NewtonScalars,
+) {
+    // SAFETY: the caller's promise.
+    unsafe { increments(member, inputs, outputs, s, iteration, scalars) };
+    let Family::Elastic(family) = &inputs.sweeps[s].family else {
+        return;
+    };
+    if iteration + 1 != inputs.k.iterations as usize || family.free_objects.is_empty() {
+        return;
+    }
+    member.wait();
+    let (x, k) = (inputs.x, inputs.k);
+    // Every member finds the same rigid parts (the same sums in the same order).
+    // SAFETY: nobody writes the forces or the node results until the next wait.
+    let parts: Vec<RigidPart> = unsafe {
+        let (f, out) = (outputs.f.whole(), outputs.node_out.whole());
+        let (floor, contact) = (outputs.floor_force.whole(), outputs.contact.whole());
+        (family.free_objects.iter())
+            .map(|object| {
+                RigidPart::of(object.clone().map(|i| {
+                    let pushed = contact.get(i).copied().unwrap_or(Vec3A::ZERO);
+                    let phi = f[i] - k.gravity * family.mass[i] - Vec3A::Y * floor[i] - pushed;
+                    let m = f64::from(family.mass[i]);
+                    (x[i].as_dvec3(), m, (phi + out[i]).as_dvec3())
+                }))
+            })
+            .collect()
+    };
+    member.wait();
+    let own = member.block(inputs.x.len());
+    // SAFETY: these nodes' results are this member's.
+    let out = unsafe { outputs.node_out.part(own.clone()) };
+    for (object, part) in family.free_objects.iter().zip(&parts) {
+        let nodes = object.start.max(own.start)..object.end.min(own.end);
+        for i in nodes {
+            let m = f64::from(family.mass[i]);
+            out[i - own.start] -= part.force(x[i].as_dvec3(), m).as_vec3a();
+        }
+    }
+}
+
+/// The conjugate gradients' force increments of one iteration (see [`iteration`]).
+///
+/// # Safety
+/// As [`iteration`].
+unsafe fn increments(
     member: &Member<'_>,
     inputs: &Inputs<'_>,
     outputs: &Outputs<'_>,
@@ -149,9 +227,11 @@ pub(super) unsafe fn iteration(
             let at = cg.at.whole();
             let (r, z) = (cg.r.part(nodes.clone()), cg.z.part(nodes.clone()));
             let (p, inverse) = (cg.p.part(nodes.clone()), cg.inverse.part(nodes.clone()));
+            let (y, dx) = (cg.y.part(nodes.clone()), cg.dx.part(nodes.clone()));
             for (j, i) in nodes.clone().enumerate() {
                 let pushed = contact.get(i).copied().unwrap_or(Vec3A::ZERO);
                 let phi = f[i] - k.gravity * family.mass[i] - Vec3A::Y * floor[i] - pushed;
+                (y[j], dx[j]) = (at[i] - phi * (w[i] * dt * dt), Vec3A::ZERO);
                 (r[j], inverse[j]) = family.newton_row(i, w[i], dt, phi, tets, |q| x[q], |q| at[q]);
                 z[j] = sym3_apply(inverse[j], r[j]);
                 p[j] = z[j];
@@ -161,6 +241,7 @@ pub(super) unsafe fn iteration(
         member.wait();
         scalars.rz = total();
         scalars.done = !positive(scalars.rz);
+        scalars.potential = None;
         member.wait();
     }
     // SAFETY: these nodes' results are this member's.
@@ -195,14 +276,58 @@ pub(super) unsafe fn iteration(
         out.fill(Vec3A::ZERO);
         return;
     }
-    let alpha = (scalars.rz / curvature) as f32;
+    // The largest strain change per unit step, each chunk's maximum then theirs.
+    // SAFETY: nobody writes `p`; these chunks' sums are this member's.
+    unsafe {
+        let (p, sums) = (cg.p.whole(), cg.sums.part(chunks.clone()));
+        for (c, sum) in chunks.clone().zip(sums) {
+            let strains = (c * CHUNK..((c + 1) * CHUNK).min(n)).map(|i| family.strain(i, p[i]));
+            *sum = f64::from(strains.fold(0.0, f32::max));
+        }
+    }
+    member.wait();
+    // SAFETY: after a wait nobody writes the sums until the next phase.
+    let strain = unsafe { cg.sums.whole() }
+        .iter()
+        .copied()
+        .fold(0.0, f64::max);
+    member.wait();
+    // Backtracking as `cpu-ref`'s: an untrusted step that raises the potential is halved.
+    let mut alpha = scalars.rz / curvature;
+    let mut halved = 0;
+    loop {
+        if alpha * strain <= TRUSTED_STRAIN {
+            scalars.potential = None;
+            break;
+        }
+        let now = match scalars.potential {
+            Some(now) => now,
+            // SAFETY: the caller's promise.
+            None => unsafe { potential(member, inputs, outputs, family, 0.0) },
+        };
+        // SAFETY: the caller's promise.
+        let trial = unsafe { potential(member, inputs, outputs, family, alpha as f32) };
+        if trial <= now {
+            scalars.potential = Some(trial);
+            break;
+        }
+        scalars.potential = Some(now);
+        if halved == MOST_HALVINGS {
+            scalars.done = true;
+            out.fill(Vec3A::ZERO);
+            return;
+        }
+        (alpha, halved) = (alpha * 0.5, halved + 1);
+    }
+    let alpha = alpha as f32;
     // SAFETY: these nodes' vectors are this member's.
     unsafe {
         let (r, z) = (cg.r.part(nodes.clone()), cg.z.part(nodes.clone()));
         let (p, q) = (cg.p.part(nodes.clone()), cg.q.part(nodes.clone()));
-        let inverse = cg.inverse.part(nodes.clone());
+        let (inverse, dx) = (cg.inverse.part(nodes.clone()), cg.dx.part(nodes.clone()));
         for (j, i) in nodes.clone().enumerate() {
             out[j] = p[j] * (alpha * family.mass[i] / (dt * dt));
+            dx[j] += p[j] * alpha;
             r[j] -= q[j] * alpha;
             z[j] = sym3_apply(inverse[j], r[j]);
         }
@@ -219,8 +344,82 @@ pub(super) unsafe fn iteration(
         }
     }
     scalars.rz = rz;
-    scalars.done = !positive(rz);
+    scalars.done = halved > 0 || !positive(rz);
 }
+
+/// The step's incremental potential with the nodes at `at + dx + alpha p` (`cpu-ref`'s
+/// `potential`): the free nodes' inertia `m / (2 dt^2) |x - y|^2` plus the tets' energy,
+/// summed in double precision per chunk and the chunks in order. Three phases.
+///
+/// # Safety
+/// As [`iteration`].
+unsafe fn potential(
+    member: &Member<'_>,
+    inputs: &Inputs<'_>,
+    outputs: &Outputs<'_>,
+    family: &ElasticNodes<f32>,
+    alpha: f32,
+) -> f64 {
+    let cg = &outputs.newton;
+    let (n, tets, w) = (inputs.x.len(), inputs.tets, inputs.inv_mass);
+    let chunks = member.block(n.div_ceil(CHUNK));
+    let scale = 1.0 / (2.0 * f64::from(inputs.k.dt).powi(2));
+    // SAFETY: nobody writes `at`, `dx`, `p` or `y`; these chunks' trial positions and sums
+    // are this member's.
+    unsafe {
+        let (at, dx, p, y) = (cg.at.whole(), cg.dx.whole(), cg.p.whole(), cg.y.whole());
+        let nodes = chunks.start * CHUNK..(chunks.end * CHUNK).min(n);
+        let trial = cg.trial.part(nodes.clone());
+        let sums = cg.sums.part(chunks.clone());
+        for (c, sum) in chunks.clone().zip(sums) {
+            *sum = 0.0;
+            for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                let x = at[i] + dx[i] + p[i] * alpha;
+                trial[i - nodes.start] = x;
+                if w[i] > 0.0 {
+                    let m = f64::from(family.mass[i]);
+                    *sum += m * scale * (x.as_dvec3() - y[i].as_dvec3()).length_squared();
+                }
+            }
+        }
+    }
+    member.wait();
+    let tet_chunks = member.block(tets.len().div_ceil(CHUNK));
+    // SAFETY: nobody writes the trial positions; these chunks' sums are this member's.
+    unsafe {
+        let trial = cg.trial.whole();
+        let sums = cg.tet_sums.part(tet_chunks.clone());
+        for (c, sum) in tet_chunks.clone().zip(sums) {
+            *sum = (c * CHUNK..((c + 1) * CHUNK).min(tets.len()))
+                .map(|t| {
+                    let corners = tets[t].map(|k| trial[k as usize].as_dvec3());
+                    elastic_energy(&widen(&family.tets[t]), corners)
+                })
+                .sum();
+        }
+    }
+    member.wait();
+    // SAFETY: after a wait nobody writes the sums until the next phase.
+    let total =
+        unsafe { cg.sums.whole().iter().sum::<f64>() + cg.tet_sums.whole().iter().sum::<f64>() };
+    member.wait();
+    total
+}
+
+/// A tet's element constants in double precision.
+fn widen(t: &ElasticTet<f32>) -> ElasticTet<f64> {
+    ElasticTet {
+        shape: t.shape.map(|row| row.map(f64::from)),
+        volume: f64::from(t.volume),
+        mu: f64::from(t.mu),
+        lambda: f64::from(t.lambda),
+        alpha: f64::from(t.alpha),
+    }
+}
+
+/// Halvings of a conjugate-gradient step before the solve gives up on its direction (as
+/// `cpu-ref`).
+const MOST_HALVINGS: u32 = 8;
 
 /// Whether `x` is a positive number (not NaN): the conjugate gradients go on only then.
 fn positive(x: f64) -> bool {

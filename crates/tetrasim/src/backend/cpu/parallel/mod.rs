@@ -50,6 +50,8 @@ pub const CHUNK: usize = 1024;
 #[derive(Debug, Clone, Copy)]
 struct Coefficients {
     dt: f32,
+    /// Iterations per step.
+    iterations: u32,
     omega: f32,
     friction: f32,
     epsilon: f32,

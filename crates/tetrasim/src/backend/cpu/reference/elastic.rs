@@ -8,9 +8,9 @@ use super::step_forces::StepForces;
 use super::ReferenceBackend;
 use crate::physics::{
     elastic_energy, elastic_linearise, elastic_product, end_position, sym3_apply, ElasticLinear,
-    Sym3,
+    RigidPart, Sym3,
 };
-use crate::schedule::family::{ElasticNodes, Family};
+use crate::schedule::family::{ElasticNodes, Family, TRUSTED_STRAIN};
 use crate::schedule::GroupAt;
 
 /// The conjugate gradients' state within a step: the positions the system is linearised at
@@ -24,8 +24,9 @@ pub(super) struct NewtonCg {
     /// displacement the iterations have added to `at` so far.
     y: Vec<DVec3>,
     dx: Vec<DVec3>,
-    /// The step's incremental potential at `at + dx` ([`ReferenceBackend::potential`]).
-    potential: f64,
+    /// The step's incremental potential at `at + dx` ([`ReferenceBackend::potential`]),
+    /// once a step has needed it.
+    potential: Option<f64>,
     /// Per tet: its stiffness at `at`.
     linear: Vec<ElasticLinear<DVec3>>,
     r: Vec<DVec3>,
@@ -41,8 +42,36 @@ impl ReferenceBackend {
     /// Iteration `iteration` of the finite elements' conjugate gradients on group `at` (all
     /// nodes), against the step's forces: the per-node force increments `m/dt^2 alpha p`.
     /// The first iteration linearises the step's equation where the nodes end so far
-    /// ([`crate::schedule::family::ElasticNodes::newton_row`]).
+    /// ([`crate::schedule::family::ElasticNodes::newton_row`]). The last iteration also
+    /// removes the rigid part of each free object's elastic forces (what the unconverged
+    /// residual leaves; [`RigidPart`]), so that they conserve momentum.
     pub(super) fn elastic_group(
+        &self,
+        at: GroupAt,
+        iteration: u32,
+        step: &mut StepForces,
+    ) -> Vec<DVec3> {
+        let mut sum = self.conjugate_gradients(at, iteration, step);
+        if iteration + 1 == self.problem.params.iterations {
+            if let Family::Elastic(nodes) = &self.families[at.sweep] {
+                for object in &nodes.free_objects {
+                    let elastic = |i: usize| step.elastic(i) + sum[i];
+                    let part = RigidPart::of(
+                        object
+                            .clone()
+                            .map(|i| (self.x[i], nodes.mass[i], elastic(i))),
+                    );
+                    for i in object.clone() {
+                        sum[i] -= part.force(self.x[i], nodes.mass[i]);
+                    }
+                }
+            }
+        }
+        sum
+    }
+
+    /// One iteration of the conjugate gradients: the force increments.
+    fn conjugate_gradients(
         &self,
         at: GroupAt,
         iteration: u32,
@@ -66,7 +95,7 @@ impl ReferenceBackend {
                 .map(|k| cg.at[k] - phi[k] * (w[k] * dt * dt))
                 .collect();
             cg.dx = vec![DVec3::ZERO; n];
-            cg.potential = self.potential(nodes, &cg.at, &cg.y);
+            cg.potential = None;
             cg.linear = (tets.iter().zip(&nodes.tets))
                 .map(|(tet, t)| elastic_linearise(t, tet.map(|k| cg.at[k as usize])))
                 .collect();
@@ -102,19 +131,36 @@ impl ReferenceBackend {
             cg.done = true;
             return sum;
         }
-        // Backtracking: a step that raises the incremental potential (a large deformation
-        // the linearisation misjudges) is halved until it lowers it, and ends the solve.
+        // Backtracking: a step that changes some strain beyond the linearisation's trust
+        // and raises the incremental potential (a large deformation the linearisation
+        // misjudges) is halved until it lowers it or is trusted, and ends the solve.
+        let strain = (members.iter())
+            .map(|&i| nodes.strain(i as usize, cg.p[i as usize]))
+            .fold(0.0, f64::max);
         let mut alpha = cg.rz / curvature;
         let mut halved = 0;
         loop {
+            if alpha * strain <= TRUSTED_STRAIN {
+                // Taken unchecked: the potential is no longer known.
+                cg.potential = None;
+                break;
+            }
+            let now = match cg.potential {
+                Some(now) => now,
+                None => {
+                    let here: Vec<DVec3> = (0..n).map(|k| cg.at[k] + cg.dx[k]).collect();
+                    self.potential(nodes, &here, &cg.y)
+                }
+            };
             let trial: Vec<DVec3> = (0..n)
                 .map(|k| cg.at[k] + cg.dx[k] + cg.p[k] * alpha)
                 .collect();
             let potential = self.potential(nodes, &trial, &cg.y);
-            if potential <= cg.potential {
-                cg.potential = potential;
+            if potential <= now {
+                cg.potential = Some(potential);
                 break;
             }
+            cg.potential = Some(now);
             if halved == MOST_HALVINGS {
                 cg.done = true;
                 return sum;

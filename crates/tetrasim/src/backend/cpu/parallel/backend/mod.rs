@@ -159,6 +159,7 @@ impl ParallelBackend {
             floor: params.floor,
             k: Coefficients {
                 dt: params.dt as f32,
+                iterations: params.iterations,
                 omega: params.omega as f32,
                 friction: params.friction as f32,
                 epsilon: params.constraint_epsilon as f32,
