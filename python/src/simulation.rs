@@ -6,11 +6,11 @@ use std::path::PathBuf;
 use std::sync::Mutex;
 use std::time::Instant;
 
-use numpy::{PyArray2, PyReadonlyArray2};
+use numpy::{PyArray1, PyArray2, PyReadonlyArray2};
 use pyo3::exceptions::{PyFileNotFoundError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use tetrasim::backend::vulkan::EngineOptions;
-use tetrasim::backend::{Backend, State};
+use tetrasim::backend::{Backend, Reactions, State};
 use tetrasim::metrics::RunRecord;
 use tetrasim::model::{Model, ModelBuilder};
 use tetrasim::params::{Placement, SimParams};
@@ -87,6 +87,19 @@ impl Simulation {
             backend: Mutex::new(backend),
             record,
             created: Instant::now(),
+        })
+    }
+
+    /// The forces out of the last step ([`Backend::reactions`]); an error naming the
+    /// backend where it does not measure them.
+    fn reactions(&mut self) -> PyResult<Reactions> {
+        let backend = self.backend()?;
+        let name = backend.name();
+        backend.reactions().map_err(to_py)?.ok_or_else(|| {
+            PyRuntimeError::new_err(format!(
+                "the {name} backend does not measure the forces pins and colliders exert yet; \
+                 run on backend=\"cpu\" or \"cpu-ref\""
+            ))
         })
     }
 
@@ -232,6 +245,30 @@ impl Simulation {
     fn volume_ratio(&mut self) -> PyResult<f64> {
         let sample = self.backend()?.volume().map_err(to_py)?;
         Ok(sample.volume / self.model.total_rest_volume())
+    }
+
+    /// The force [N] the pinned nodes (pins and clamps) exerted on the bodies in the last
+    /// step, (3,) float64: a body hanging at rest from its pins is held by its weight.
+    #[getter]
+    fn pin_force<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let reactions = self.reactions()?;
+        Ok(PyArray1::from_slice(py, &reactions.pin.to_array()))
+    }
+
+    /// The floor's force [N] on the bodies in the last step, (3,) float64 (zeros without a
+    /// floor).
+    #[getter]
+    fn floor_force<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let reactions = self.reactions()?;
+        Ok(PyArray1::from_slice(py, &reactions.floor.to_array()))
+    }
+
+    /// Each kinematic collider's force [N] on the bodies in the last step, (colliders, 3)
+    /// float64, in the scene's order (the floor is `floor_force`).
+    #[getter]
+    fn collider_forces<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let reactions = self.reactions()?;
+        Ok(points_to_numpy(py, &reactions.colliders))
     }
 
     /// Frames completed.

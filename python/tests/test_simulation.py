@@ -211,3 +211,30 @@ def test_split_contact_keeps_a_rigid_sphere_down():
     assert rebound(contact="split") < 2e-3
     with pytest.raises(ValueError, match="contact"):
         tetrasim.Simulation("meshes/sphere", contact="split", solver="chebyshev")
+
+
+def test_the_pins_hold_a_hanging_body_by_its_weight():
+    """Forces out (issue 51): a finite-element box hanging at rest from pins along its top
+    is held by its weight, m g summed from the density and the tets' volume."""
+    mesh = tetrasim.read_mesh("meshes/box")
+    top = np.flatnonzero(mesh.nodes[:, 1] >= mesh.nodes[:, 1].max() - 1e-9)
+    assert len(top) > 10
+    sim = tetrasim.Simulation(
+        "meshes/box", method="neo-hookean", youngs_modulus=1e6, poisson_ratio=0.3,
+        density=1000.0, floor=False, pins=top.tolist(), backend="cpu",
+    )
+    x = sim.positions
+    tets = mesh.tets
+    a, b, c, d = (x[tets[:, k]] for k in range(4))
+    volume = np.abs(np.einsum("ij,ij->i", b - a, np.cross(c - a, d - a))).sum() / 6.0
+    weight = 1000.0 * volume * 9.81
+    sim.step(1500)
+    assert np.abs(sim.velocities).max() < 1e-3
+    force = sim.pin_force
+    assert force.shape == (3,)
+    assert abs(force[1] / weight - 1.0) < 0.01, (force, weight)
+    assert abs(force[0]) < 0.01 * weight and abs(force[2]) < 0.01 * weight
+    assert sim.collider_forces.shape == (0, 3)
+    record = sim.record()
+    assert len(record["pin_force"]) == 1500
+    assert record["pin_force"][-1] == pytest.approx(list(force))

@@ -218,6 +218,24 @@ class Simulation:
         return self._sim.volume_ratio
 
     @property
+    def pin_force(self) -> np.ndarray:
+        """The force [N] the pinned nodes (pins and clamps) exerted on the bodies in the last
+        step, ``(3,)`` float64: a body hanging at rest from its pins is held by its weight.
+        ``cpu`` and ``cpu-ref`` (``vulkan`` raises ``RuntimeError`` for now)."""
+        return self._sim.pin_force
+
+    @property
+    def floor_force(self) -> np.ndarray:
+        """The floor's force [N] on the bodies in the last step, ``(3,)`` float64."""
+        return self._sim.floor_force
+
+    @property
+    def collider_forces(self) -> np.ndarray:
+        """Each kinematic collider's force [N] on the bodies in the last step,
+        ``(colliders, 3)`` float64, in the scene's order (the floor is ``floor_force``)."""
+        return self._sim.collider_forces
+
+    @property
     def frames(self) -> int:
         """Frames completed."""
         return self._sim.frames

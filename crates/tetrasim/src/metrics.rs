@@ -132,6 +132,19 @@ pub struct RunRecord {
     /// contact's triangle [m] (as `collider_nodes`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub deepest_m: Vec<f64>,
+    /// Per sampled frame, the force the pinned nodes exerted on the bodies in its last step
+    /// [N, x y z] (`cpu-ref` and `cpu`; empty on `vulkan` for now;
+    /// [`crate::backend::Reactions`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pin_force: Vec<[f64; 3]>,
+    /// Per sampled frame, the floor's force on the bodies [N] (runs with a floor, as
+    /// `pin_force`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub floor_force: Vec<[f64; 3]>,
+    /// Per sampled frame, each kinematic collider's force on the bodies [N], in the scene's
+    /// order without the floor (runs with colliders, as `pin_force`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub collider_force: Vec<Vec<[f64; 3]>>,
     /// Minimum of `volume_pct` (0 when no frame completed).
     pub min_volume_pct: f64,
     /// Average of `volume_pct` (0 when no frame completed).
@@ -187,6 +200,9 @@ impl RunRecord {
             collider_nodes: Vec::new(),
             body_contacts: Vec::new(),
             deepest_m: Vec::new(),
+            pin_force: Vec::new(),
+            floor_force: Vec::new(),
+            collider_force: Vec::new(),
             min_volume_pct: 0.0,
             avg_volume_pct: 0.0,
             max_inverted_tets: 0,
@@ -385,6 +401,9 @@ mod tests {
             collider_nodes: Vec::new(),
             body_contacts: Vec::new(),
             deepest_m: Vec::new(),
+            pin_force: Vec::new(),
+            floor_force: Vec::new(),
+            collider_force: Vec::new(),
             time_s: (1..=pct.len()).map(|f| 1e-3 * f as f64).collect(),
             contact_time_s: None,
             volume_pct: pct,

@@ -43,6 +43,39 @@ pub struct ContactSample {
     pub deepest_m: f64,
 }
 
+/// The forces the supports exert on the bodies in the last step of the last frame [N]
+/// (issue 51, "Forces out"; docs/PHYSICS.md, "Forces out"). Normal and constraint forces
+/// only: the floor's and the colliders' friction acts on velocities and is not in them.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Reactions {
+    /// The pinned nodes' (pins and clamps) total force on the bodies: what holds each
+    /// pinned node against every other force on it (gravity, springs, constraints or the
+    /// elastic forces of its tets, contact), summed.
+    pub pin: DVec3,
+    /// The floor's (zero without a floor).
+    pub floor: DVec3,
+    /// Each kinematic collider's, in the model's order.
+    pub colliders: Vec<DVec3>,
+}
+
+impl Reactions {
+    /// No force, for a model with `colliders` colliders.
+    pub fn none(colliders: usize) -> Self {
+        Reactions {
+            colliders: vec![DVec3::ZERO; colliders],
+            ..Reactions::default()
+        }
+    }
+
+    /// Adds collider `c`'s force `force` on one node (`c` beyond the model's colliders:
+    /// ignored).
+    pub fn add_collider(&mut self, c: usize, force: DVec3) {
+        if let Some(sum) = self.colliders.get_mut(c) {
+            *sum += force;
+        }
+    }
+}
+
 /// Where and why a run diverged (defined with the error that carries it).
 pub use crate::error::Divergence;
 
@@ -100,6 +133,11 @@ pub trait Backend: Send {
             true => self.volume().map(Some),
             false => Ok(None),
         }
+    }
+    /// The forces the supports exerted in the last step of the last frame
+    /// ([`Reactions`]); `None` where the backend does not measure them (`vulkan`, for now).
+    fn reactions(&mut self) -> Result<Option<Reactions>> {
+        Ok(None)
     }
     /// Forgets the GPU pass times measured so far, so a benchmark times only the frames after
     /// its warm-up; nothing on backends without GPU timing.

@@ -13,7 +13,7 @@
 use std::collections::VecDeque;
 use std::time::Instant;
 
-use crate::backend::{Backend, ContactSample, Divergence, VolumeSample};
+use crate::backend::{Backend, ContactSample, Divergence, Reactions, VolumeSample};
 use crate::error::{Error, Result};
 use crate::metrics::{local_error_pct, volume_pct, RunRecord};
 use crate::model::Model;
@@ -32,6 +32,8 @@ pub struct Series {
     pub local_error_pct: Vec<f64>,
     /// Contact measures, when the backend takes them ([`crate::backend::ContactSample`]).
     pub contact: Vec<ContactSample>,
+    /// The forces the supports exerted, when the backend measures them.
+    pub reactions: Vec<Reactions>,
 }
 
 /// A run in progress: how far it got, what it measured, and why it stopped, if it did.
@@ -98,6 +100,16 @@ impl Simulation {
         record.collider_nodes = series.contact.iter().map(|c| c.collider_nodes).collect();
         record.body_contacts = series.contact.iter().map(|c| c.body_contacts).collect();
         record.deepest_m = series.contact.iter().map(|c| c.deepest_m).collect();
+        let xyz = |v: glam::DVec3| v.to_array();
+        record.pin_force = series.reactions.iter().map(|r| xyz(r.pin)).collect();
+        if record.params.floor {
+            record.floor_force = series.reactions.iter().map(|r| xyz(r.floor)).collect();
+        }
+        if series.reactions.iter().any(|r| !r.colliders.is_empty()) {
+            record.collider_force = (series.reactions.iter())
+                .map(|r| r.colliders.iter().map(|&c| xyz(c)).collect())
+                .collect();
+        }
         record.diverged = self.divergence.is_some();
         record.divergence = self.divergence.clone();
         record.summarise();
@@ -133,6 +145,7 @@ impl Simulation {
             if !self.record_sample(measured) {
                 return Ok(Advance::Stopped);
             }
+            self.series.reactions.extend(backend.reactions()?);
         }
         Ok(Advance::Stepped(step_s))
     }
@@ -188,7 +201,9 @@ impl Simulation {
                 Ok(measured) => {
                     self.frames += 1;
                     if let Some(measured) = measured {
-                        self.record_sample(measured);
+                        if self.record_sample(measured) {
+                            self.series.reactions.extend(backend.reactions()?);
+                        }
                     }
                     on_frame(self);
                 }

@@ -51,6 +51,11 @@ impl<'a, T> SharedSlice<'a, T> {
         self.len
     }
 
+    /// Whether it has no elements.
+    pub(super) fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
     /// The whole slice, to read.
     ///
     /// # Safety

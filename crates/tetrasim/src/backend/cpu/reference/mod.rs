@@ -4,7 +4,7 @@
 use glam::DVec3;
 
 use super::{check_state, diverged, Bad};
-use crate::backend::{Backend, ContactSample, State, VolumeSample};
+use crate::backend::{Backend, ContactSample, Reactions, State, VolumeSample};
 use crate::collider::{self, NodeContact};
 use crate::contact::{deepest, Contact};
 use crate::error::Result;
@@ -22,6 +22,7 @@ mod blocks;
 mod elastic;
 mod inversion;
 mod minres;
+mod reactions;
 mod springs;
 mod step_forces;
 mod surfaces;
@@ -95,6 +96,8 @@ pub struct ReferenceBackend {
     dispatches: Vec<Dispatch>,
     /// Per sweep, its constraint family's data.
     families: Vec<Family<f64>>,
+    /// The forces the supports exerted in the last step.
+    reactions: Reactions,
 }
 
 impl ReferenceBackend {
@@ -141,6 +144,7 @@ impl ReferenceBackend {
             schedule,
             dispatches,
             families: Family::of_sweeps(problem),
+            reactions: Reactions::none(model.colliders.len()),
         }
     }
 
@@ -471,6 +475,7 @@ impl ReferenceBackend {
                 }
             }
         }
+        self.reactions = self.reactions_of(&forces);
         self.steps += 1;
         bad
     }
@@ -497,6 +502,10 @@ impl Backend for ReferenceBackend {
         }
         self.frame += 1;
         Ok(())
+    }
+
+    fn reactions(&mut self) -> Result<Option<Reactions>> {
+        Ok(Some(self.reactions.clone()))
     }
 
     fn volume(&mut self) -> Result<VolumeSample> {

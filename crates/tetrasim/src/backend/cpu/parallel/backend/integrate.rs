@@ -22,6 +22,10 @@ impl ParallelBackend {
         let split = !self.split_v.is_empty();
         let split_v = SharedSlice::new(&mut self.split_v);
         let warm = self.elastic_warm;
+        let full = solve == Solve::Full;
+        let held = SharedSlice::new(&mut self.supports.held);
+        let pushed_by = SharedSlice::new(&mut self.supports.pushed);
+        let floor_kept = SharedSlice::new(&mut self.supports.floor);
         let bad = self
             .x
             .par_iter_mut()
@@ -46,6 +50,27 @@ impl ParallelBackend {
                         touch.touching.is_some().then_some(touch)
                     }
                 };
+                // The supports' share of the forces out (the full solve's).
+                if full {
+                    // SAFETY: each node's entries are written by its own iteration only.
+                    unsafe {
+                        if w[i] <= 0.0 && !held.is_empty() {
+                            held.part(i..i + 1)[0] = *f;
+                        }
+                        if !pushed_by.is_empty() {
+                            pushed_by.part(i..i + 1)[0] = match &touch {
+                                Some(t) => (
+                                    t.touching.map_or(u32::MAX, |t| t.collider as u32),
+                                    Vec3A::from_dvec3(t.force),
+                                ),
+                                None => (u32::MAX, Vec3A::ZERO),
+                            };
+                        }
+                        if !floor_kept.is_empty() {
+                            floor_kept.part(i..i + 1)[0] = *n;
+                        }
+                    }
+                }
                 // Finite elements start the next step where this one's fall (its total
                 // force after the floor and the colliders) takes them.
                 let elastic = match warm {

@@ -8,6 +8,7 @@ use super::iterations::{self, Inputs, Outputs};
 mod integrate;
 mod iterate;
 mod minres;
+mod reactions;
 use super::*;
 use crate::backend::cpu::shared::SharedSlice;
 use crate::backend::cpu::team::Team;
@@ -103,6 +104,8 @@ pub struct ParallelBackend {
     node_out: Vec<Vec3A>,
     /// Finite elements: each step starts where the last one's fall takes the nodes.
     elastic_warm: bool,
+    /// What the supports did in the last step, for the forces out.
+    supports: reactions::Supports,
     /// Finite elements: the conjugate gradients' vectors (empty otherwise).
     newton: super::elastic::NewtonVectors,
     frame: u32,
@@ -251,6 +254,7 @@ impl ParallelBackend {
                 false => Vec::new(),
             },
             elastic_warm: has(ConstraintKind::Elastic),
+            supports: reactions::Supports::of(model, params.floor),
             newton: match has(ConstraintKind::Elastic) {
                 true => super::elastic::NewtonVectors::new(model.node_count(), model.tets.len()),
                 false => Default::default(),
@@ -523,6 +527,10 @@ impl Backend for ParallelBackend {
 
     fn volume(&mut self) -> Result<VolumeSample> {
         Ok(self.team.team().install(|| self.volume_sample()))
+    }
+
+    fn reactions(&mut self) -> Result<Option<crate::backend::Reactions>> {
+        Ok(Some(self.reactions_now()))
     }
 
     fn state(&mut self) -> Result<State> {
