@@ -107,6 +107,26 @@ fn a_material_run_records_it_and_does_not_warn_about_the_explicit_bound() {
     assert!(r.min_volume_pct > 99.0, "{}", r.min_volume_pct);
 }
 
+/// The finite elements have no springs: their run's header names their solve, not the
+/// sweeps' solver and global volume, and no explicit bound is warned about.
+#[test]
+fn a_finite_element_run_names_its_solve_and_warns_of_no_spring_bound() {
+    let out = Command::new(env!("CARGO_BIN_EXE_tetrasim"))
+        .args(["run", "--quiet", "--method", "neo-hookean", "--frames", "5"])
+        .args(["--fit-size", "0.1", "--youngs", "1e5", "--poisson", "0.45"])
+        .args(["--density", "1000"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("solver newton (conjugate gradients"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("global volume"), "{stderr}");
+    assert!(!stderr.contains("warning: dt exceeds"), "{stderr}");
+}
+
 /// `--no-fit` keeps the mesh's size and its X and Z; a drop height only lifts it.
 #[test]
 fn without_fitting_the_mesh_keeps_its_size_and_is_only_lifted() {

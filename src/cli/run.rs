@@ -289,6 +289,12 @@ pub struct DivergedRun(pub String);
 /// ` + anderson M` with Anderson acceleration, ` + minres K` with MINRES after the sweeps,
 /// and the inversion sweeps when they run.
 fn solver_label(params: &SimParams) -> String {
+    if !params.has_springs() {
+        return format!(
+            "newton (conjugate gradients, block-Jacobi preconditioned, {} per step)",
+            params.iterations
+        );
+    }
     let mut out = match params.solver {
         SolverKind::Jacobi => "jacobi".to_string(),
         SolverKind::GaussSeidel if params.solves_in_blocks() => {
@@ -303,7 +309,7 @@ fn solver_label(params: &SimParams) -> String {
             _ => format!("chebyshev (rho {})", params.rho),
         },
     };
-    if params.global_volume_on() {
+    if params.solves_global_volume() {
         out += " + global volume";
     }
     if params.anderson > 0 {

@@ -49,7 +49,14 @@ impl StepEstimate {
             Some(e) => format!("springs from E {e:e} Pa"),
             None => format!("ks {} N/m, kd {} N s/m", params.ks, params.kd),
         };
-        if params.springs == SpringKind::Implicit {
+        if !params.has_springs() {
+            format!(
+                "method {} takes an implicit (backward Euler) step, which no stiffness limits; a \
+                 diverging run is a solve that did not converge: more `iterations`, or a \
+                 smaller dt",
+                params.method
+            )
+        } else if params.springs == SpringKind::Implicit {
             format!("implicit springs ({springs}) do not limit the step")
         } else if self.dt_max.is_finite() {
             format!(
@@ -97,10 +104,11 @@ pub fn dt_for(lambda: f64, beta: f64) -> f64 {
 }
 
 /// The stable-step estimate of `model` under `params` (each spring's stiffness and damping
-/// from [`Model::element_material`]; masses and pins from the model). Implicit springs have
-/// no explicit bound: `dt_max` is infinite.
+/// from [`Model::element_material`]; masses and pins from the model). Implicit springs and
+/// the finite elements (no springs; an implicit step) have no explicit bound: `dt_max` is
+/// infinite.
 pub fn estimate(model: &Model, params: &SimParams) -> StepEstimate {
-    if params.springs == SpringKind::Implicit {
+    if params.springs == SpringKind::Implicit || !params.has_springs() {
         return StepEstimate {
             lambda_max: 0.0,
             dt_max: f64::INFINITY,

@@ -14,6 +14,9 @@ use crate::params::{ConstraintCombine, Method, SimParams};
 /// the stable-step estimate, else the constraint settings or the elements.
 pub fn likely_cause(model: &Model, params: &SimParams) -> String {
     let e = estimate(model, params);
+    if !params.has_springs() {
+        return format!("likely cause: {}", e.describe(params));
+    }
     if e.exceeded_by(params.dt) {
         format!(
             "likely cause: the step is too large for the stiffness ({}); use --dt {:.2e} or less, \

@@ -17,7 +17,7 @@ use crate::physics::{
 };
 use crate::problem::Problem;
 
-/// The largest strain change (step length over the shortest rest edge at a node) a
+/// The largest strain change (step length over a tet's height at the node) a
 /// conjugate-gradient step may make without a check of the incremental potential: the
 /// quadratic model's error is of third order in it, far below the step's gain.
 pub const TRUSTED_STRAIN: f64 = 0.01;
@@ -52,8 +52,9 @@ pub struct ElasticNodes<R> {
     pub mass: Vec<R>,
     /// Per node: the damping time [s] of its first tet's material.
     pub damping: Vec<R>,
-    /// Per node: one over the shortest rest edge of its tets [1/m] (how far a step moves
-    /// the node for its tets' strains, [`ElasticNodes::trusted`]).
+    /// Per node: the largest strain per unit displacement of its tets' corners at the node,
+    /// `|g_a|` [1/m] (one over the tet's height above the face opposite the node;
+    /// [`ElasticNodes::strain`]).
     pub reach: Vec<R>,
     /// The node ranges of the objects with no pinned node: the elastic forces on each sum to
     /// no force and no torque ([`crate::physics::RigidPart`]).
@@ -101,24 +102,22 @@ impl<R: Real> ElasticNodes<R> {
                 R::from_f64(beta)
             })
             .collect();
-        let mut shortest = vec![f64::INFINITY; model.node_count()];
+        // A corner's strain per unit displacement is its shape gradient's length (one over
+        // the tet's height above the opposite face): the node's reach is its largest.
+        let mut reach = vec![0.0f64; model.node_count()];
         for tet in &model.tets {
-            for (a, b) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
-                let (i, j) = (tet[a] as usize, tet[b] as usize);
-                let length = (model.positions[i] - model.positions[j]).length();
-                shortest[i] = shortest[i].min(length);
-                shortest[j] = shortest[j].min(length);
+            let p = tet.map(|i| model.positions[i as usize]);
+            let Some(g) = shape_gradients(p) else {
+                continue;
+            };
+            let g0 = [0, 1, 2].map(|k| -(g[0][k] + g[1][k] + g[2][k]));
+            for (corner, row) in [g0, g[0], g[1], g[2]].iter().enumerate() {
+                let length = row.iter().map(|c| c * c).sum::<f64>().sqrt();
+                let i = tet[corner] as usize;
+                reach[i] = reach[i].max(length);
             }
         }
-        let reach = (shortest.iter())
-            .map(|&h| {
-                R::from_f64(if h > 0.0 && h.is_finite() {
-                    1.0 / h
-                } else {
-                    0.0
-                })
-            })
-            .collect();
+        let reach = reach.iter().map(|&r| R::from_f64(r)).collect();
         let free_objects = (model.objects.windows(2))
             .map(|w| w[0] as usize..w[1] as usize)
             .filter(|nodes| model.inv_mass[nodes.clone()].iter().all(|&w| w > 0.0))
@@ -133,8 +132,8 @@ impl<R: Real> ElasticNodes<R> {
         }
     }
 
-    /// The strain change of moving node `i` by `step`: its length over the node's shortest
-    /// rest edge. A conjugate-gradient step whose largest strain change is at most
+    /// The largest strain change of moving node `i` by `step` in its tets: its length
+    /// times the node's reach. A conjugate-gradient step whose largest strain change is at most
     /// [`TRUSTED_STRAIN`] is taken as it is; a longer one is checked against the step's
     /// incremental potential and halved until it lowers it.
     #[inline]
