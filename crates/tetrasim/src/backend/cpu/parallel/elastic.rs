@@ -109,6 +109,9 @@ pub(super) struct NewtonScalars {
     done: bool,
     /// The step's incremental potential at `at + dx`, once a step has needed it.
     potential: Option<f64>,
+    /// The last step went beyond the linearisation's trust: the next iteration begins a
+    /// new Newton step (as `cpu-ref`).
+    relinearise: bool,
 }
 
 /// Iteration `iteration` of sweep `s`'s conjugate gradients as `member`: the force
@@ -202,7 +205,7 @@ unsafe fn increments(
     };
     // SAFETY: after a wait nobody writes the sums until the next phase.
     let total = || unsafe { cg.sums.whole() }.iter().sum::<f64>();
-    if iteration == 0 {
+    if iteration == 0 || scalars.relinearise {
         // SAFETY: nobody writes the forces; these nodes' vectors are this member's.
         unsafe {
             let f = outputs.f.whole();
@@ -242,6 +245,7 @@ unsafe fn increments(
         scalars.rz = total();
         scalars.done = !positive(scalars.rz);
         scalars.potential = None;
+        scalars.relinearise = false;
         member.wait();
     }
     // SAFETY: these nodes' results are this member's.
@@ -295,6 +299,7 @@ unsafe fn increments(
     // Backtracking as `cpu-ref`'s: an untrusted step that raises the potential is halved.
     let mut alpha = scalars.rz / curvature;
     let mut halved = 0;
+    scalars.relinearise = alpha * strain > TRUSTED_STRAIN;
     loop {
         if alpha * strain <= TRUSTED_STRAIN {
             scalars.potential = None;
@@ -344,7 +349,7 @@ unsafe fn increments(
         }
     }
     scalars.rz = rz;
-    scalars.done = halved > 0 || !positive(rz);
+    scalars.done = !positive(rz);
 }
 
 /// The step's incremental potential with the nodes at `at + dx + alpha p` (`cpu-ref`'s

@@ -36,6 +36,9 @@ pub(super) struct NewtonCg {
     rz: f64,
     /// Converged, or the direction met non-positive curvature: no further increments.
     done: bool,
+    /// The last step went beyond the linearisation's trust: the next iteration begins a
+    /// new Newton step where the nodes now end.
+    relinearise: bool,
 }
 
 impl ReferenceBackend {
@@ -85,7 +88,7 @@ impl ReferenceBackend {
         let (model, dt) = (&self.problem.model, self.problem.params.dt);
         let (w, tets) = (&model.inv_mass, &model.tets);
         let members = self.problem.sweeps[at.sweep].groups.group(at.group);
-        if iteration == 0 {
+        if iteration == 0 || step.newton.relinearise {
             let phi: Vec<DVec3> = (0..n).map(|i| step.elastic(i)).collect();
             let (total, cg) = (&step.total, &mut step.newton);
             cg.at = (0..n)
@@ -113,6 +116,7 @@ impl ReferenceBackend {
             cg.p.clone_from(&cg.z);
             cg.rz = dot(&cg.r, &cg.z);
             cg.done = !positive(cg.rz);
+            cg.relinearise = false;
         }
         let cg = &mut step.newton;
         if cg.done {
@@ -133,12 +137,14 @@ impl ReferenceBackend {
         }
         // Backtracking: a step that changes some strain beyond the linearisation's trust
         // and raises the incremental potential (a large deformation the linearisation
-        // misjudges) is halved until it lowers it or is trusted, and ends the solve.
+        // misjudges) is halved until it lowers it or is trusted; an untrusted step is followed by
+        // a new Newton step, linearised where the nodes then end.
         let strain = (members.iter())
             .map(|&i| nodes.strain(i as usize, cg.p[i as usize]))
             .fold(0.0, f64::max);
         let mut alpha = cg.rz / curvature;
         let mut halved = 0;
+        cg.relinearise = alpha * strain > TRUSTED_STRAIN;
         loop {
             if alpha * strain <= TRUSTED_STRAIN {
                 // Taken unchecked: the potential is no longer known.
@@ -180,7 +186,7 @@ impl ReferenceBackend {
             *p = *z + *p * beta;
         }
         cg.rz = rz;
-        cg.done = halved > 0 || !positive(rz);
+        cg.done = !positive(rz);
         sum
     }
 
