@@ -22,6 +22,64 @@ use crate::problem::Problem;
 /// quadratic model's error is of third order in it, far below the step's gain.
 pub const TRUSTED_STRAIN: f64 = 0.01;
 
+/// Halvings of a conjugate-gradient step before the solve gives up on its direction.
+pub const MOST_HALVINGS: u32 = 8;
+
+/// What [`backtrack`] made of a conjugate-gradient step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Backtracked {
+    /// The step length taken; `None`: no halving lowered the potential (the solve ends).
+    pub alpha: Option<f64>,
+    /// The incremental potential where the step ends, when it was evaluated.
+    pub potential: Option<f64>,
+    /// The step went beyond the linearisation's trust: the next iteration begins a new
+    /// Newton step where the nodes then end.
+    pub relinearise: bool,
+}
+
+/// The backtracking both CPU backends share (docs/PHYSICS.md, "Finite elements"): the step
+/// `alpha` along a direction whose largest strain change per unit step is `strain` is taken
+/// as it is when within [`TRUSTED_STRAIN`]; beyond it, it is halved (up to
+/// [`MOST_HALVINGS`] times) until it lowers the incremental potential or is trusted.
+/// `potential_at(a)` is the potential with the nodes moved `a` along the direction from
+/// where they end so far, whose value is `known` when the last step evaluated it.
+pub fn backtrack(
+    mut alpha: f64,
+    strain: f64,
+    known: Option<f64>,
+    mut potential_at: impl FnMut(f64) -> f64,
+) -> Backtracked {
+    let relinearise = alpha * strain > TRUSTED_STRAIN;
+    let mut now = known;
+    for _ in 0..=MOST_HALVINGS {
+        if alpha * strain <= TRUSTED_STRAIN {
+            // Taken unchecked: the potential is no longer known.
+            let potential = None;
+            return Backtracked {
+                alpha: Some(alpha),
+                potential,
+                relinearise,
+            };
+        }
+        let here = *now.get_or_insert_with(|| potential_at(0.0));
+        let trial = potential_at(alpha);
+        if trial <= here {
+            let potential = Some(trial);
+            return Backtracked {
+                alpha: Some(alpha),
+                potential,
+                relinearise,
+            };
+        }
+        alpha *= 0.5;
+    }
+    Backtracked {
+        alpha: None,
+        potential: now,
+        relinearise,
+    }
+}
+
 /// The pass that solves them.
 pub(super) const PASS: PassKind = PassKind::Elastic;
 

@@ -11,7 +11,7 @@ mod spring;
 mod volume;
 
 pub use distance::Distances;
-pub use elastic::{node_elements, ElasticNodes, TRUSTED_STRAIN};
+pub use elastic::{backtrack, node_elements, Backtracked, ElasticNodes, TRUSTED_STRAIN};
 pub use spring::ImplicitSprings;
 pub use volume::Volumes;
 

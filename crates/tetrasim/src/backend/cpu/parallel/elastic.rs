@@ -14,7 +14,7 @@ use crate::physics::{
     elastic_energy, elastic_linearise, elastic_product, sym3_apply, ElasticLinear, ElasticTet,
     RigidPart, Sym3,
 };
-use crate::schedule::family::{ElasticNodes, TRUSTED_STRAIN};
+use crate::schedule::family::{backtrack, ElasticNodes};
 
 /// Nodes per chunk of a dot product's partial sums.
 const CHUNK: usize = 256;
@@ -297,33 +297,16 @@ unsafe fn increments(
         .fold(0.0, f64::max);
     member.wait();
     // Backtracking as `cpu-ref`'s: an untrusted step that raises the potential is halved.
-    let mut alpha = scalars.rz / curvature;
-    let mut halved = 0;
-    scalars.relinearise = alpha * strain > TRUSTED_STRAIN;
-    loop {
-        if alpha * strain <= TRUSTED_STRAIN {
-            scalars.potential = None;
-            break;
-        }
-        let now = match scalars.potential {
-            Some(now) => now,
-            // SAFETY: the caller's promise.
-            None => unsafe { potential(member, inputs, outputs, family, 0.0) },
-        };
-        // SAFETY: the caller's promise.
-        let trial = unsafe { potential(member, inputs, outputs, family, alpha as f32) };
-        if trial <= now {
-            scalars.potential = Some(trial);
-            break;
-        }
-        scalars.potential = Some(now);
-        if halved == MOST_HALVINGS {
-            scalars.done = true;
-            out.fill(Vec3A::ZERO);
-            return;
-        }
-        (alpha, halved) = (alpha * 0.5, halved + 1);
-    }
+    let stepped = backtrack(scalars.rz / curvature, strain, scalars.potential, |a| {
+        // SAFETY: the caller's promise (every member evaluates the same steps).
+        unsafe { potential(member, inputs, outputs, family, a as f32) }
+    });
+    (scalars.potential, scalars.relinearise) = (stepped.potential, stepped.relinearise);
+    let Some(alpha) = stepped.alpha else {
+        scalars.done = true;
+        out.fill(Vec3A::ZERO);
+        return;
+    };
     let alpha = alpha as f32;
     // SAFETY: these nodes' vectors are this member's.
     unsafe {
@@ -421,10 +404,6 @@ fn widen(t: &ElasticTet<f32>) -> ElasticTet<f64> {
         alpha: f64::from(t.alpha),
     }
 }
-
-/// Halvings of a conjugate-gradient step before the solve gives up on its direction (as
-/// `cpu-ref`).
-const MOST_HALVINGS: u32 = 8;
 
 /// Whether `x` is a positive number (not NaN): the conjugate gradients go on only then.
 fn positive(x: f64) -> bool {

@@ -10,7 +10,7 @@ use crate::physics::{
     elastic_energy, elastic_linearise, elastic_product, end_position, sym3_apply, ElasticLinear,
     RigidPart, Sym3,
 };
-use crate::schedule::family::{ElasticNodes, Family, TRUSTED_STRAIN};
+use crate::schedule::family::{backtrack, ElasticNodes, Family};
 use crate::schedule::GroupAt;
 
 /// The conjugate gradients' state within a step: the positions the system is linearised at
@@ -142,37 +142,16 @@ impl ReferenceBackend {
         let strain = (members.iter())
             .map(|&i| nodes.strain(i as usize, cg.p[i as usize]))
             .fold(0.0, f64::max);
-        let mut alpha = cg.rz / curvature;
-        let mut halved = 0;
-        cg.relinearise = alpha * strain > TRUSTED_STRAIN;
-        loop {
-            if alpha * strain <= TRUSTED_STRAIN {
-                // Taken unchecked: the potential is no longer known.
-                cg.potential = None;
-                break;
-            }
-            let now = match cg.potential {
-                Some(now) => now,
-                None => {
-                    let here: Vec<DVec3> = (0..n).map(|k| cg.at[k] + cg.dx[k]).collect();
-                    self.potential(nodes, &here, &cg.y)
-                }
-            };
-            let trial: Vec<DVec3> = (0..n)
-                .map(|k| cg.at[k] + cg.dx[k] + cg.p[k] * alpha)
-                .collect();
-            let potential = self.potential(nodes, &trial, &cg.y);
-            if potential <= now {
-                cg.potential = Some(potential);
-                break;
-            }
-            cg.potential = Some(now);
-            if halved == MOST_HALVINGS {
-                cg.done = true;
-                return sum;
-            }
-            (alpha, halved) = (alpha * 0.5, halved + 1);
-        }
+        let (at, dx, p) = (&cg.at, &cg.dx, &cg.p);
+        let stepped = backtrack(cg.rz / curvature, strain, cg.potential, |a| {
+            let moved: Vec<DVec3> = (0..n).map(|k| at[k] + dx[k] + p[k] * a).collect();
+            self.potential(nodes, &moved, &cg.y)
+        });
+        (cg.potential, cg.relinearise) = (stepped.potential, stepped.relinearise);
+        let Some(alpha) = stepped.alpha else {
+            cg.done = true;
+            return sum;
+        };
         for &i in members {
             let i = i as usize;
             cg.dx[i] += cg.p[i] * alpha;
@@ -205,9 +184,6 @@ impl ReferenceBackend {
         inertia + energy
     }
 }
-
-/// Halvings of a conjugate-gradient step before the solve gives up on its direction.
-const MOST_HALVINGS: u32 = 8;
 
 /// `sum_i a_i . b_i`, in node order.
 fn dot(a: &[DVec3], b: &[DVec3]) -> f64 {
