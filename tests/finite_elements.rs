@@ -14,13 +14,16 @@
 //! bar by far on the same beam (issue 51 measured 139 % on 288 tets and 8 to 14 times the sag
 //! on 2304), and a test checks that they still do.
 
+mod common;
+
 use std::path::PathBuf;
 
+use common::{cpu_backend, material_params, unplaced};
 use glam::DVec3;
-use tetrasim::backend::cpu::{ParallelBackend, ReferenceBackend};
+use tetrasim::backend::cpu::ReferenceBackend;
 use tetrasim::mesh::grid::box_tets;
-use tetrasim::params::{MassMode, Method, Placement, SpringKind};
-use tetrasim::{Backend, Model, ModelBuilder, SimParams};
+use tetrasim::params::{MassMode, Method};
+use tetrasim::{Model, ModelBuilder, SimParams};
 
 const E: f64 = 1e7;
 const DENSITY: f64 = 1000.0;
@@ -42,39 +45,18 @@ fn reference(cells: [usize; 3], nu: f64) -> Vec<(DVec3, DVec3)> {
 }
 
 fn material(method: Method, nu: f64) -> SimParams {
-    SimParams {
-        method,
-        springs: match method {
-            Method::NeoHookean => SpringKind::Explicit,
-            _ => SpringKind::Implicit,
-        },
-        youngs_modulus: Some(E),
-        poisson_ratio: Some(nu),
-        mass: MassMode::Density { density: DENSITY },
-        floor: false,
-        ..SimParams::default()
-    }
+    material_params(method, E, nu, DENSITY)
 }
 
 fn beam(cells: [usize; 3], params: &SimParams) -> Model {
     let h = 0.6 / cells[0] as f64;
     let mesh = box_tets(DVec3::ZERO, h, cells);
     ModelBuilder::new(&mesh)
-        .placement(Placement {
-            fit_size: None,
-            drop_height: None,
-        })
+        .placement(unplaced())
         .material(params)
         .pinned_in_box(DVec3::splat(-1.0), DVec3::new(1e-9, 1.0, 1.0))
         .build()
         .unwrap()
-}
-
-fn backend(model: &Model, params: &SimParams, backend: &str) -> Box<dyn Backend> {
-    match backend {
-        "cpu" => Box::new(ParallelBackend::new(model, params).unwrap()),
-        _ => Box::new(ReferenceBackend::new(model, params).unwrap()),
-    }
 }
 
 /// The largest node speed [m/s].
@@ -85,7 +67,7 @@ fn top_speed(velocities: &[DVec3]) -> f64 {
 /// The displacement field after `frames` frames on `backend`, and the largest speed of the
 /// last frame [m/s].
 fn settle(model: &Model, params: &SimParams, backend: &str, frames: u32) -> (Vec<DVec3>, f64) {
-    let mut backend = self::backend(model, params, backend);
+    let mut backend = cpu_backend(model, params, backend);
     for _ in 0..frames {
         backend.step_frame().unwrap();
     }
@@ -107,7 +89,7 @@ fn at_rest(
     still: f64,
     most: u32,
 ) -> (Vec<DVec3>, u32, DVec3) {
-    let mut backend = self::backend(model, params, backend);
+    let mut backend = cpu_backend(model, params, backend);
     let mut still_since = 0;
     for frame in 1..=most {
         backend.step_frame().unwrap();

@@ -5,12 +5,15 @@
 //! pinned top does not hold its section); a body resting on the floor or on a fixed
 //! collider is held by its weight there.
 
+mod common;
+
+use common::{cpu_backend, material_params, unplaced};
 use glam::DVec3;
-use tetrasim::backend::cpu::{ParallelBackend, ReferenceBackend};
+use tetrasim::backend::Backend;
 use tetrasim::collider::{Collider, Pose, Shape};
 use tetrasim::mesh::grid::box_tets;
-use tetrasim::params::{MassMode, Method, Placement, SpringKind};
-use tetrasim::{Backend, Model, ModelBuilder, SimParams};
+use tetrasim::params::Method;
+use tetrasim::{Model, ModelBuilder, SimParams};
 
 const E: f64 = 1e6;
 const DENSITY: f64 = 1000.0;
@@ -18,37 +21,14 @@ const G: f64 = 9.81;
 
 fn params(method: Method, nu: f64) -> SimParams {
     SimParams {
-        method,
-        springs: match method {
-            Method::NeoHookean => SpringKind::Explicit,
-            _ => SpringKind::Implicit,
-        },
-        youngs_modulus: Some(E),
-        poisson_ratio: Some(nu),
-        mass: MassMode::Density { density: DENSITY },
-        floor: false,
         gravity: G,
-        ..SimParams::default()
+        ..material_params(method, E, nu, DENSITY)
     }
 }
 
 /// A bar 0.1 x `length` x 0.1 m along Y standing on y = 0, in cells of 0.05 m.
 fn bar(length: f64) -> tetrasim::mesh::TetMesh {
     box_tets(DVec3::ZERO, 0.05, [2, (length / 0.05).round() as usize, 2])
-}
-
-fn unplaced() -> Placement {
-    Placement {
-        fit_size: None,
-        drop_height: None,
-    }
-}
-
-fn solver(model: &Model, params: &SimParams, backend: &str) -> Box<dyn Backend> {
-    match backend {
-        "cpu" => Box::new(ParallelBackend::new(model, params).unwrap()),
-        _ => Box::new(ReferenceBackend::new(model, params).unwrap()),
-    }
 }
 
 /// Runs until no node moves faster than 1 mm/s (checked every 100 frames, at most 6000).
@@ -85,7 +65,7 @@ fn hanging(method: Method, backend: &str) -> (DVec3, f64) {
         .pinned_in_box(DVec3::new(-1.0, 0.6 - 1e-9, -1.0), DVec3::splat(1.0))
         .build()
         .unwrap();
-    let mut solver = solver(&model, &params, backend);
+    let mut solver = cpu_backend(&model, &params, backend);
     let frames = settle(solver.as_mut());
     let pin = solver
         .reactions()
@@ -166,7 +146,7 @@ fn a_resting_body_is_held_by_the_floor_or_the_collider_it_rests_on() {
                 };
                 model = model.with_colliders([Collider::new(slab, pose)]).unwrap();
             }
-            let mut solver = solver(&model, &params, backend);
+            let mut solver = cpu_backend(&model, &params, backend);
             settle(solver.as_mut());
             let r = solver.reactions().unwrap().unwrap();
             let support = match on_collider {

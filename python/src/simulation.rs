@@ -271,6 +271,14 @@ impl Simulation {
         Ok(points_to_numpy(py, &reactions.colliders))
     }
 
+    /// Each clamp's force [N] on the bodies in the last step, (clamps, 3) float64, in the
+    /// scene's order (each a share of `pin_force`).
+    #[getter]
+    fn clamp_forces<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let reactions = self.reactions()?;
+        Ok(points_to_numpy(py, &reactions.clamps))
+    }
+
     /// Frames completed.
     #[getter]
     fn frames(&self) -> u32 {

@@ -190,6 +190,13 @@ def test_self_contact_and_moving_pins():
     assert right.sum() > 10 and left.sum() > 10
     assert np.allclose(x[right, 0] - x0[right, 0], 0.06, atol=1e-4)
     assert np.array_equal(x[left], x0[left])
+    # The moving pin is the scene's one clamp: it pulls the block outwards (+X), and it is a
+    # share of the pins' force (the fixed end pulls the other way).
+    clamps = sim.clamp_forces
+    assert clamps.shape == (1, 3)
+    assert clamps[0, 0] > 1.0, clamps
+    assert (sim.pin_force - clamps[0])[0] < -1.0, (sim.pin_force, clamps)
+    assert len(sim.record()["clamp_force"][-1]) == 1
 
 
 def test_split_contact_keeps_a_rigid_sphere_down():

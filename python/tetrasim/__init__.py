@@ -236,6 +236,13 @@ class Simulation:
         return self._sim.collider_forces
 
     @property
+    def clamp_forces(self) -> np.ndarray:
+        """Each clamp's force [N] on the bodies in the last step, ``(clamps, 3)`` float64,
+        in the scene's order: a share of ``pin_force`` (a tensile test's force is its
+        moving clamp's)."""
+        return self._sim.clamp_forces
+
+    @property
     def frames(self) -> int:
         """Frames completed."""
         return self._sim.frames

@@ -189,3 +189,44 @@ pub fn over_tilted_plane(model: Model) -> Model {
     let plane = tetrasim::collider::Collider::plane(DVec3::new(0.3, 1.0, 0.0), 0.0).unwrap();
     model.with_colliders(vec![plane]).unwrap()
 }
+
+/// A material given as a user would: Young's modulus `e` [Pa], Poisson's ratio `nu`, density
+/// [kg/m^3], for `method` (springs from the material are implicit; the finite elements have
+/// none), without a floor.
+pub fn material_params(
+    method: tetrasim::params::Method,
+    e: f64,
+    nu: f64,
+    density: f64,
+) -> SimParams {
+    use tetrasim::params::{MassMode, Method, SpringKind};
+    SimParams {
+        method,
+        springs: match method {
+            Method::NeoHookean => SpringKind::Explicit,
+            _ => SpringKind::Implicit,
+        },
+        youngs_modulus: Some(e),
+        poisson_ratio: Some(nu),
+        mass: MassMode::Density { density },
+        floor: false,
+        ..SimParams::default()
+    }
+}
+
+/// The placement that leaves a mesh where it is and as large as it is.
+pub fn unplaced() -> Placement {
+    Placement {
+        fit_size: None,
+        drop_height: None,
+    }
+}
+
+/// The CPU backend named `name` (`cpu` or `cpu-ref`) of `model` with `params`.
+pub fn cpu_backend(model: &Model, params: &SimParams, name: &str) -> Box<dyn Backend> {
+    match name {
+        "cpu" => Box::new(ParallelBackend::new(model, params).unwrap()),
+        "cpu-ref" => Box::new(ReferenceBackend::new(model, params).unwrap()),
+        _ => panic!("not a CPU backend: {name}"),
+    }
+}

@@ -145,6 +145,10 @@ pub struct RunRecord {
     /// order without the floor (runs with colliders, as `pin_force`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub collider_force: Vec<Vec<[f64; 3]>>,
+    /// Per sampled frame, each clamp's force on the bodies [N], in the scene's order (runs
+    /// with clamps, as `pin_force`, of which it is a share).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub clamp_force: Vec<Vec<[f64; 3]>>,
     /// Minimum of `volume_pct` (0 when no frame completed).
     pub min_volume_pct: f64,
     /// Average of `volume_pct` (0 when no frame completed).
@@ -203,6 +207,7 @@ impl RunRecord {
             pin_force: Vec::new(),
             floor_force: Vec::new(),
             collider_force: Vec::new(),
+            clamp_force: Vec::new(),
             min_volume_pct: 0.0,
             avg_volume_pct: 0.0,
             max_inverted_tets: 0,
@@ -404,6 +409,7 @@ mod tests {
             pin_force: Vec::new(),
             floor_force: Vec::new(),
             collider_force: Vec::new(),
+            clamp_force: Vec::new(),
             time_s: (1..=pct.len()).map(|f| 1e-3 * f as f64).collect(),
             contact_time_s: None,
             volume_pct: pct,

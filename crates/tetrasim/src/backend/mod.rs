@@ -56,14 +56,41 @@ pub struct Reactions {
     pub floor: DVec3,
     /// Each kinematic collider's, in the model's order.
     pub colliders: Vec<DVec3>,
+    /// Each clamp's (its nodes' share of `pin`), in the model's order: what a tool that
+    /// holds and moves part of a body exerts on it (a tensile test's force).
+    pub clamps: Vec<DVec3>,
 }
 
 impl Reactions {
-    /// No force, for a model with `colliders` colliders.
-    pub fn none(colliders: usize) -> Self {
+    /// No force, for a model with `colliders` colliders and `clamps` clamps.
+    pub fn none(colliders: usize, clamps: usize) -> Self {
         Reactions {
             colliders: vec![DVec3::ZERO; colliders],
+            clamps: vec![DVec3::ZERO; clamps],
             ..Reactions::default()
+        }
+    }
+
+    /// Adds the holding force `held(i)` of each pinned node `i` of `pinned` to `pin`, and
+    /// to the clamp that holds it, if any (`clamps`: the model's).
+    pub fn add_pinned(
+        &mut self,
+        pinned: impl IntoIterator<Item = usize>,
+        clamps: &[crate::collider::Clamp],
+        mut held: impl FnMut(usize) -> DVec3,
+    ) {
+        let mut of_node = std::collections::HashMap::new();
+        for (c, clamp) in clamps.iter().enumerate() {
+            for &i in &clamp.nodes {
+                of_node.insert(i as usize, c);
+            }
+        }
+        for i in pinned {
+            let force = held(i);
+            self.pin += force;
+            if let Some(&c) = of_node.get(&i) {
+                self.clamps[c] += force;
+            }
         }
     }
 

@@ -110,6 +110,11 @@ impl Simulation {
                 .map(|r| r.colliders.iter().map(|&c| xyz(c)).collect())
                 .collect();
         }
+        if series.reactions.iter().any(|r| !r.clamps.is_empty()) {
+            record.clamp_force = (series.reactions.iter())
+                .map(|r| r.clamps.iter().map(|&c| xyz(c)).collect())
+                .collect();
+        }
         record.diverged = self.divergence.is_some();
         record.divergence = self.divergence.clone();
         record.summarise();

@@ -144,7 +144,7 @@ impl ReferenceBackend {
             schedule,
             dispatches,
             families: Family::of_sweeps(problem),
-            reactions: Reactions::none(model.colliders.len()),
+            reactions: Reactions::none(model.colliders.len(), model.clamps.len()),
         }
     }
 

@@ -15,7 +15,7 @@ impl ReferenceBackend {
     /// nodes out).
     pub(super) fn reactions_of(&self, forces: &Forces) -> Reactions {
         let model = &self.problem.model;
-        let mut out = Reactions::none(model.colliders.len());
+        let mut out = Reactions::none(model.colliders.len(), model.clamps.len());
         let elastic = self.families.iter().find_map(|f| match f {
             Family::Elastic(nodes) => Some(nodes),
             _ => None,
@@ -26,7 +26,8 @@ impl ReferenceBackend {
             }
         }
         out.floor = DVec3::Y * forces.floor.iter().sum::<f64>();
-        for i in (0..model.node_count()).filter(|&i| model.inv_mass[i] <= 0.0) {
+        let pinned = (0..model.node_count()).filter(|&i| model.inv_mass[i] <= 0.0);
+        out.add_pinned(pinned, &model.clamps, |i| {
             let outer = forces.gravity[i]
                 + forces.springs[i]
                 + DVec3::Y * forces.floor[i]
@@ -35,8 +36,8 @@ impl ReferenceBackend {
                 Some(nodes) => -nodes.gradient(i, &model.tets, &|k| self.x[k]).0,
                 None => forces.constraints[i],
             };
-            out.pin -= outer + inner;
-        }
+            -(outer + inner)
+        });
         out
     }
 }

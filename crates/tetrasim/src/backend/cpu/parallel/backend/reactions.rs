@@ -20,6 +20,8 @@ pub(super) struct Supports {
     /// Per node: the floor's normal force.
     pub(super) floor: Vec<f32>,
     colliders: usize,
+    /// The model's clamps (each one's share of the pinned nodes' force).
+    clamps: Vec<crate::collider::Clamp>,
 }
 
 impl Supports {
@@ -38,6 +40,7 @@ impl Supports {
             },
             floor: vec![0.0; if floor { n } else { 0 }],
             colliders: model.colliders.len(),
+            clamps: model.clamps.clone(),
         }
     }
 }
@@ -48,7 +51,7 @@ impl ParallelBackend {
     /// step's end (the solve's increments leave pinned nodes out, as on `cpu-ref`).
     pub(super) fn reactions_now(&self) -> Reactions {
         let s = &self.supports;
-        let mut out = Reactions::none(s.colliders);
+        let mut out = Reactions::none(s.colliders, s.clamps.len());
         for &(c, force) in &s.pushed {
             out.add_collider(c as usize, force.as_dvec3());
         }
@@ -57,17 +60,17 @@ impl ParallelBackend {
             Family::Elastic(nodes) => Some(nodes),
             _ => None,
         });
-        for &i in &s.pinned {
-            let i = i as usize;
+        let pinned = s.pinned.iter().map(|&i| i as usize);
+        out.add_pinned(pinned, &s.clamps, |i| {
             let held = s.held[i].as_dvec3();
-            out.pin -= match elastic {
+            -match elastic {
                 Some(nodes) => {
                     let x = &self.x;
                     held - nodes.gradient(i, &self.tets, &|k| x[k]).0.as_dvec3()
                 }
                 None => held,
-            };
-        }
+            }
+        });
         out
     }
 }
