@@ -33,6 +33,10 @@ fn contradictory_or_out_of_range_material_flags_are_refused() {
         ),
         (&["--youngs=-5"][..], &["youngs_modulus"][..]),
         (
+            &["--youngs", "1e5", "--poisson", "0.3"][..],
+            &["density", "1 kg per node"][..],
+        ),
+        (
             &["--springs", "implicit", "--method", "distance"][..],
             &["springs", "mss and volume"][..],
         ),

@@ -245,3 +245,10 @@ def test_the_pins_hold_a_hanging_body_by_its_weight():
     record = sim.record()
     assert len(record["pin_force"]) == 1500
     assert record["pin_force"][-1] == pytest.approx(list(force))
+
+
+def test_a_youngs_modulus_without_a_density_is_refused():
+    # At 1 kg per node the body would weigh the wrong amount for its stiffness.
+    with pytest.raises(ValueError, match="density"):
+        tetrasim.Simulation("meshes/box", method="volume", springs="implicit",
+                            youngs_modulus=1e5, poisson_ratio=0.3)

@@ -134,7 +134,7 @@ class Simulation:
     (``default_params()`` lists them, e.g. ``method="distance"`` (default ``"volume"``),
     ``dt=1e-3``, ``iterations=10``, ``solver="gauss-seidel"``, ``youngs_modulus=1e5``,
     ``poisson_ratio=0.45``, ``contact="split"`` (no rebound, at twice the solve)), plus
-    ``density`` [kg/m^3] or ``node_mass`` [kg].
+    ``density`` [kg/m^3] or ``node_mass`` [kg] (a ``youngs_modulus`` needs a ``density``).
 
     Raises ``TypeError`` for an unknown parameter name, ``ValueError`` for a bad value (the
     engine's message names it), ``OSError`` for mesh files, ``RuntimeError`` for the GPU.

@@ -465,6 +465,18 @@ impl SimParams {
         if let Some(beta) = self.damping {
             non_negative_finite("damping", beta)?;
         }
+        if let Some(e) = self.youngs_modulus {
+            if !matches!(self.mass, MassMode::Density { .. }) {
+                return Err(Error::param(
+                    "density",
+                    format!(
+                        "a material given by its Young's modulus ({e} Pa) needs its density \
+                         [kg/m^3]: masses of 1 kg per node would make a body of the wrong \
+                         weight for its stiffness"
+                    ),
+                ));
+            }
+        }
         if self.warm_start && self.springs != SpringKind::Implicit {
             return Err(Error::param(
                 "warm_start",
