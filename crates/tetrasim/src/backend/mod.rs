@@ -72,24 +72,18 @@ impl Reactions {
     }
 
     /// Adds the holding force `held(i)` of each pinned node `i` of `pinned` to `pin`, and
-    /// to the clamp that holds it, if any (`clamps`: the model's).
+    /// to the clamp that holds it, if any (`clamp_of`: [`crate::collider::clamp_of_nodes`]).
     pub fn add_pinned(
         &mut self,
         pinned: impl IntoIterator<Item = usize>,
-        clamps: &[crate::collider::Clamp],
+        clamp_of: &[Option<u32>],
         mut held: impl FnMut(usize) -> DVec3,
     ) {
-        let mut of_node = std::collections::HashMap::new();
-        for (c, clamp) in clamps.iter().enumerate() {
-            for &i in &clamp.nodes {
-                of_node.insert(i as usize, c);
-            }
-        }
         for i in pinned {
             let force = held(i);
             self.pin += force;
-            if let Some(&c) = of_node.get(&i) {
-                self.clamps[c] += force;
+            if let Some(&Some(c)) = clamp_of.get(i) {
+                self.clamps[c as usize] += force;
             }
         }
     }

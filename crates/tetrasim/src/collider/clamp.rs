@@ -27,6 +27,21 @@ impl Clamp {
     }
 }
 
+/// Per node of a model with `nodes` nodes, the clamp that holds it (empty without clamps):
+/// how the forces out share the pins' force among the clamps.
+pub fn clamp_of_nodes(clamps: &[Clamp], nodes: usize) -> Vec<Option<u32>> {
+    if clamps.is_empty() {
+        return Vec::new();
+    }
+    let mut of = vec![None; nodes];
+    for (c, clamp) in clamps.iter().enumerate() {
+        for &i in &clamp.nodes {
+            of[i as usize] = Some(c as u32);
+        }
+    }
+    of
+}
+
 /// The velocity [m/s] of every clamped node for step `step` of length `dt` [s]: from its
 /// position `x(i)` to its target at the step's end, `t = (step + 1) dt`, over `dt`.
 /// `rest` are the model's initial positions; `set(i, v)` receives each.

@@ -18,7 +18,7 @@ use std::sync::Arc;
 
 use glam::{DQuat, DVec3};
 
-pub use clamp::{drive, Clamp};
+pub use clamp::{clamp_of_nodes, drive, Clamp};
 pub use first_contact::{free_fall_contact_time, HORIZON_S};
 pub use grab::{attachments, Attachment, Grab};
 pub use grid::DistanceGrid;

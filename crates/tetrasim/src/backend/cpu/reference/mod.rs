@@ -98,6 +98,8 @@ pub struct ReferenceBackend {
     families: Vec<Family<f64>>,
     /// The forces the supports exerted in the last step.
     reactions: Reactions,
+    /// Per node, the clamp that holds it ([`crate::collider::clamp_of_nodes`]).
+    clamp_of: Vec<Option<u32>>,
 }
 
 impl ReferenceBackend {
@@ -145,6 +147,7 @@ impl ReferenceBackend {
             dispatches,
             families: Family::of_sweeps(problem),
             reactions: Reactions::none(model.colliders.len(), model.clamps.len()),
+            clamp_of: crate::collider::clamp_of_nodes(&model.clamps, model.node_count()),
         }
     }
 

@@ -27,7 +27,7 @@ impl ReferenceBackend {
         }
         out.floor = DVec3::Y * forces.floor.iter().sum::<f64>();
         let pinned = (0..model.node_count()).filter(|&i| model.inv_mass[i] <= 0.0);
-        out.add_pinned(pinned, &model.clamps, |i| {
+        out.add_pinned(pinned, &self.clamp_of, |i| {
             let outer = forces.gravity[i]
                 + forces.springs[i]
                 + DVec3::Y * forces.floor[i]

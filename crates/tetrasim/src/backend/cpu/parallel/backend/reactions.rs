@@ -20,8 +20,10 @@ pub(super) struct Supports {
     /// Per node: the floor's normal force.
     pub(super) floor: Vec<f32>,
     colliders: usize,
-    /// The model's clamps (each one's share of the pinned nodes' force).
-    clamps: Vec<crate::collider::Clamp>,
+    /// The model's clamp count and, per node, the clamp that holds it (each one's share of
+    /// the pinned nodes' force).
+    clamps: usize,
+    clamp_of: Vec<Option<u32>>,
 }
 
 impl Supports {
@@ -40,7 +42,8 @@ impl Supports {
             },
             floor: vec![0.0; if floor { n } else { 0 }],
             colliders: model.colliders.len(),
-            clamps: model.clamps.clone(),
+            clamps: model.clamps.len(),
+            clamp_of: crate::collider::clamp_of_nodes(&model.clamps, n),
         }
     }
 }
@@ -51,7 +54,7 @@ impl ParallelBackend {
     /// step's end (the solve's increments leave pinned nodes out, as on `cpu-ref`).
     pub(super) fn reactions_now(&self) -> Reactions {
         let s = &self.supports;
-        let mut out = Reactions::none(s.colliders, s.clamps.len());
+        let mut out = Reactions::none(s.colliders, s.clamps);
         for &(c, force) in &s.pushed {
             out.add_collider(c as usize, force.as_dvec3());
         }
@@ -61,7 +64,7 @@ impl ParallelBackend {
             _ => None,
         });
         let pinned = s.pinned.iter().map(|&i| i as usize);
-        out.add_pinned(pinned, &s.clamps, |i| {
+        out.add_pinned(pinned, &s.clamp_of, |i| {
             let held = s.held[i].as_dvec3();
             -match elastic {
                 Some(nodes) => {
