@@ -149,8 +149,10 @@ fn a_squashed_cube_recovers_on_cpu() {
 /// 0.45, 1050 kg/m^3) dropped 0.1 m. The elastic waves cross it in 5 steps, so at the
 /// impact a step's strain changes by per cents and one Newton step per time step does not
 /// hold it: it flattened to 3.9 % of its volume and diverged at frame 357 (`cpu`) and 213
-/// (`cpu-ref`). An untrusted CG step is now followed by a new Newton step: it lands with
-/// at least 78 % of its volume at the worst frame and 5 of its tets inverted (measured).
+/// (`cpu-ref`). An untrusted CG step is now followed by a new Newton step, which took it to
+/// 78 % of its volume at the worst frame with 5 tets inverted; holding the nodes the floor
+/// holds inside the Newton step (docs/PHYSICS.md, "Finite elements against contacts") lands
+/// it with more than 99.8 % and none inverted (measured on both backends).
 #[test]
 fn a_small_soft_sphere_survives_its_impact_on_the_floor() {
     let params = SimParams {
@@ -189,11 +191,7 @@ fn a_small_soft_sphere_survives_its_impact_on_the_floor() {
             "{backend}: least volume {:.2} %, {inverted} inverted",
             100.0 * least
         );
-        assert!(least > 0.7, "{backend}: volume fell to {least}");
-        assert!(
-            inverted as usize * 100 < model.tets.len(),
-            "{backend}: {inverted} of {} tets inverted",
-            model.tets.len()
-        );
+        assert!(least > 0.99, "{backend}: volume fell to {least}");
+        assert_eq!(inverted, 0, "{backend}: tets inverted");
     }
 }

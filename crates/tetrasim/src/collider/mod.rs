@@ -368,6 +368,20 @@ impl<'a> ColliderAt<'a> {
     }
 }
 
+/// The outward normal of the first of `colliders` whose surface the world point `x` lies
+/// within `gap` [m] of (its contact thickness included) at the step's end: the collider a
+/// node there rests on although it does not push it yet (the finite elements' Newton step
+/// holds such a node along it; [`crate::physics::HELD_GAP`]).
+pub fn resting_on(colliders: &[ColliderAt<'_>], x: DVec3, gap: f64) -> Option<DVec3> {
+    colliders.iter().find_map(|c| {
+        if !c.may_touch(x) {
+            return None;
+        }
+        let (distance, normal) = c.distance(x);
+        (distance - c.collider.thickness <= gap).then_some(normal)
+    })
+}
+
 /// `colliders` over time step `step` (counted from 0) of length `dt` [s]: from
 /// `t = step dt` to `t + dt` (the product taken in f64 on every backend).
 pub fn at_step(colliders: &[Collider], step: u64, dt: f64) -> Vec<ColliderAt<'_>> {

@@ -28,6 +28,7 @@ mod chebyshev;
 mod constraint;
 mod contact;
 mod elastic;
+mod held;
 mod integrate;
 mod minres;
 mod rigid;
@@ -51,6 +52,7 @@ pub use elastic::{
     elastic_start, elastic_step, lame, node_block, shape_gradients, stable_neo_hookean, sym3_apply,
     sym3_inverse, ElasticLinear, ElasticTet, Sym3,
 };
+pub use held::{floor_holds, held_block, held_increment, held_mass, HELD_GAP, HELD_STIFFNESS};
 pub use integrate::{
     coulomb_friction, floor_force, floor_friction, floor_solve, integrate_node, symplectic_euler,
 };

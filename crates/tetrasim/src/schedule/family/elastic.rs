@@ -12,8 +12,8 @@
 use super::{Access, BufferId, PassKind};
 use crate::model::{adjacency, Csr, Model};
 use crate::physics::{
-    elastic_corner, elastic_rate, node_block, shape_gradients, stable_neo_hookean, sym3_inverse,
-    ElasticTet, Real, Sym3, Vector,
+    elastic_corner, elastic_rate, held_block, node_block, shape_gradients, stable_neo_hookean,
+    sym3_inverse, ElasticTet, Real, Sym3, Vector,
 };
 use crate::problem::Problem;
 
@@ -204,7 +204,9 @@ impl<R: Real> ElasticNodes<R> {
     /// being `phi`: the residual `b_i = -(phi + dE/dx_i + beta (K v)_i)` [N] (`v` the
     /// nodes' velocities over the step, `(end - start) / dt`; the step's equation is
     /// `b = 0`) and the inverse of its diagonal block ([`node_block`]), the conjugate
-    /// gradients' preconditioner. Zero for a pinned node (`w = 0`), whose position is given.
+    /// gradients' preconditioner, the block stiffened along `held`, the direction a contact
+    /// holds the node along (zero where none does; [`held_block`]), and that stiffening `h`.
+    /// Zero for a pinned node (`w = 0`), whose position is given.
     #[inline]
     #[allow(clippy::too_many_arguments)]
     pub fn newton_row<V: Vector<Real = R>>(
@@ -213,12 +215,13 @@ impl<R: Real> ElasticNodes<R> {
         w: R,
         dt: R,
         phi: V,
+        held: V,
         tets: &[[u32; 4]],
         start_of: impl Fn(usize) -> V,
         end: impl Fn(usize) -> V,
-    ) -> (V, Sym3<R>) {
+    ) -> (V, Sym3<R>, V) {
         if w <= R::ZERO {
-            return (V::ZERO, [R::ZERO; 6]);
+            return (V::ZERO, [R::ZERO; 6], V::ZERO);
         }
         let (grad, hessian) = self.gradient(i, tets, &end);
         let beta = self.damping[i];
@@ -231,15 +234,16 @@ impl<R: Real> ElasticNodes<R> {
                 rate += elastic_rate(&self.tets[t], p, u, corner);
             }
         }
-        let block = node_block(self.mass[i], dt, beta, hessian);
+        let (block, h) = held_block(node_block(self.mass[i], dt, beta, hessian), held);
         let inverse = sym3_inverse(block).unwrap_or([R::ZERO; 6]);
-        (-(grad + rate * beta + phi), inverse)
+        (-(grad + rate * beta + phi), inverse, h)
     }
 
     /// Node `i`'s entry of the Newton matrix times the direction `p`:
-    /// `m/dt^2 p_i + (1 + beta/dt) (K p)_i`, `K p` summed from its tets' corners
-    /// (`corner(4 t + c)`: [`crate::physics::elastic_product`] of tet `t` at its corner `c`). Zero for a
-    /// pinned node (`w = 0`; the direction is zero there).
+    /// `m/dt^2 p_i + h (h . p_i) + (1 + beta/dt) (K p)_i` (`h`: its contact's stiffening,
+    /// [`ElasticNodes::newton_row`]), `K p` summed from its tets' corners (`corner(4 t + c)`:
+    /// [`crate::physics::elastic_product`] of tet `t` at its corner `c`). Zero for a pinned
+    /// node (`w = 0`; the direction is zero there).
     #[inline]
     pub fn product<V: Vector<Real = R>>(
         &self,
@@ -247,6 +251,7 @@ impl<R: Real> ElasticNodes<R> {
         w: R,
         dt: R,
         p: V,
+        h: V,
         corner: impl Fn(usize) -> V,
     ) -> V {
         if w <= R::ZERO {
@@ -256,7 +261,16 @@ impl<R: Real> ElasticNodes<R> {
         for &item in self.node_tets.row(i) {
             k += corner(item as usize);
         }
-        p * (self.mass[i] / (dt * dt)) + k * (R::ONE + self.damping[i] / dt)
+        self.increment(i, dt, h, p, R::ONE) + k * (R::ONE + self.damping[i] / dt)
+    }
+
+    /// The elastic force a move `alpha p` of node `i` within the step adds: its inertia's
+    /// `m/dt^2 alpha p`, and, where a contact holds it (`h` not zero), the force the
+    /// stiffening `h (h . alpha p)` stood for, which the contact takes from it once the move
+    /// is applied (the contact's solve stops the node and reports what pressed it).
+    #[inline]
+    pub fn increment<V: Vector<Real = R>>(&self, i: usize, dt: R, h: V, p: V, alpha: R) -> V {
+        p * (alpha * self.mass[i] / (dt * dt)) + h * (h.dot(p) * alpha)
     }
 
     /// The sums over node `i`'s tets of the energy's gradient at its corner and the

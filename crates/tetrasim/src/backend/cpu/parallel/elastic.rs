@@ -10,9 +10,10 @@ use super::iterations::{Inputs, Outputs};
 use super::*;
 use crate::backend::cpu::shared::SharedSlice;
 use crate::backend::cpu::team::Member;
+use crate::collider;
 use crate::physics::{
-    elastic_energy, elastic_linearise, elastic_product, sym3_apply, ElasticLinear, ElasticTet,
-    RigidPart, Sym3,
+    elastic_energy, elastic_linearise, elastic_product, floor_holds, held_direction,
+    held_increment, held_mass, sym3_apply, ElasticLinear, ElasticTet, RigidPart, Sym3, HELD_GAP,
 };
 use crate::schedule::family::{backtrack, ElasticNodes};
 
@@ -21,7 +22,8 @@ const CHUNK: usize = 256;
 
 /// The conjugate gradients' vectors, kept from step to step (empty without finite
 /// elements): per node the linearisation point, the residual, the preconditioned residual,
-/// the search direction, the matrix times it and the inverse diagonal block; per tet its
+/// the search direction, the matrix times it, the inverse diagonal block and the stiffening
+/// of the contact holding the node (zero: none; `cpu-ref`'s `held`); per tet its
 /// stiffness at the linearisation point and its product's corners; per chunk a partial sum.
 #[derive(Debug, Clone, Default)]
 pub(super) struct NewtonVectors {
@@ -36,6 +38,7 @@ pub(super) struct NewtonVectors {
     p: Vec<Vec3A>,
     q: Vec<Vec3A>,
     inverse: Vec<Sym3<f32>>,
+    held: Vec<Vec3A>,
     linear: Vec<ElasticLinear<Vec3A>>,
     corners: Vec<[Vec3A; 4]>,
     sums: Vec<f64>,
@@ -56,6 +59,7 @@ impl NewtonVectors {
             p: vec![Vec3A::ZERO; nodes],
             q: vec![Vec3A::ZERO; nodes],
             inverse: vec![[0.0; 6]; nodes],
+            held: vec![Vec3A::ZERO; nodes],
             linear: vec![ElasticLinear::default(); tets],
             corners: vec![[Vec3A::ZERO; 4]; tets],
             sums: vec![0.0; nodes.div_ceil(CHUNK)],
@@ -75,6 +79,7 @@ impl NewtonVectors {
             p: SharedSlice::new(&mut self.p),
             q: SharedSlice::new(&mut self.q),
             inverse: SharedSlice::new(&mut self.inverse),
+            held: SharedSlice::new(&mut self.held),
             linear: SharedSlice::new(&mut self.linear),
             corners: SharedSlice::new(&mut self.corners),
             sums: SharedSlice::new(&mut self.sums),
@@ -94,6 +99,7 @@ pub(super) struct NewtonShared<'a> {
     p: SharedSlice<'a, Vec3A>,
     q: SharedSlice<'a, Vec3A>,
     inverse: SharedSlice<'a, Sym3<f32>>,
+    held: SharedSlice<'a, Vec3A>,
     linear: SharedSlice<'a, ElasticLinear<Vec3A>>,
     corners: SharedSlice<'a, [Vec3A; 4]>,
     sums: SharedSlice<'a, f64>,
@@ -112,6 +118,14 @@ pub(super) struct NewtonScalars {
     /// The last step went beyond the linearisation's trust: the next iteration begins a
     /// new Newton step (as `cpu-ref`).
     relinearise: bool,
+}
+
+impl NewtonScalars {
+    /// Whether iteration `iteration` begins with a linearisation (the first of a step, or
+    /// after an untrusted one), before which the contacts are solved (`cpu-ref`'s order).
+    pub(super) fn linearises(&self, iteration: usize) -> bool {
+        iteration == 0 || self.relinearise
+    }
 }
 
 /// Iteration `iteration` of sweep `s`'s conjugate gradients as `member`: the force
@@ -146,12 +160,13 @@ pub(super) unsafe fn iteration(
     let parts: Vec<RigidPart> = unsafe {
         let (f, out) = (outputs.f.whole(), outputs.node_out.whole());
         let (floor, contact) = (outputs.floor_force.whole(), outputs.contact.whole());
+        let held = outputs.newton.held.whole();
         (family.free_objects.iter())
             .map(|object| {
                 RigidPart::of(object.clone().map(|i| {
                     let pushed = contact.get(i).copied().unwrap_or(Vec3A::ZERO);
                     let phi = f[i] - k.gravity * family.mass[i] - Vec3A::Y * floor[i] - pushed;
-                    let m = f64::from(family.mass[i]);
+                    let m = held_mass(f64::from(family.mass[i]), held[i]);
                     (x[i].as_dvec3(), m, (phi + out[i]).as_dvec3())
                 }))
             })
@@ -159,12 +174,17 @@ pub(super) unsafe fn iteration(
     };
     member.wait();
     let own = member.block(inputs.x.len());
-    // SAFETY: these nodes' results are this member's.
-    let out = unsafe { outputs.node_out.part(own.clone()) };
+    // SAFETY: these nodes' results are this member's; nobody writes `held`.
+    let (out, held) = unsafe {
+        (
+            outputs.node_out.part(own.clone()),
+            outputs.newton.held.whole(),
+        )
+    };
     for (object, part) in family.free_objects.iter().zip(&parts) {
         let nodes = object.start.max(own.start)..object.end.min(own.end);
         for i in nodes {
-            let m = f64::from(family.mass[i]);
+            let m = held_mass(f64::from(family.mass[i]), held[i]);
             out[i - own.start] -= part.force(x[i].as_dvec3(), m).as_vec3a();
         }
     }
@@ -205,7 +225,7 @@ unsafe fn increments(
     };
     // SAFETY: after a wait nobody writes the sums until the next phase.
     let total = || unsafe { cg.sums.whole() }.iter().sum::<f64>();
-    if iteration == 0 || scalars.relinearise {
+    if scalars.linearises(iteration) {
         // SAFETY: nobody writes the forces; these nodes' vectors are this member's.
         unsafe {
             let f = outputs.f.whole();
@@ -231,11 +251,26 @@ unsafe fn increments(
             let (r, z) = (cg.r.part(nodes.clone()), cg.z.part(nodes.clone()));
             let (p, inverse) = (cg.p.part(nodes.clone()), cg.inverse.part(nodes.clone()));
             let (y, dx) = (cg.y.part(nodes.clone()), cg.dx.part(nodes.clone()));
+            let held = cg.held.part(nodes.clone());
             for (j, i) in nodes.clone().enumerate() {
                 let pushed = contact.get(i).copied().unwrap_or(Vec3A::ZERO);
                 let phi = f[i] - k.gravity * family.mass[i] - Vec3A::Y * floor[i] - pushed;
                 (y[j], dx[j]) = (at[i] - phi * (w[i] * dt * dt), Vec3A::ZERO);
-                (r[j], inverse[j]) = family.newton_row(i, w[i], dt, phi, tets, |q| x[q], |q| at[q]);
+                let on_floor =
+                    inputs.floor && floor_holds(floor[i] > 0.0, at[i].y, family.reach[i]);
+                let gap = HELD_GAP / f64::from(family.reach[i]);
+                let resting = || {
+                    let colliders = inputs.colliders.as_ref()?;
+                    collider::resting_on(colliders.at, at[i].as_dvec3(), gap)
+                };
+                let collider = match pushed != Vec3A::ZERO {
+                    true => pushed,
+                    false => resting().map_or(Vec3A::ZERO, |n| n.as_vec3a()),
+                };
+                let normal = held_direction(on_floor, collider);
+                let (start, end) = (|q| x[q], |q| at[q]);
+                (r[j], inverse[j], held[j]) =
+                    family.newton_row(i, w[i], dt, phi, normal, tets, start, end);
                 z[j] = sym3_apply(inverse[j], r[j]);
                 p[j] = z[j];
             }
@@ -267,8 +302,10 @@ unsafe fn increments(
     // SAFETY: nobody writes `p` or the corners; these nodes' products are this member's.
     unsafe {
         let (p, corners, q) = (cg.p.whole(), cg.corners.whole(), cg.q.part(nodes.clone()));
+        let held = cg.held.whole();
         for (j, i) in nodes.clone().enumerate() {
-            q[j] = family.product(i, w[i], dt, p[i], |item| corners[item / 4][item % 4]);
+            let corner = |item: usize| corners[item / 4][item % 4];
+            q[j] = family.product(i, w[i], dt, p[i], held[i], corner);
         }
         partial(&p[nodes.clone()], q);
     }
@@ -308,13 +345,17 @@ unsafe fn increments(
         return;
     };
     let alpha = alpha as f32;
-    // SAFETY: these nodes' vectors are this member's.
+    // SAFETY: these nodes' vectors are this member's; nobody writes the contacts' forces.
     unsafe {
         let (r, z) = (cg.r.part(nodes.clone()), cg.z.part(nodes.clone()));
         let (p, q) = (cg.p.part(nodes.clone()), cg.q.part(nodes.clone()));
         let (inverse, dx) = (cg.inverse.part(nodes.clone()), cg.dx.part(nodes.clone()));
+        let held = cg.held.part(nodes.clone());
+        let (floor, contact) = (outputs.floor_force.whole(), outputs.contact.whole());
         for (j, i) in nodes.clone().enumerate() {
-            out[j] = p[j] * (alpha * family.mass[i] / (dt * dt));
+            let (h, d) = (held[j], p[j] * alpha);
+            let pushed = Vec3A::Y * floor[i] + contact.get(i).copied().unwrap_or(Vec3A::ZERO);
+            out[j] = held_increment(family.increment(i, dt, h, p[j], alpha), h, d, pushed);
             dx[j] += p[j] * alpha;
             r[j] -= q[j] * alpha;
             z[j] = sym3_apply(inverse[j], r[j]);
@@ -336,7 +377,8 @@ unsafe fn increments(
 }
 
 /// The step's incremental potential with the nodes at `at + dx + alpha p` (`cpu-ref`'s
-/// `potential`): the free nodes' inertia `m / (2 dt^2) |x - y|^2` plus the tets' energy,
+/// `potential`): the free nodes' inertia `m / (2 dt^2) |x - y|^2` and contacts'
+/// stiffening `(h . d)^2 / 2` (`d`: the node's move in the step) plus the tets' energy,
 /// summed in double precision per chunk and the chunks in order. Three phases.
 ///
 /// # Safety
@@ -356,17 +398,20 @@ unsafe fn potential(
     // are this member's.
     unsafe {
         let (at, dx, p, y) = (cg.at.whole(), cg.dx.whole(), cg.p.whole(), cg.y.whole());
+        let held = cg.held.whole();
         let nodes = chunks.start * CHUNK..(chunks.end * CHUNK).min(n);
         let trial = cg.trial.part(nodes.clone());
         let sums = cg.sums.part(chunks.clone());
         for (c, sum) in chunks.clone().zip(sums) {
             *sum = 0.0;
             for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
-                let x = at[i] + dx[i] + p[i] * alpha;
+                let d = dx[i] + p[i] * alpha;
+                let x = at[i] + d;
                 trial[i - nodes.start] = x;
                 if w[i] > 0.0 {
                     let m = f64::from(family.mass[i]);
                     *sum += m * scale * (x.as_dvec3() - y[i].as_dvec3()).length_squared();
+                    *sum += 0.5 * f64::from(held[i].dot(d)).powi(2);
                 }
             }
         }

@@ -107,6 +107,12 @@ pub(super) fn run(member: Member<'_>, inputs: &Inputs<'_>, outputs: &Outputs<'_>
                 unsafe { solve(inputs, outputs, at.sweep, at.group, block) };
             }
             (PassKind::Elastic, Some(at)) => {
+                if newton.linearises(iteration) {
+                    // The contacts as the forces so far leave them: the nodes they hold.
+                    // SAFETY: each member solves only its own block of nodes.
+                    unsafe { resolve_contacts(inputs, outputs, &nodes, reach.as_deref()) };
+                    member.wait();
+                }
                 // SAFETY: every member calls it with the same arguments, and nobody else
                 // touches the forces, the node results or the vectors meanwhile.
                 unsafe {

@@ -6,9 +6,10 @@ use glam::DVec3;
 
 use super::step_forces::StepForces;
 use super::ReferenceBackend;
+use crate::collider;
 use crate::physics::{
-    elastic_energy, elastic_linearise, elastic_product, end_position, sym3_apply, ElasticLinear,
-    RigidPart, Sym3,
+    elastic_energy, elastic_linearise, elastic_product, end_position, floor_holds, held_direction,
+    held_increment, held_mass, sym3_apply, ElasticLinear, RigidPart, Sym3, HELD_GAP,
 };
 use crate::schedule::family::{backtrack, ElasticNodes, Family};
 use crate::schedule::GroupAt;
@@ -33,6 +34,9 @@ pub(super) struct NewtonCg {
     z: Vec<DVec3>,
     p: Vec<DVec3>,
     inverse: Vec<Sym3<f64>>,
+    /// Per node: the stiffening of the contact that holds it at the linearisation (zero:
+    /// none; [`ElasticNodes::newton_row`]).
+    held: Vec<DVec3>,
     rz: f64,
     /// Converged, or the direction met non-positive curvature: no further increments.
     done: bool,
@@ -57,15 +61,13 @@ impl ReferenceBackend {
         let mut sum = self.conjugate_gradients(at, iteration, step);
         if iteration + 1 == self.problem.params.iterations {
             if let Family::Elastic(nodes) = &self.families[at.sweep] {
+                let moved = |i: usize| held_mass(nodes.mass[i], step.newton.held[i]);
                 for object in &nodes.free_objects {
                     let elastic = |i: usize| step.elastic(i) + sum[i];
-                    let part = RigidPart::of(
-                        object
-                            .clone()
-                            .map(|i| (self.x[i], nodes.mass[i], elastic(i))),
-                    );
+                    let part =
+                        RigidPart::of(object.clone().map(|i| (self.x[i], moved(i), elastic(i))));
                     for i in object.clone() {
-                        sum[i] -= part.force(self.x[i], nodes.mass[i]);
+                        sum[i] -= part.force(self.x[i], moved(i));
                     }
                 }
             }
@@ -89,6 +91,8 @@ impl ReferenceBackend {
         let (w, tets) = (&model.inv_mass, &model.tets);
         let members = self.problem.sweeps[at.sweep].groups.group(at.group);
         if iteration == 0 || step.newton.relinearise {
+            // The contacts as the forces so far leave them, and the nodes they hold.
+            self.contact_solve(step);
             let phi: Vec<DVec3> = (0..n).map(|i| step.elastic(i)).collect();
             let (total, cg) = (&step.total, &mut step.newton);
             cg.at = (0..n)
@@ -104,11 +108,23 @@ impl ReferenceBackend {
                 .collect();
             cg.r = vec![DVec3::ZERO; n];
             cg.inverse = vec![[0.0; 6]; n];
+            cg.held = vec![DVec3::ZERO; n];
+            let colliders = collider::at_step(&model.colliders, self.steps, dt);
             for &i in members {
                 let i = i as usize;
-                let (b, inverse) =
-                    nodes.newton_row(i, w[i], dt, phi[i], tets, |k| self.x[k], |k| cg.at[k]);
-                (cg.r[i], cg.inverse[i]) = (b, inverse);
+                let on_floor = self.problem.params.floor
+                    && floor_holds(step.floor[i] > 0.0, cg.at[i].y, nodes.reach[i]);
+                let pushed = step.contacts[i].force;
+                let gap = HELD_GAP / nodes.reach[i];
+                let resting = || collider::resting_on(&colliders, cg.at[i], gap);
+                let collider = match pushed != DVec3::ZERO {
+                    true => pushed,
+                    false => resting().unwrap_or(DVec3::ZERO),
+                };
+                let normal = held_direction(on_floor, collider);
+                let (start, end) = (|k| self.x[k], |k| cg.at[k]);
+                (cg.r[i], cg.inverse[i], cg.held[i]) =
+                    nodes.newton_row(i, w[i], dt, phi[i], normal, tets, start, end);
             }
             cg.z = (cg.r.iter().zip(&cg.inverse))
                 .map(|(r, m)| sym3_apply(*m, *r))
@@ -128,7 +144,8 @@ impl ReferenceBackend {
         let mut q = vec![DVec3::ZERO; n];
         for &i in members {
             let i = i as usize;
-            q[i] = nodes.product(i, w[i], dt, cg.p[i], |item| corners[item / 4][item % 4]);
+            let corner = |item: usize| corners[item / 4][item % 4];
+            q[i] = nodes.product(i, w[i], dt, cg.p[i], cg.held[i], corner);
         }
         let curvature = dot(&cg.p, &q);
         if !positive(curvature) {
@@ -144,8 +161,8 @@ impl ReferenceBackend {
             .fold(0.0, f64::max);
         let (at, dx, p) = (&cg.at, &cg.dx, &cg.p);
         let stepped = backtrack(cg.rz / curvature, strain, cg.potential, |a| {
-            let moved: Vec<DVec3> = (0..n).map(|k| at[k] + dx[k] + p[k] * a).collect();
-            self.potential(nodes, &moved, &cg.y)
+            let moves: Vec<DVec3> = (0..n).map(|k| dx[k] + p[k] * a).collect();
+            self.potential(nodes, at, &moves, &cg.y, &cg.held)
         });
         (cg.potential, cg.relinearise) = (stepped.potential, stepped.relinearise);
         let Some(alpha) = stepped.alpha else {
@@ -155,7 +172,9 @@ impl ReferenceBackend {
         for &i in members {
             let i = i as usize;
             cg.dx[i] += cg.p[i] * alpha;
-            sum[i] = cg.p[i] * (alpha * nodes.mass[i] / (dt * dt));
+            let (h, d) = (cg.held[i], cg.p[i] * alpha);
+            let pushed = DVec3::Y * step.floor[i] + step.contacts[i].force;
+            sum[i] = held_increment(nodes.increment(i, dt, h, cg.p[i], alpha), h, d, pushed);
             cg.r[i] -= q[i] * alpha;
             cg.z[i] = sym3_apply(cg.inverse[i], cg.r[i]);
         }
@@ -169,13 +188,25 @@ impl ReferenceBackend {
         sum
     }
 
-    /// The step's incremental potential with the nodes at `x`:
-    /// `sum_i m_i / (2 dt^2) |x_i - y_i|^2` over the free nodes plus the tets' energy.
-    fn potential(&self, nodes: &ElasticNodes<f64>, x: &[DVec3], y: &[DVec3]) -> f64 {
+    /// The step's incremental potential with the nodes moved by `moves` from `at`:
+    /// `sum_i m_i / (2 dt^2) |x_i - y_i|^2 + (h_i . d_i)^2 / 2` over the free nodes (`h`:
+    /// their contacts' stiffening, `d` their moves) plus the tets' energy.
+    fn potential(
+        &self,
+        nodes: &ElasticNodes<f64>,
+        at: &[DVec3],
+        moves: &[DVec3],
+        y: &[DVec3],
+        held: &[DVec3],
+    ) -> f64 {
         let (model, dt) = (&self.problem.model, self.problem.params.dt);
+        let x: Vec<DVec3> = at.iter().zip(moves).map(|(a, d)| *a + *d).collect();
         let inertia: f64 = (0..x.len())
             .filter(|&i| model.inv_mass[i] > 0.0)
-            .map(|i| nodes.mass[i] * (x[i] - y[i]).length_squared())
+            .map(|i| {
+                let contact = held[i].dot(moves[i]).powi(2) * dt * dt;
+                nodes.mass[i] * (x[i] - y[i]).length_squared() + contact
+            })
             .sum::<f64>()
             / (2.0 * dt * dt);
         let energy: f64 = (model.tets.iter().zip(&nodes.tets))
