@@ -109,6 +109,22 @@ fn a_material_run_records_it_and_does_not_warn_about_the_explicit_bound() {
         (Some(1e5), Some(0.45), Some(0.003))
     );
     assert!(r.min_volume_pct > 99.0, "{}", r.min_volume_pct);
+    // The material as it acted: the springs' stiffness from E, the mass from the density
+    // (a ball of 0.1 m: about 0.52 kg), and no `ks`, `kd` that did not act.
+    let [least, mean, most] = r.derived.spring_stiffness.expect("spring_stiffness");
+    assert!(
+        0.0 < least && least < mean && mean < most,
+        "{least} {mean} {most}"
+    );
+    let mass = r.derived.mass_kg.expect("mass_kg");
+    assert!((0.45..0.53).contains(&mass), "{mass} kg");
+    let raw: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let params = raw[0]["params"].as_object().unwrap();
+    assert!(
+        !params.contains_key("ks") && !params.contains_key("kd"),
+        "{params:?}"
+    );
 }
 
 /// The finite elements have no springs: their run's header names their solve, not the
@@ -222,4 +238,61 @@ fn objects_of_one_scene_may_have_different_materials() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+}
+
+/// A material with the default explicit springs diverges at once; the advice names the
+/// fixes that take the material (implicit springs, the finite elements) before a smaller
+/// step, as the caller set the run: flags from flags, a scene's keys from a scene.
+#[test]
+fn divergence_advice_names_the_fix_in_the_callers_words() {
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("ball");
+    write_tetgen(&prefix, &ball_mesh(1.5)).unwrap();
+    let mesh = prefix.display().to_string();
+    let material = ["--youngs", "1e7", "--poisson", "0.3", "--density", "1000"];
+    let flags = tetrasim(
+        &[
+            &[
+                "run",
+                "--quiet",
+                "--mesh",
+                &mesh,
+                "--method",
+                "volume",
+                "--fit-size",
+                "0.1",
+                "--frames",
+                "100",
+            ],
+            &material[..],
+        ]
+        .concat(),
+    );
+    let scene = dir.path().join("stiff.toml");
+    let text = format!(
+        "[solver]\nframes = 100\n[[object]]\nmesh = {mesh:?}\nmethod = \"volume\"\n\
+         fit_size = 0.1\nmaterial = {{ youngs_modulus = 1e7, poisson_ratio = 0.3, density = 1000.0 }}\n"
+    );
+    std::fs::write(&scene, text).unwrap();
+    let keys = tetrasim(&["run", "--quiet", "--scene", scene.to_str().unwrap()]);
+    for (out, names) in [
+        (
+            flags,
+            ["`--springs implicit`", "`--method neo-hookean`", "`--dt "],
+        ),
+        (
+            keys,
+            [
+                "`springs = \"implicit\"`",
+                "`method = \"neo-hookean\"`",
+                "`dt = ",
+            ],
+        ),
+    ] {
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(3), "{stderr}");
+        for name in names {
+            assert!(stderr.contains(name), "`{name}` missing: {stderr}");
+        }
+    }
 }

@@ -117,10 +117,12 @@ def test_bad_parameters_raise_with_the_engines_message():
 
 def test_a_diverging_run_raises_and_keeps_its_record():
     sim = tetrasim.Simulation("meshes/sphere", method="mss", ks=5e7, dt=1e-2)
-    with pytest.raises(tetrasim.DivergedError):
+    # The advice names the settings as Python does (keyword arguments), not as flags.
+    with pytest.raises(tetrasim.DivergedError, match=r'`springs = "implicit"`.*`dt = '):
         sim.step(200)
     record = sim.record()
     assert record["diverged"] and record["divergence"]
+    assert "--" not in record["divergence"]
     assert len(record["volume_pct"]) < 200
 
 

@@ -62,6 +62,54 @@ pub enum Command {
     Scaling(Box<ScalingArgs>),
 }
 
+impl Cli {
+    /// Whether the command's settings come from flags (not from a scene file), so that its
+    /// messages should name them as flags ([`in_flags`]).
+    pub fn set_by_flags(&self) -> bool {
+        match &self.command {
+            Command::Run(args) | Command::Plan(args) => args.scene.is_none(),
+            Command::Render(args) => args.run.scene.is_none(),
+            _ => true,
+        }
+    }
+}
+
+/// The settings that messages name, as scenes and Python name them.
+const SETTINGS: [&str; 7] = [
+    "method",
+    "springs",
+    "dt",
+    "substeps",
+    "iterations",
+    "combine",
+    "omega",
+];
+
+/// `message` with the settings it names in code spans as scenes and Python name them
+/// (`` `dt = 1e-4` ``, `` `springs = "implicit"` ``, `` `omega` ``) named as this command
+/// line's flags (`` `--dt 1e-4` ``, `` `--springs implicit` ``, `` `--omega` ``); other text
+/// unchanged.
+pub fn in_flags(message: &str) -> String {
+    let flag = |span: &str| -> Option<String> {
+        let (name, value) = match span.split_once(" = ") {
+            Some((name, value)) => (name, Some(value.trim_matches('"'))),
+            None => (span, None),
+        };
+        SETTINGS.contains(&name).then(|| match value {
+            Some(value) => format!("--{name} {value}"),
+            None => format!("--{name}"),
+        })
+    };
+    // Between backticks (odd pieces) are the code spans.
+    (message.split('`').enumerate())
+        .map(|(k, piece)| match k % 2 {
+            1 => flag(piece).unwrap_or_else(|| piece.to_string()),
+            _ => piece.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("`")
+}
+
 /// Runs a parsed command line.
 pub fn execute(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
@@ -73,5 +121,21 @@ pub fn execute(cli: Cli) -> anyhow::Result<()> {
         Command::Bench(args) => bench::execute(*args),
         Command::Tradeoff(args) => tradeoff::execute_tradeoff(*args),
         Command::Scaling(args) => tradeoff::execute_scaling(*args),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::in_flags;
+
+    #[test]
+    fn settings_are_named_as_flags() {
+        let advice = "set `springs = \"implicit\"` (or `method = \"neo-hookean\"`), or \
+                      `dt = 1.77e-4` or less, more `iterations`, a smaller `omega`; `ks` 5000";
+        assert_eq!(
+            in_flags(advice),
+            "set `--springs implicit` (or `--method neo-hookean`), or `--dt 1.77e-4` or less, \
+             more `--iterations`, a smaller `--omega`; `ks` 5000"
+        );
     }
 }

@@ -55,6 +55,13 @@ pub struct RecordFacts {
     /// ([`crate::params::chebyshev_rho_limit`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub chebyshev_rho: Option<f64>,
+    /// The springs' stiffness as it acted [N/m], least, mean and largest, when a Young's
+    /// modulus gave it (each spring its own: physics.md, "Material in physical units").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spring_stiffness: Option<[f64; 3]>,
+    /// The bodies' mass [kg] as it acted: 1 kg per node, or the density times the volume.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass_kg: Option<f64>,
 }
 
 impl RecordFacts {
@@ -72,8 +79,29 @@ impl RecordFacts {
             chebyshev_rho: Some(params.chebyshev_rho()).filter(|&used| {
                 params.solver == Solver::Chebyshev && params.has_constraints() && used != params.rho
             }),
+            spring_stiffness: params.youngs_modulus.and_then(|_| {
+                let k = &problem.material.spring_stiffness;
+                let least = k.iter().copied().reduce(f64::min)?;
+                let most = k.iter().copied().reduce(f64::max)?;
+                let mean = k.iter().sum::<f64>() / k.len() as f64;
+                params.has_springs().then_some([least, mean, most])
+            }),
+            mass_kg: Some(problem.model.mass.iter().sum()),
         }
     }
+}
+
+/// `params` as a run record holds them: without `ks` and `kd` where a Young's modulus gave
+/// the springs (they did not act; reading the record back gives them their defaults).
+fn params_as_acted<S: serde::Serializer>(params: &SimParams, to: S) -> Result<S::Ok, S::Error> {
+    use serde::ser::Error;
+    use serde::Serialize;
+    let mut value = serde_json::to_value(params).map_err(S::Error::custom)?;
+    if let (Some(_), Some(object)) = (params.youngs_modulus, value.as_object_mut()) {
+        object.remove("ks");
+        object.remove("kd");
+    }
+    value.serialize(to)
 }
 
 /// Everything recorded about one method's run; serialised as one JSON object. Never holds a
@@ -97,7 +125,9 @@ pub struct RunRecord {
     /// Frames completed (less than `frames` when the run diverged).
     pub frames_run: u32,
     /// The parameters of the run, validated, as a nested object (the keys and units of
-    /// [`SimParams`]).
+    /// [`SimParams`]; without `ks` and `kd` where a Young's modulus gave the springs: the
+    /// stiffness as it acted is `spring_stiffness`).
+    #[serde(serialize_with = "params_as_acted")]
     pub params: SimParams,
     /// What the engine derived from them (their keys sit at the top level of the JSON
     /// object).
@@ -401,6 +431,8 @@ mod tests {
                 global_volume: false,
                 damping: None,
                 chebyshev_rho: None,
+                spring_stiffness: None,
+                mass_kg: None,
             },
             local_error_pct: pct.iter().map(|p| (100.0 - p) / 2.0).collect(),
             collider_nodes: Vec::new(),

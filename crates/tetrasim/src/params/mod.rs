@@ -167,9 +167,12 @@ pub struct SimParams {
     pub iterations: u32,
     /// Relaxation factor applied to each iteration's combined constraint forces.
     pub omega: f64,
-    /// Spring stiffness [N/m].
+    /// Spring stiffness [N/m] (unused, and left out of run records, when the springs come
+    /// from a Young's modulus).
+    #[serde(default = "default_ks")]
     pub ks: f64,
-    /// Spring damping [N s/m].
+    /// Spring damping [N s/m] (likewise).
+    #[serde(default = "default_kd")]
     pub kd: f64,
     /// Explicit spring forces (the paper) or compliant spring constraints.
     #[serde(default = "default_springs")]
@@ -284,8 +287,8 @@ impl Default for SimParams {
             substeps: 1,
             iterations: 10,
             omega: 1.0,
-            ks: 5000.0,
-            kd: 15.0,
+            ks: default_ks(),
+            kd: default_kd(),
             springs: default_springs(),
             warm_start: false,
             youngs_modulus: None,
@@ -537,6 +540,16 @@ impl SimParams {
         }
         Ok(())
     }
+}
+
+/// The paper's spring stiffness [N/m].
+fn default_ks() -> f64 {
+    5000.0
+}
+
+/// The paper's spring damping [N s/m].
+fn default_kd() -> f64 {
+    15.0
 }
 
 /// Default of [`SimParams::springs`]: the paper's explicit springs.

@@ -53,7 +53,7 @@ impl StepEstimate {
             format!(
                 "method {} takes an implicit (backward Euler) step, which no stiffness limits; a \
                  diverging run is a solve that did not converge: more `iterations`, or a \
-                 smaller dt",
+                 smaller `dt`",
                 params.method
             )
         } else if params.springs == SpringKind::Implicit {
