@@ -459,3 +459,99 @@ fn bench_cli_prints_the_table_and_writes_json() {
         "{stderr}"
     );
 }
+
+/// `bench --scene`: the scene's object, material and method, timed; its record shows the
+/// material as it acted. A scene whose material cannot act is refused, naming its key.
+#[test]
+fn bench_takes_a_scene_with_its_material() {
+    let dir = tempfile::tempdir().unwrap();
+    let prefix = dir.path().join("box");
+    write_tetgen(&prefix, &box_mesh([2, 2, 2])).unwrap();
+    let scene = dir.path().join("soft.toml");
+    let object = format!(
+        "[[object]]\nmesh = {:?}\nmethod = \"neo-hookean\"\nfit_size = 0.1\n\
+         drop_height = 0.0\n",
+        prefix.display().to_string()
+    );
+    let material = "material = { youngs_modulus = 1e5, poisson_ratio = 0.45, density = 1000.0 }\n";
+    std::fs::write(&scene, format!("{object}{material}")).unwrap();
+    let json = dir.path().join("bench.json");
+    let output = Command::new(env!("CARGO_BIN_EXE_tetrasim"))
+        .args([
+            "bench",
+            "--backend",
+            "cpu",
+            "--warmup",
+            "2",
+            "--frames",
+            "5",
+        ])
+        .arg("--scene")
+        .arg(&scene)
+        .arg("--json")
+        .arg(&json)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    let records: Vec<BenchRecord> =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(records.len(), 1);
+    let run = &records[0].run;
+    assert_eq!(
+        (run.method.as_str(), run.tets, run.frames),
+        ("neo-hookean", 48, 7)
+    );
+    assert_eq!(run.params.youngs_modulus, Some(1e5));
+    // 0.1 m cube of 1000 kg/m^3.
+    let mass = run.derived.mass_kg.unwrap();
+    assert!((mass - 1.0).abs() < 1e-9, "{mass}");
+    assert!(!run.diverged && records[0].ms_mean > 0.0);
+
+    // `tradeoff --scene`: the scene's method at each iteration count, against a reference
+    // of the same scene.
+    let out = dir.path().join("tradeoff");
+    let output = Command::new(env!("CARGO_BIN_EXE_tetrasim"))
+        .args([
+            "tradeoff",
+            "--backend",
+            "cpu",
+            "--iterations",
+            "1,5",
+            "--substeps",
+            "1",
+        ])
+        .args(["--frames", "12", "--warmup", "2", "--sample-every", "5"])
+        .args(["--ref-iterations", "20", "--ref-substeps", "2", "--scene"])
+        .arg(&scene)
+        .arg("--out-dir")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    let points: Vec<TradeoffRecord> =
+        serde_json::from_str(&std::fs::read_to_string(out.join("tradeoff.json")).unwrap()).unwrap();
+    let settings: Vec<(&str, u32, usize)> = (points.iter())
+        .map(|p| (p.method.as_str(), p.iterations, p.tets))
+        .collect();
+    assert_eq!(settings, [("neo-hookean", 1, 48), ("neo-hookean", 5, 48)]);
+    assert!(points.iter().all(|p| p.pos_rms_rel.is_some()));
+
+    std::fs::write(
+        &scene,
+        format!("{object}material = {{ youngs_modulus = 1e5, poisson_ratio = 0.3 }}\n"),
+    )
+    .unwrap();
+    let bad = Command::new(env!("CARGO_BIN_EXE_tetrasim"))
+        .args(["bench", "--backend", "cpu", "--scene"])
+        .arg(&scene)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        !bad.status.success() && !stderr.contains("panicked"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("object[0].material.density"), "{stderr}");
+}

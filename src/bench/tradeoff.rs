@@ -14,7 +14,7 @@ pub use super::solver_setting::SolverSetting;
 use super::stats::FrameTimes;
 use tetrasim::error::{Error, Result};
 use tetrasim::model::Model;
-use tetrasim::params::{Method, SimParams};
+use tetrasim::params::{Method, SimParams, Solver};
 
 /// One setting of the sweep.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -128,11 +128,18 @@ impl SweepSpec {
                 continue;
             }
             // The inversion floor sweeps volume constraints: a setting with it is the volume
-            // method's alone.
+            // method's alone. The finite elements have no sweeps: one setting, the engine's
+            // (their CG ignores it), and no relaxation factor.
+            let finite_elements = method == Method::NeoHookean;
+            let engine = [SolverSetting::new(Solver::GaussSeidel, 8, false)];
             let solvers = (self.solvers.iter()).filter(|s| {
                 (s.inversion_sweeps == 0 && s.block_size == 0) || method == Method::Volume
             });
-            for &solver in solvers {
+            let solvers: Vec<SolverSetting> = match finite_elements {
+                true => engine.to_vec(),
+                false => solvers.copied().collect(),
+            };
+            for solver in solvers {
                 for &substeps in &self.substeps {
                     for &iterations in &self.iterations {
                         points.push(SweepPoint {
@@ -145,7 +152,7 @@ impl SweepSpec {
                     }
                 }
             }
-            for &omega in self.omegas.iter().filter(|&&w| w != 1.0) {
+            for &omega in (self.omegas.iter()).filter(|&&w| w != 1.0 && !finite_elements) {
                 points.push(SweepPoint {
                     method,
                     solver: self.solvers[0],

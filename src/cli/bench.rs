@@ -53,6 +53,12 @@ pub fn bundled_path(prefix: &str) -> PathBuf {
 /// Arguments of `tetrasim bench`.
 #[derive(Debug, clap::Args)]
 pub struct BenchArgs {
+    /// Benchmark this scene (TOML, as `run --scene`: its objects, materials, pins,
+    /// colliders and solver) instead of the bundled meshes; the methods are the scene's
+    /// unless --method names others, and --iterations, --solver and --substeps override its
+    /// solver.
+    #[arg(long, conflicts_with_all = ["mesh", "no_bundled"])]
+    pub scene: Option<PathBuf>,
     /// Also benchmark this mesh (TetGen prefix); repeatable.
     #[arg(long)]
     pub mesh: Vec<PathBuf>,
@@ -107,7 +113,17 @@ pub struct BenchArgs {
 /// Runs `tetrasim bench`.
 pub fn execute(args: BenchArgs) -> anyhow::Result<()> {
     let preset = Preset::seed();
-    let mut params = preset.params.clone();
+    let staged = match &args.scene {
+        Some(path) => {
+            let scene = crate::scene::Scene::load(path).map_err(super::BadScene)?;
+            Some(crate::launch::stage(&scene)?)
+        }
+        None => None,
+    };
+    let mut params = match &staged {
+        Some(staged) => staged.params.clone(),
+        None => preset.params.clone(),
+    };
     if let Some(it) = args.iterations {
         params.iterations = it;
     }
@@ -123,14 +139,20 @@ pub fn execute(args: BenchArgs) -> anyhow::Result<()> {
         crate::runner::prepare_output_file(path)?;
     }
     let mut paths: Vec<PathBuf> = Vec::new();
-    if !args.no_bundled {
+    let scene_method = staged.as_ref().map(|s| s.params.method);
+    let mut meshes = Vec::new();
+    if let Some(staged) = staged {
+        meshes.push(BenchMesh {
+            label: staged.label,
+            model: staged.model,
+        });
+    } else if !args.no_bundled {
         paths.extend(BUNDLED_MESHES.iter().map(|p| bundled_path(p)));
     }
     paths.extend(args.mesh.iter().cloned());
-    if paths.is_empty() {
-        anyhow::bail!("no meshes: give --mesh or leave out --no-bundled");
+    if paths.is_empty() && meshes.is_empty() {
+        anyhow::bail!("no meshes: give --mesh or --scene, or leave out --no-bundled");
     }
-    let mut meshes = Vec::new();
     for path in &paths {
         let loaded = load_mesh(path, None)?;
         let model = build_model(&loaded.mesh, &params, preset.placement)
@@ -142,10 +164,10 @@ pub fn execute(args: BenchArgs) -> anyhow::Result<()> {
     }
     let (warmup, frames) = if args.quick { (5, 60) } else { (20, 280) };
     let options = BenchOptions {
-        methods: if args.method.is_empty() {
-            Method::ALL.to_vec()
-        } else {
-            args.method.clone()
+        methods: match (args.method.is_empty(), scene_method) {
+            (false, _) => args.method.clone(),
+            (true, Some(method)) => vec![method],
+            (true, None) => Method::ALL.to_vec(),
         },
         backends: choose_backends(&args.backend, &["vulkan", "cpu"])?,
         frames: SimulateOptions {

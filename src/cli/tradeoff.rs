@@ -20,8 +20,12 @@ use tetrasim::sim::{build_model, load_mesh};
 #[derive(Debug, clap::Args)]
 pub struct TradeoffArgs {
     /// Mesh (TetGen prefix).
-    #[arg(long, required_unless_present = "from_json")]
+    #[arg(long, required_unless_present_any = ["from_json", "scene"])]
     pub mesh: Option<PathBuf>,
+    /// Sweep this scene (TOML, as `run --scene`: its objects, materials, pins, colliders and
+    /// solver) instead of a mesh; the methods are the scene's unless --methods names others.
+    #[arg(long, conflicts_with_all = ["mesh", "from_json"])]
+    pub scene: Option<PathBuf>,
     /// Do not run: read the records of an earlier run (its tradeoff.json) and write the
     /// report, CSV and plots again into --out-dir.
     #[arg(long, conflicts_with = "mesh")]
@@ -91,13 +95,21 @@ pub fn execute_tradeoff(args: TradeoffArgs) -> anyhow::Result<()> {
         crate::bench::tradeoff::mark_pareto(&mut records);
         return finish(&args, &records);
     }
-    let Some(mesh) = &args.mesh else {
-        anyhow::bail!("give --mesh PREFIX (or --from-json FILE)");
+    let (model, label, params) = match (&args.scene, &args.mesh) {
+        (Some(path), _) => {
+            let scene = crate::scene::Scene::load(path).map_err(super::BadScene)?;
+            let staged = crate::launch::stage(&scene)?;
+            (staged.model, staged.label, staged.params)
+        }
+        (None, Some(mesh)) => {
+            let preset = Preset::seed();
+            let loaded = load_mesh(mesh, None)?;
+            let model = build_model(&loaded.mesh, &preset.params, preset.placement)
+                .with_context(|| format!("building the model of {}", loaded.label))?;
+            (model, loaded.label, preset.params)
+        }
+        (None, None) => anyhow::bail!("give --mesh PREFIX or --scene FILE (or --from-json FILE)"),
     };
-    let preset = Preset::seed();
-    let loaded = load_mesh(mesh, None)?;
-    let model = build_model(&loaded.mesh, &preset.params, preset.placement)
-        .with_context(|| format!("building the model of {}", loaded.label))?;
     let mut spec = if args.quick {
         SweepSpec::quick()
     } else {
@@ -105,6 +117,8 @@ pub fn execute_tradeoff(args: TradeoffArgs) -> anyhow::Result<()> {
     };
     if !args.methods.is_empty() {
         spec.methods = args.methods.clone();
+    } else if args.scene.is_some() {
+        spec.methods = vec![params.method];
     }
     if !args.iterations.is_empty() {
         spec.iterations = args.iterations.clone();
@@ -124,8 +138,8 @@ pub fn execute_tradeoff(args: TradeoffArgs) -> anyhow::Result<()> {
     if total <= args.warmup {
         anyhow::bail!("--frames {total} must exceed --warmup {}", args.warmup);
     }
-    if let Some(t) = model.contact_time(preset.params.gravity, preset.params.floor) {
-        let end = f64::from(total) * preset.params.frame_time();
+    if let Some(t) = model.contact_time(params.gravity, params.floor) {
+        let end = f64::from(total) * params.frame_time();
         if end < t {
             eprintln!(
                 "warning: {total} frames ({end:.3} s) end before the body first reaches the floor \
@@ -150,7 +164,7 @@ pub fn execute_tradeoff(args: TradeoffArgs) -> anyhow::Result<()> {
     let points = spec.points().len();
     eprintln!(
         "tradeoff: {} ({} tets, {} springs), {points} settings on {}, {total} frames each; references: {} iterations x {} substeps on {}",
-        loaded.label,
+        label,
         model.tets.len(),
         model.springs.len(),
         options.backend,
@@ -162,8 +176,8 @@ pub fn execute_tradeoff(args: TradeoffArgs) -> anyhow::Result<()> {
     let mut done = 0;
     let records = run_tradeoff(
         &model,
-        &loaded.label,
-        &preset.params,
+        &label,
+        &params,
         &spec,
         &options,
         &mut backends,
