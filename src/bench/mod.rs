@@ -6,6 +6,7 @@
 //! - [`suite`]: `tetrasim bench` (mesh x method x backend);
 //! - [`tradeoff`], [`report`] and [`tradeoff_files`]: `tetrasim tradeoff` (sweep, Pareto
 //!   front, answers, files);
+//! - [`cantilever`]: the trade on physics, a cantilever's field against scikit-fem's;
 //! - [`scaling`]: `tetrasim scaling` (cost per element against mesh size);
 //! - [`plot`]: log-log PNG charts; [`pareto`], [`stats`]: small helpers.
 //!
@@ -13,6 +14,7 @@
 //! they are CPU timings of the Vulkan path.
 
 pub mod accuracy;
+pub mod cantilever;
 pub mod pareto;
 pub mod plot;
 pub mod report;
