@@ -6,7 +6,7 @@
 //! the factor Dimitriadis et al. (2002, Biophys. J. 82, eq. 12, bonded sample) give in
 //! `chi = sqrt(R d) / h`; the test compares with Hertz times that factor. A ball of radius
 //! 50 mm, pressed 2 and 4 mm into a block 80 x 40 x 80 mm (E 100 kPa, nu 0.3, 24,000 tets of
-//! 4 mm cells) at rest: within 5 % (measured on `cpu`: 1.023 and 0.998 of it).
+//! 4 mm cells) at rest: within 5 % (measured on `cpu`: 1.022 and 0.998 of it).
 //!
 //! The finite elements reach it only because their Newton step holds the nodes a contact
 //! holds (docs/PHYSICS.md, "Finite elements against contacts"): without, the ball measured

@@ -27,7 +27,10 @@ pub use motion::{Keyframe, Motion, Pose};
 pub use surface::{MAX_CELLS, MIN_CELLS, PAD_CELLS};
 
 use crate::error::Result;
-use crate::physics::{contact_push, end_position, surface_friction, Solve};
+use crate::physics::{
+    contact_push, end_position, floor_holds, held_direction, surface_friction, Real, Solve, Vector,
+    HELD_GAP,
+};
 
 /// A collider's shape in its local frame (see [`Collider::pose`] for how it is placed).
 #[derive(Debug, Clone, PartialEq)]
@@ -368,11 +371,32 @@ impl<'a> ColliderAt<'a> {
     }
 }
 
+/// The direction the contacts hold a node along in the finite elements' Newton step
+/// (docs/PHYSICS.md, "Finite elements against contacts"; zero: none): the floor's `+Y`
+/// where it pushes the node or the node rests on it (`floor`: whether the floor pushes,
+/// `None` without a floor), else the colliders' push `pushed`, else the normal of a collider
+/// the node rests on; `end` is where the node ends the step so far, `reach` one over the
+/// height of its thinnest tet.
+pub fn held_normal<V: Vector>(
+    floor: Option<bool>,
+    pushed: V,
+    end: V,
+    reach: V::Real,
+    colliders: &[ColliderAt<'_>],
+) -> V {
+    let on_floor = floor.is_some_and(|pushes| floor_holds(pushes, end.y(), reach));
+    let collider = match pushed != V::ZERO {
+        true => pushed,
+        false => resting_on(colliders, end.to_dvec3(), HELD_GAP / reach.to_f64())
+            .map_or(V::ZERO, V::from_dvec3),
+    };
+    held_direction(on_floor, collider)
+}
+
 /// The outward normal of the first of `colliders` whose surface the world point `x` lies
 /// within `gap` [m] of (its contact thickness included) at the step's end: the collider a
-/// node there rests on although it does not push it yet (the finite elements' Newton step
-/// holds such a node along it; [`crate::physics::HELD_GAP`]).
-pub fn resting_on(colliders: &[ColliderAt<'_>], x: DVec3, gap: f64) -> Option<DVec3> {
+/// node there rests on although it does not push it yet.
+fn resting_on(colliders: &[ColliderAt<'_>], x: DVec3, gap: f64) -> Option<DVec3> {
     colliders.iter().find_map(|c| {
         if !c.may_touch(x) {
             return None;

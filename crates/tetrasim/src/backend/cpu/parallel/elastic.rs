@@ -12,8 +12,8 @@ use crate::backend::cpu::shared::SharedSlice;
 use crate::backend::cpu::team::Member;
 use crate::collider;
 use crate::physics::{
-    elastic_energy, elastic_linearise, elastic_product, floor_holds, held_direction,
-    held_increment, held_mass, sym3_apply, ElasticLinear, ElasticTet, RigidPart, Sym3, HELD_GAP,
+    elastic_energy, elastic_linearise, elastic_product, held_increment, held_mass, sym3_apply,
+    ElasticLinear, ElasticTet, RigidPart, Sym3,
 };
 use crate::schedule::family::{backtrack, ElasticNodes};
 
@@ -252,22 +252,14 @@ unsafe fn increments(
             let (p, inverse) = (cg.p.part(nodes.clone()), cg.inverse.part(nodes.clone()));
             let (y, dx) = (cg.y.part(nodes.clone()), cg.dx.part(nodes.clone()));
             let held = cg.held.part(nodes.clone());
+            let colliders = inputs.colliders.as_ref().map_or(&[][..], |c| c.at);
             for (j, i) in nodes.clone().enumerate() {
                 let pushed = contact.get(i).copied().unwrap_or(Vec3A::ZERO);
                 let phi = f[i] - k.gravity * family.mass[i] - Vec3A::Y * floor[i] - pushed;
                 (y[j], dx[j]) = (at[i] - phi * (w[i] * dt * dt), Vec3A::ZERO);
-                let on_floor =
-                    inputs.floor && floor_holds(floor[i] > 0.0, at[i].y, family.reach[i]);
-                let gap = HELD_GAP / f64::from(family.reach[i]);
-                let resting = || {
-                    let colliders = inputs.colliders.as_ref()?;
-                    collider::resting_on(colliders.at, at[i].as_dvec3(), gap)
-                };
-                let collider = match pushed != Vec3A::ZERO {
-                    true => pushed,
-                    false => resting().map_or(Vec3A::ZERO, |n| n.as_vec3a()),
-                };
-                let normal = held_direction(on_floor, collider);
+                let on_floor = inputs.floor.then_some(floor[i] > 0.0);
+                let normal =
+                    collider::held_normal(on_floor, pushed, at[i], family.reach[i], colliders);
                 let (start, end) = (|q| x[q], |q| at[q]);
                 (r[j], inverse[j], held[j]) =
                     family.newton_row(i, w[i], dt, phi, normal, tets, start, end);

@@ -8,8 +8,8 @@ use super::step_forces::StepForces;
 use super::ReferenceBackend;
 use crate::collider;
 use crate::physics::{
-    elastic_energy, elastic_linearise, elastic_product, end_position, floor_holds, held_direction,
-    held_increment, held_mass, sym3_apply, ElasticLinear, RigidPart, Sym3, HELD_GAP,
+    elastic_energy, elastic_linearise, elastic_product, end_position, held_increment, held_mass,
+    sym3_apply, ElasticLinear, RigidPart, Sym3,
 };
 use crate::schedule::family::{backtrack, ElasticNodes, Family};
 use crate::schedule::GroupAt;
@@ -112,16 +112,10 @@ impl ReferenceBackend {
             let colliders = collider::at_step(&model.colliders, self.steps, dt);
             for &i in members {
                 let i = i as usize;
-                let on_floor = self.problem.params.floor
-                    && floor_holds(step.floor[i] > 0.0, cg.at[i].y, nodes.reach[i]);
+                let floor = self.problem.params.floor.then_some(step.floor[i] > 0.0);
                 let pushed = step.contacts[i].force;
-                let gap = HELD_GAP / nodes.reach[i];
-                let resting = || collider::resting_on(&colliders, cg.at[i], gap);
-                let collider = match pushed != DVec3::ZERO {
-                    true => pushed,
-                    false => resting().unwrap_or(DVec3::ZERO),
-                };
-                let normal = held_direction(on_floor, collider);
+                let normal =
+                    collider::held_normal(floor, pushed, cg.at[i], nodes.reach[i], &colliders);
                 let (start, end) = (|k| self.x[k], |k| cg.at[k]);
                 (cg.r[i], cg.inverse[i], cg.held[i]) =
                     nodes.newton_row(i, w[i], dt, phi[i], normal, tets, start, end);
