@@ -460,6 +460,18 @@ fn bench_cli_prints_the_table_and_writes_json() {
     );
 }
 
+/// `tetrasim ARGS`, run to its end; panics (with its stderr) unless it succeeded when
+/// `succeed` is set.
+fn tetrasim<S: AsRef<std::ffi::OsStr>>(args: &[S], succeed: bool) -> std::process::Output {
+    let output = Command::new(env!("CARGO_BIN_EXE_tetrasim"))
+        .args(args)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!succeed || output.status.success(), "{stderr}");
+    output
+}
+
 /// `bench --scene`: the scene's object, material and method, timed; its record shows the
 /// material as it acted. A scene whose material cannot act is refused, naming its key.
 #[test]
@@ -476,24 +488,20 @@ fn bench_takes_a_scene_with_its_material() {
     let material = "material = { youngs_modulus = 1e5, poisson_ratio = 0.45, density = 1000.0 }\n";
     std::fs::write(&scene, format!("{object}{material}")).unwrap();
     let json = dir.path().join("bench.json");
-    let output = Command::new(env!("CARGO_BIN_EXE_tetrasim"))
-        .args([
-            "bench",
-            "--backend",
-            "cpu",
-            "--warmup",
-            "2",
-            "--frames",
-            "5",
-        ])
-        .arg("--scene")
-        .arg(&scene)
-        .arg("--json")
-        .arg(&json)
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(output.status.success(), "{stderr}");
+    let (scene_path, json_path) = (scene.to_str().unwrap(), json.to_str().unwrap());
+    let bench = [
+        "bench",
+        "--backend",
+        "cpu",
+        "--warmup",
+        "2",
+        "--frames",
+        "5",
+    ];
+    tetrasim(
+        &[&bench[..], &["--scene", scene_path, "--json", json_path]].concat(),
+        true,
+    );
     let records: Vec<BenchRecord> =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert_eq!(records.len(), 1);
@@ -511,25 +519,19 @@ fn bench_takes_a_scene_with_its_material() {
     // `tradeoff --scene`: the scene's method at each iteration count, against a reference
     // of the same scene.
     let out = dir.path().join("tradeoff");
-    let output = Command::new(env!("CARGO_BIN_EXE_tetrasim"))
-        .args([
-            "tradeoff",
-            "--backend",
-            "cpu",
-            "--iterations",
-            "1,5",
-            "--substeps",
-            "1",
-        ])
-        .args(["--frames", "12", "--warmup", "2", "--sample-every", "5"])
-        .args(["--ref-iterations", "20", "--ref-substeps", "2", "--scene"])
-        .arg(&scene)
-        .arg("--out-dir")
-        .arg(&out)
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(output.status.success(), "{stderr}");
+    let sweep = [
+        "tradeoff",
+        "--backend",
+        "cpu",
+        "--iterations",
+        "1,5",
+        "--substeps",
+        "1",
+    ];
+    let frames = ["--frames", "12", "--warmup", "2", "--sample-every", "5"];
+    let reference = ["--ref-iterations", "20", "--ref-substeps", "2"];
+    let files = ["--scene", scene_path, "--out-dir", out.to_str().unwrap()];
+    tetrasim(&[&sweep[..], &frames, &reference, &files].concat(), true);
     let points: Vec<TradeoffRecord> =
         serde_json::from_str(&std::fs::read_to_string(out.join("tradeoff.json")).unwrap()).unwrap();
     let settings: Vec<(&str, u32, usize)> = (points.iter())
@@ -543,11 +545,7 @@ fn bench_takes_a_scene_with_its_material() {
         format!("{object}material = {{ youngs_modulus = 1e5, poisson_ratio = 0.3 }}\n"),
     )
     .unwrap();
-    let bad = Command::new(env!("CARGO_BIN_EXE_tetrasim"))
-        .args(["bench", "--backend", "cpu", "--scene"])
-        .arg(&scene)
-        .output()
-        .unwrap();
+    let bad = tetrasim(&["bench", "--backend", "cpu", "--scene", scene_path], false);
     let stderr = String::from_utf8_lossy(&bad.stderr);
     assert!(
         !bad.status.success() && !stderr.contains("panicked"),
@@ -565,21 +563,16 @@ fn bench_takes_a_scene_with_its_material() {
 fn tradeoff_measures_springs_and_finite_elements_against_fem() {
     use tetrasim_cli::bench::cantilever::CantileverPoint;
     let dir = tempfile::tempdir().unwrap();
-    let output = Command::new(env!("CARGO_BIN_EXE_tetrasim"))
-        .args([
-            "tradeoff",
-            "--cantilever",
-            "--backend",
-            "cpu",
-            "--iterations",
-            "10",
-        ])
-        .arg("--out-dir")
-        .arg(dir.path())
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(output.status.success(), "{stderr}");
+    let out = dir.path().to_str().unwrap();
+    let args = [
+        "tradeoff",
+        "--cantilever",
+        "--backend",
+        "cpu",
+        "--iterations",
+        "10",
+    ];
+    tetrasim(&[&args[..], &["--out-dir", out]].concat(), true);
     let text = std::fs::read_to_string(dir.path().join("cantilever.json")).unwrap();
     let points: Vec<CantileverPoint> = serde_json::from_str(&text).unwrap();
     assert_eq!(points.len(), 4, "{points:?}");
