@@ -8,6 +8,7 @@ use std::process::Command;
 use common::ball_mesh;
 use tetrasim::mesh::io::write_tetgen;
 use tetrasim::metrics::RunRecord;
+use tetrasim::params::MassMode;
 
 fn tetrasim() -> Command {
     Command::new(env!("CARGO_BIN_EXE_tetrasim"))
@@ -181,4 +182,54 @@ fn surface_file_is_meshed_in_process() {
         "{} tets",
         records[0].tets
     );
+}
+
+/// `tetrasim run --scene` takes the solver, material, method, floor and output flags over
+/// the scene's values; the mesh and placement flags stay refused beside it (exit 2).
+#[test]
+fn flags_override_a_scene() {
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/scenes/tilted_plane.toml"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("run.json");
+    let output = tetrasim()
+        .args([
+            "run", "--quiet", "--scene", scene, "--frames", "3", "--dt", "5e-4",
+        ])
+        .args(["--method", "distance", "--density", "900", "--no-floor"])
+        .args(["--gravity=0,0,-9.81", "--backend", "cpu-ref", "--json"])
+        .arg(&json)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    let records: Vec<RunRecord> =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let [record] = &records[..] else {
+        panic!("{} records", records.len())
+    };
+    let p = &record.params;
+    assert_eq!(record.frames, 3, "--frames over solver.frames = 1000");
+    assert_eq!((p.dt, p.method.name(), p.floor), (5e-4, "distance", false));
+    assert_eq!(p.gravity.to_array(), [0.0, 0.0, -9.81]);
+    assert_eq!(p.mass, MassMode::Density { density: 900.0 });
+    assert_eq!(record.backend, "cpu-ref");
+
+    for (args, says) in [
+        (&["--mesh", "meshes/sphere"][..], "--mesh"),
+        (&["--drop-height", "1"][..], "--drop-height"),
+        (&["--method", "all"][..], "name one method"),
+        (&["--dt=-1"][..], "`dt`"),
+    ] {
+        let output = tetrasim()
+            .args(["run", "--quiet", "--scene", scene, "--frames", "1"])
+            .args(args)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success(), "{args:?} was accepted");
+        assert!(stderr.contains(says), "{args:?}: {stderr}");
+    }
 }

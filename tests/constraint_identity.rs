@@ -96,7 +96,7 @@ fn reference_backend_satisfies_the_identity_for_one_tet() {
     for iterations in [1, 10] {
         let params = tetrasim::SimParams {
             method: Method::Volume,
-            gravity: 9.81,
+            gravity: glam::DVec3::new(0.0, -9.81, 0.0),
             iterations,
             ..bare_params()
         };
@@ -118,7 +118,7 @@ fn parallel_backend_satisfies_the_identity_for_one_tet_to_f32_rounding() {
     let v0 = model.rest_volume[0];
     let params = tetrasim::SimParams {
         method: Method::Volume,
-        gravity: 9.81,
+        gravity: glam::DVec3::new(0.0, -9.81, 0.0),
         ..bare_params()
     };
     let mut backend = ParallelBackend::new(&model, &params).unwrap();

@@ -24,7 +24,7 @@ fn energy(state: &State, model: &Model, params: &SimParams) -> f64 {
         .zip(&state.velocities)
         .zip(&model.mass)
     {
-        e += 0.5 * m * v.length_squared() + m * params.gravity * x.y;
+        e += 0.5 * m * v.length_squared() + m * -params.gravity.dot(*x);
     }
     for (s, &[i, j]) in model.springs.iter().enumerate() {
         let l = state.positions[i as usize].distance(state.positions[j as usize]);
@@ -37,7 +37,7 @@ fn energy(state: &State, model: &Model, params: &SimParams) -> f64 {
 fn gain(backend: &mut dyn Backend, model: &Model, params: &SimParams, label: &str) -> (f64, f64) {
     let e0 = energy(&backend.state().unwrap(), model, params);
     let total_mass: f64 = model.mass.iter().sum();
-    let allowed = 0.01 * total_mass * params.gravity * DROP;
+    let allowed = 0.01 * total_mass * params.gravity.length() * DROP;
     let mut worst = f64::NEG_INFINITY;
     let mut worst_frame = 0;
     let mut last = e0;

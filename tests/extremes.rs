@@ -215,7 +215,7 @@ fn cases() -> Vec<Case> {
     };
     flip(&mut inverted);
     let free = SimParams {
-        gravity: 0.0,
+        gravity: glam::DVec3::ZERO,
         floor: false,
         ..SimParams::default()
     };
@@ -274,7 +274,7 @@ fn cases() -> Vec<Case> {
         "zero gravity",
         squeezed(seed(&cube), 1.0),
         SimParams {
-            gravity: 0.0,
+            gravity: glam::DVec3::ZERO,
             ..params(Method::Volume)
         },
         100,

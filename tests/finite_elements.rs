@@ -101,7 +101,7 @@ fn at_rest(
                 let u = (state.positions.iter().zip(&model.positions))
                     .map(|(x, x0)| *x - *x0)
                     .collect();
-                let weight = model.mass.iter().sum::<f64>() * params.gravity;
+                let weight = model.mass.iter().sum::<f64>() * params.gravity.length();
                 let pin = backend.reactions().unwrap().expect("measured").pin / weight;
                 return (u, frame, pin);
             }

@@ -21,7 +21,7 @@ const G: f64 = 9.81;
 
 fn params(method: Method, nu: f64) -> SimParams {
     SimParams {
-        gravity: G,
+        gravity: glam::DVec3::new(0.0, -G, 0.0),
         ..material_params(method, E, nu, DENSITY)
     }
 }

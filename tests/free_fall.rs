@@ -20,7 +20,7 @@ const SUBSTEPS: u32 = 2;
 fn closed_form(x0: DVec3, v0: DVec3, params: &SimParams) -> DVec3 {
     let n = f64::from(FRAMES * SUBSTEPS);
     let dt = params.dt;
-    x0 + v0 * (n * dt) - DVec3::Y * (params.gravity * dt * dt * n * (n + 1.0) / 2.0)
+    x0 + v0 * (n * dt) + params.gravity * (dt * dt * n * (n + 1.0) / 2.0)
 }
 
 fn check(

@@ -238,7 +238,7 @@ fn two_spheres_collide_on_the_gpu_as_on_the_reference() {
 /// The two spheres' collision with `contact`.
 fn two_spheres_collide(model: &Model, contact: ContactMode) {
     let params = SimParams {
-        gravity: 0.0,
+        gravity: glam::DVec3::ZERO,
         floor: false,
         substeps: 5,
         contact,
@@ -350,7 +350,7 @@ fn overlapping_spheres_measure_their_penetration_as_the_reference_does() {
     ])
     .expect("two spheres");
     let params = SimParams {
-        gravity: 0.0,
+        gravity: glam::DVec3::ZERO,
         floor: false,
         ..SimParams::default()
     };

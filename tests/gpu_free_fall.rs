@@ -47,7 +47,7 @@ fn com_error(model: &Model, params: &SimParams, atomics: AtomicsMode) -> f64 {
     let k = f64::from(FRAMES * SUBSTEPS);
     let (g, dt) = (params.gravity, params.dt);
     let v0 = DVec3::new(0.3, 0.5, -0.2);
-    let expected = com0 + v0 * (k * dt) - DVec3::Y * (g * dt * dt * k * (k + 1.0) / 2.0);
+    let expected = com0 + v0 * (k * dt) + g * (dt * dt * k * (k + 1.0) / 2.0);
     com.distance(expected)
 }
 

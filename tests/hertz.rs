@@ -53,7 +53,7 @@ fn bonded_layer(depth: f64, h: f64) -> f64 {
 /// 0.35 s, the mean of the hold's last 50 frames.
 fn indent(method: Method, backend: &str, cell: f64, depths: &[f64]) -> Vec<f64> {
     let params = tetrasim::SimParams {
-        gravity: 0.0,
+        gravity: glam::DVec3::ZERO,
         ..material_params(method, E, NU, 1000.0)
     };
     let cells = SIZE.map(|s| (s / cell).round() as usize);

@@ -74,7 +74,7 @@ struct Middle {
 fn stretched(method: Method, nu: f64, stretch: f64, backend: &str, frames: u32) -> Middle {
     let params = material_params(method, E, nu, DENSITY);
     let params = tetrasim::SimParams {
-        gravity: 0.0,
+        gravity: glam::DVec3::ZERO,
         ..params
     };
     let mesh = box_tets(DVec3::ZERO, CELL, [2, (LENGTH / CELL) as usize, 2]);

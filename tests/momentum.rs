@@ -85,7 +85,7 @@ fn flight_params(
         omega,
         solver,
         global_volume: Some(global_volume),
-        gravity: 0.0,
+        gravity: glam::DVec3::ZERO,
         floor: false,
         substeps: 2,
         ..SimParams::default()

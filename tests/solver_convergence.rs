@@ -46,7 +46,7 @@ fn gauss_seidel_removes_a_uniform_compression_jacobi_barely_touches() {
     }
     let base = SimParams {
         method: Method::Volume,
-        gravity: 0.0,
+        gravity: glam::DVec3::ZERO,
         floor: false,
         ks: 0.0,
         kd: 0.0,

@@ -23,7 +23,7 @@ fn params() -> SimParams {
         poisson_ratio: Some(0.45),
         mass: MassMode::Density { density: 1000.0 },
         floor: false,
-        gravity: 0.0,
+        gravity: glam::DVec3::ZERO,
         ..SimParams::default()
     }
 }
@@ -157,7 +157,7 @@ fn a_squashed_cube_recovers_on_cpu() {
 fn a_small_soft_sphere_survives_its_impact_on_the_floor() {
     let params = SimParams {
         floor: true,
-        gravity: 9.81,
+        gravity: glam::DVec3::new(0.0, -9.81, 0.0),
         youngs_modulus: Some(1e5),
         mass: MassMode::Density { density: 1050.0 },
         ..self::params()

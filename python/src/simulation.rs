@@ -117,14 +117,16 @@ fn backend_of(slot: &mut Mutex<Box<dyn Backend>>) -> PyResult<&mut Box<dyn Backe
 #[pymethods]
 impl Simulation {
     /// Places `mesh` (`fit_size` [m] across, lowest node `drop_height` [m] above the floor;
-    /// `None` keeps the mesh's own size or position; then moved by `offset` [m]), pins the nodes `pins` and those inside
+    /// `None` keeps the mesh's own size or position; turned first by the quaternion
+    /// `rotation` `[w, x, y, z]` about its bounding box's centre; then moved by `offset`
+    /// [m]), pins the nodes `pins` and those inside
     /// the boxes `pin_boxes` (`((x0, y0, z0), (x1, y1, z1))` [m], after placement), turns on
     /// its contact with itself if `self_contact`, prepares the problem under `params_json`
     /// and creates `backend`.
     #[new]
     // The Python keyword signature: one argument per keyword.
     #[allow(clippy::too_many_arguments)]
-    #[pyo3(signature = (mesh, params_json, backend = "cpu", fit_size = Some(1.0), drop_height = Some(0.1), pins = Vec::new(), pin_boxes = Vec::new(), offset = [0.0; 3], self_contact = false))]
+    #[pyo3(signature = (mesh, params_json, backend = "cpu", fit_size = Some(1.0), drop_height = Some(0.1), pins = Vec::new(), pin_boxes = Vec::new(), offset = [0.0; 3], self_contact = false, rotation = None))]
     fn new(
         py: Python<'_>,
         mesh: &Mesh,
@@ -136,6 +138,7 @@ impl Simulation {
         pin_boxes: Vec<([f64; 3], [f64; 3])>,
         offset: [f64; 3],
         self_contact: bool,
+        rotation: Option<[f64; 4]>,
     ) -> PyResult<Self> {
         let params = parse_params(params_json)?;
         let n = mesh.inner.nodes.len();
@@ -149,6 +152,11 @@ impl Simulation {
                 fit_size,
                 drop_height,
             })
+            .rotation(
+                rotation.map_or(tetrasim::glam::DQuat::IDENTITY, |[w, x, y, z]| {
+                    tetrasim::glam::DQuat::from_xyzw(x, y, z, w)
+                }),
+            )
             .offset(offset.into())
             .mass(params.mass)
             .pinned(pins)

@@ -126,6 +126,26 @@ def test_a_diverging_run_raises_and_keeps_its_record():
     assert len(record["volume_pct"]) < 200
 
 
+def test_a_turned_body_falls_along_a_gravity_vector():
+    # 90 degrees about Y: the box's long side (X) stands along Z, as a Z-up part would.
+    turn = (np.sqrt(0.5), 0.0, np.sqrt(0.5), 0.0)
+    sim = tetrasim.Simulation(
+        "meshes/box", backend="cpu-ref", fit_size=None, drop_height=None, rotation=turn,
+        floor=False, gravity=[0.0, 0.0, -9.81],
+    )
+    x0 = sim.positions
+    assert x0.max(axis=0) - x0.min(axis=0) == pytest.approx([0.5, 0.5, 1.0], abs=1e-9)
+    sim.step(100)
+    # Symplectic Euler's free fall: dz = -g dt^2 n (n + 1) / 2 after n steps; nothing across.
+    moved = sim.positions.mean(axis=0) - x0.mean(axis=0)
+    assert moved == pytest.approx([0.0, 0.0, -9.81e-6 * 100 * 101 / 2], abs=1e-7)
+    assert sim.record()["params"]["gravity"] == [0.0, 0.0, -9.81]
+    with pytest.raises(ValueError, match="rotation"):
+        tetrasim.Simulation("meshes/box", rotation=(1.0, 1.0, 0.0, 0.0))
+    with pytest.raises(ValueError, match="gravity"):
+        tetrasim.Simulation("meshes/box", gravity=[0.0, -9.81])
+
+
 def test_a_record_rebuilds_its_simulation():
     sim = tetrasim.Simulation("meshes/torus", method="volume", iterations=4, backend="cpu-ref")
     sim.step(30)

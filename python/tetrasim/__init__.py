@@ -115,8 +115,21 @@ def _params(overrides: dict) -> str:
         params["mass"] = {"mode": "density", "density": float(density)}
     if node_mass is not None:
         params["mass"] = {"mode": "per-node", "mass": float(node_mass)}
+    gravity = overrides.get("gravity")
+    if gravity is not None and not isinstance(gravity, (int, float)):
+        overrides["gravity"] = [float(g) for g in gravity]
     params.update(overrides)
     return json.dumps(params)
+
+
+def _quaternion(rotation: Sequence[float]) -> Tuple[float, float, float, float]:
+    q = tuple(float(c) for c in rotation)
+    if len(q) != 4:
+        raise ValueError(f"`rotation` must be a quaternion (w, x, y, z), got {len(q)} numbers")
+    length = sum(c * c for c in q) ** 0.5
+    if abs(length - 1.0) > 1e-3:
+        raise ValueError(f"`rotation` must be a unit quaternion (w, x, y, z), got length {length}")
+    return q
 
 
 class Simulation:
@@ -126,8 +139,10 @@ class Simulation:
     ``"cpu-ref"`` (the double-precision reference) or ``"vulkan"`` (the GPU).
     ``fit_size`` [m]: scale the mesh so its largest side is this (``None``: keep its size);
     ``drop_height`` [m]: its lowest node this far above the floor, centred over the origin
-    when fitted (``None``: keep its position); ``offset`` [m]: then moved by this (objects
-    start apart). ``pins``: node indices that never move (unless
+    when fitted (``None``: keep its position); ``rotation``: a unit quaternion
+    ``(w, x, y, z)`` turning the mesh about its bounding box's centre before it is placed
+    (``(0.7071, -0.7071, 0, 0)`` stands a Z-up part on the floor); ``offset`` [m]: then
+    moved by this (objects start apart). ``pins``: node indices that never move (unless
     ``set_state`` moves them); ``pin_boxes``: ``((x0, y0, z0), (x1, y1, z1))`` boxes [m,
     after placement] whose nodes are pinned. ``self_contact``: the surface collides with
     itself (the scene key ``self_contact``). ``params``: any run parameter by its name
@@ -148,6 +163,7 @@ class Simulation:
         fit_size: Optional[float] = 1.0,
         drop_height: Optional[float] = 0.1,
         offset: Sequence[float] = (0.0, 0.0, 0.0),
+        rotation: Optional[Sequence[float]] = None,
         pins: Iterable[int] = (),
         pin_boxes: Sequence[Tuple[Sequence[float], Sequence[float]]] = (),
         self_contact: bool = False,
@@ -165,6 +181,7 @@ class Simulation:
             boxes,
             tuple(map(float, offset)),
             bool(self_contact),
+            None if rotation is None else _quaternion(rotation),
         )
 
     #: Frames the scene asks for (``solver.frames``), for a simulation made by ``from_scene``.

@@ -55,6 +55,7 @@ class Simulation:
         fit_size: Optional[float] = 1.0,
         drop_height: Optional[float] = 0.1,
         offset: Sequence[float] = (0.0, 0.0, 0.0),
+        rotation: Optional[Sequence[float]] = None,
         pins: Iterable[int] = (),
         pin_boxes: Sequence[Tuple[Sequence[float], Sequence[float]]] = (),
         self_contact: bool = False,

@@ -53,6 +53,7 @@ class _Simulation:
         pin_boxes: Sequence[Tuple[Tuple[float, float, float], Tuple[float, float, float]]] = (),
         offset: Tuple[float, float, float] = (0.0, 0.0, 0.0),
         self_contact: bool = False,
+        rotation: Optional[Tuple[float, float, float, float]] = None,
     ) -> None: ...
     @staticmethod
     def from_scene(path: str, backend: str = "cpu") -> Tuple["_Simulation", int]: ...

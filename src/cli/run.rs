@@ -54,7 +54,8 @@ impl MethodChoice {
 #[derive(Debug, clap::Args)]
 pub struct RunArgs {
     /// A scene file (TOML, documented in crates/tetrascene/src/scene.rs): objects, colliders, solver and outputs.
-    /// The mesh, physics and output flags below must not be given with it.
+    /// The solver, material, method, floor and output flags below override its values;
+    /// the mesh and placement flags must not be given with it.
     #[arg(long, conflicts_with_all = scene_conflicts())]
     pub scene: Option<PathBuf>,
     /// Tet mesh (TetGen PREFIX, .vtk, .vtu, .msh, .mesh) or a surface file (.ply/.obj/.off/.stl).
@@ -64,9 +65,10 @@ pub struct RunArgs {
     /// refused with a tet mesh).
     #[arg(long)]
     pub target_tets: Option<usize>,
-    /// Method to run.
-    #[arg(long, value_enum, default_value = "all")]
-    pub method: MethodChoice,
+    /// Method to run (default `all`; with --scene, one method for every object instead of
+    /// the scene's).
+    #[arg(long, value_enum)]
+    pub method: Option<MethodChoice>,
     /// Solver backend: cpu-ref (f64 reference), cpu (f32, all cores; the default) or vulkan
     /// (GPU).
     #[arg(long)]
@@ -100,6 +102,10 @@ pub struct RunArgs {
     /// Height of the lowest node above the floor at the start [m].
     #[arg(long)]
     pub drop_height: Option<f64>,
+    /// Turn the mesh about its bounding box's centre before placing it: a unit quaternion
+    /// `w,x,y,z` (`--rotation=0.7071,-0.7071,0,0` stands a Z-up part on the floor).
+    #[arg(long, value_name = "W,X,Y,Z", value_parser = parse_quaternion)]
+    pub rotation: Option<[f64; 4]>,
     /// Write the run records (one JSON object per method, with a time axis) to this file
     /// (its folder is created first; `--metrics` is the older name).
     #[arg(long, alias = "metrics", value_name = "FILE")]
@@ -125,38 +131,106 @@ pub struct RunArgs {
     pub quiet: bool,
 }
 
-/// The flags a scene file replaces: every flag of [`SolverOverrides`] and
-/// [`MaterialOverrides`], and the object, floor and output ones.
+/// Four comma-separated numbers (`w,x,y,z`; brackets allowed).
+fn parse_quaternion(text: &str) -> Result<[f64; 4], String> {
+    let inner = text.trim().trim_start_matches('[').trim_end_matches(']');
+    let numbers: Vec<f64> = inner
+        .split(',')
+        .map(|s| s.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("expected four numbers w,x,y,z, got `{text}`"))?;
+    let q: [f64; 4] = numbers
+        .try_into()
+        .map_err(|_| format!("expected four numbers w,x,y,z, got `{text}`"))?;
+    let length = q.iter().map(|c| c * c).sum::<f64>().sqrt();
+    match (length - 1.0).abs() <= crate::scene::QUATERNION_TOLERANCE {
+        true => Ok(q),
+        false => Err(format!("must be a unit quaternion, got length {length}")),
+    }
+}
+
+/// The flags a scene file replaces: one object's mesh and placement, and the preset (a
+/// scene's objects and values are its own). The others override the scene's values
+/// ([`RunArgs::override_scene`]).
 fn scene_conflicts() -> Vec<clap::Id> {
-    use clap::Args as _;
-    let flags = |cmd: clap::Command| -> Vec<clap::Id> {
-        cmd.get_arguments().map(|a| a.get_id().clone()).collect()
-    };
-    let mut ids = flags(SolverOverrides::augment_args(clap::Command::new("solver")));
-    ids.extend(flags(MaterialOverrides::augment_args(clap::Command::new(
-        "material",
-    ))));
-    ids.extend(
-        [
-            "mesh",
-            "method",
-            "preset",
-            "friction",
-            "no_floor",
-            "fit_size",
-            "no_fit",
-            "drop_height",
-            "json",
-            "out_dir",
-            "format",
-            "units",
-        ]
-        .map(clap::Id::from),
-    );
-    ids
+    [
+        "mesh",
+        "target_tets",
+        "preset",
+        "fit_size",
+        "no_fit",
+        "drop_height",
+        "rotation",
+    ]
+    .map(clap::Id::from)
+    .to_vec()
 }
 
 impl RunArgs {
+    /// The methods `--method` names (`all` when not given).
+    pub fn methods(&self) -> Vec<Method> {
+        self.method.unwrap_or(MethodChoice::All).methods()
+    }
+
+    /// `scene` with the given flags over its values: the solver's, every object's material
+    /// and method, the floor (`--no-floor` removes it, `--friction` sets its friction) and
+    /// the outputs. The flags' values are checked first, so that their errors name the
+    /// flag; then the scene as it now is ([`BadScene`], naming its keys).
+    pub fn override_scene(&self, scene: &mut Scene) -> anyhow::Result<()> {
+        let mut flags = SimParams::default();
+        self.solver.apply(&mut flags);
+        flags.validate()?;
+        if let Some(friction) = self.friction {
+            if !(0.0..=1.0).contains(&friction) {
+                let message = format!("must be in [0, 1], got {friction}");
+                return Err(tetrasim::Error::param("friction", message).into());
+            }
+        }
+        scene.solver = self.solver.over(&scene.solver);
+        let method = match self.method.map(MethodChoice::methods).as_deref() {
+            Some([one]) => Some(*one),
+            Some(_) => {
+                let message = "with --scene, name one method (every object runs it)";
+                return Err(tetrasim::Error::param("method", message).into());
+            }
+            None => None,
+        };
+        for object in &mut scene.objects {
+            object.material = self.material.over(&object.material);
+            object.method = method.unwrap_or(object.method);
+        }
+        if self.no_floor {
+            scene
+                .colliders
+                .retain(|c| !matches!(c, Collider::Floor { .. }));
+        }
+        if let Some(friction) = self.friction {
+            let floor = scene.colliders.iter_mut().find_map(|c| match c {
+                Collider::Floor { friction } => Some(friction),
+                _ => None,
+            });
+            match floor {
+                Some(f) => *f = friction,
+                None => {
+                    let message = "sets the floor's friction, and the scene has no floor";
+                    return Err(tetrasim::Error::param("friction", message).into());
+                }
+            }
+        }
+        let output = &mut scene.output;
+        output.json = self.json.clone().or(output.json.take());
+        output.dir = self.out_dir.clone().or(output.dir.take());
+        // `--every` is also `render`'s picture period: it sets the mesh files' only when
+        // there are some (`run` refuses it alone, see `execute`).
+        if output.dir.is_some() {
+            output.every = self.every.or(output.every);
+        }
+        output.format = self.format.or(output.format);
+        output.units = self.units.or(output.units);
+        scene.validate().map_err(BadScene)?;
+        Ok(())
+    }
+
     /// The preset's parameters with every given flag applied.
     pub fn params(&self) -> SimParams {
         let mut params = Preset::named(self.preset).params;
@@ -184,7 +258,7 @@ impl RunArgs {
             objects: vec![Object {
                 mesh: self.mesh.clone(),
                 target_tets: self.target_tets,
-                method: self.method.methods()[0],
+                method: self.methods()[0],
                 fit_size: match self.no_fit {
                     true => None,
                     false => self.fit_size.or(preset.placement.fit_size),
@@ -193,6 +267,7 @@ impl RunArgs {
                     true => self.drop_height,
                     false => self.drop_height.or(preset.placement.drop_height),
                 },
+                rotation: self.rotation,
                 offset: [0.0; 3],
                 velocity: [0.0; 3],
                 material: self.material.clone(),
@@ -237,7 +312,8 @@ impl RunArgs {
     pub fn scene_and_methods(&self) -> anyhow::Result<(Scene, Vec<Method>)> {
         match &self.scene {
             Some(path) => {
-                let scene = Scene::load(path).map_err(BadScene)?;
+                let mut scene = Scene::load(path).map_err(BadScene)?;
+                self.override_scene(&mut scene)?;
                 let method = scene.objects[0].method;
                 Ok((scene, vec![method]))
             }
@@ -253,7 +329,7 @@ impl RunArgs {
                 }
                 scene.output.check(|name| name.to_string(), "--out-dir")?;
                 scene.validate()?;
-                Ok((scene, self.method.methods()))
+                Ok((scene, self.methods()))
             }
         }
     }
@@ -331,13 +407,6 @@ fn solver_label(params: &SimParams) -> String {
 pub fn execute(args: RunArgs) -> anyhow::Result<()> {
     let (scene, methods) = args.scene_and_methods()?;
     let backend = args.backend.as_deref().unwrap_or("cpu");
-    if args.scene.is_some() && args.every.is_some() {
-        return Err(tetrasim::Error::param(
-            "every",
-            "with --scene the period of mesh files is the scene's `output.every`",
-        )
-        .into());
-    }
     if backend != "vulkan" {
         if let Some(flag) = args.gpu.first_given() {
             return Err(tetrasim::Error::param(
@@ -347,10 +416,9 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
             .into());
         }
     }
-    if args.scene.is_none() && args.every.is_some() && args.out_dir.is_none() {
-        return Err(
-            tetrasim::Error::param("every", "acts only with --out-dir, and none is given").into(),
-        );
+    if args.every.is_some() && scene.output.dir.is_none() {
+        let message = "acts only with --out-dir (or a scene's output.dir), and none is given";
+        return Err(tetrasim::Error::param("every", message).into());
     }
     // Staged before the output folders are made, so that a bad scene writes nothing.
     let staged = args.stage(&scene)?;

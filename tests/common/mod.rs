@@ -85,7 +85,7 @@ pub fn seed_model(mesh: &TetMesh) -> Model {
 /// Parameters without gravity, floor, springs or damping.
 pub fn bare_params() -> SimParams {
     SimParams {
-        gravity: 0.0,
+        gravity: glam::DVec3::ZERO,
         floor: false,
         ks: 0.0,
         kd: 0.0,

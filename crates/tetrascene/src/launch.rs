@@ -70,6 +70,7 @@ pub fn stage(scene: &Scene) -> Result<Staged> {
         let mut builder = ModelBuilder::new(&loaded.mesh)
             .placement(scene.placement_for(i))
             .material(&scene.params_for(i))
+            .rotation(scene.rotation_for(i)?)
             .offset(DVec3::from(object.offset))
             .velocity(DVec3::from(object.velocity))
             .self_contact(object.self_contact);

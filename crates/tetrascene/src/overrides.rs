@@ -9,7 +9,9 @@
 
 use serde::Deserialize;
 
-use tetrasim::params::{ConstraintCombine, ContactMode, MassMode, SimParams, Solver, SpringKind};
+use tetrasim::params::{
+    ConstraintCombine, ContactMode, Gravity, MassMode, SimParams, Solver, SpringKind,
+};
 
 /// Time stepping and the constraint solver, shared by all objects: a scene's `[solver]`
 /// table and `run`'s solver flags. `None` keeps the base value (the preset's).
@@ -105,15 +107,45 @@ pub struct SolverOverrides {
     /// Skip a constraint whose denominator A is at or below this.
     #[cfg_attr(feature = "clap", arg(long))]
     pub epsilon: Option<f64>,
-    /// Gravity along -Y [m/s^2].
-    #[cfg_attr(feature = "clap", arg(long))]
-    pub gravity: Option<f64>,
+    /// Gravity [m/s^2]: a magnitude along -Y (`9.81`, the default) or a vector `x,y,z`
+    /// (`--gravity=0,0,-9.81`; the floor stays the plane y = 0, so a body falling along
+    /// another axis wants `--no-floor` and a plane collider).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "G|X,Y,Z"))]
+    pub gravity: Option<Gravity>,
     /// Frames to simulate (the length of the run, not a `SimParams` value).
     #[cfg_attr(feature = "clap", arg(long))]
     pub frames: Option<u32>,
 }
 
 impl SolverOverrides {
+    /// These values where given, `base`'s elsewhere: flags over a scene's `[solver]`.
+    pub fn over(&self, base: &SolverOverrides) -> SolverOverrides {
+        SolverOverrides {
+            dt: self.dt.or(base.dt),
+            substeps: self.substeps.or(base.substeps),
+            iterations: self.iterations.or(base.iterations),
+            omega: self.omega.or(base.omega),
+            combine: self.combine.or(base.combine),
+            solver: self.solver.or(base.solver),
+            groups: self.groups.or(base.groups),
+            block_size: self.block_size.or(base.block_size),
+            block_sweeps: self.block_sweeps.or(base.block_sweeps),
+            spring_block_sweeps: self.spring_block_sweeps.or(base.spring_block_sweeps),
+            global_volume: self.global_volume.or(base.global_volume),
+            springs: self.springs.or(base.springs),
+            warm_start: self.warm_start.or(base.warm_start),
+            rho: self.rho.or(base.rho),
+            anderson: self.anderson.or(base.anderson),
+            minres: self.minres.or(base.minres),
+            inversion_sweeps: self.inversion_sweeps.or(base.inversion_sweeps),
+            inversion_floor: self.inversion_floor.or(base.inversion_floor),
+            contact: self.contact.or(base.contact),
+            epsilon: self.epsilon.or(base.epsilon),
+            gravity: self.gravity.or(base.gravity),
+            frames: self.frames.or(base.frames),
+        }
+    }
+
     /// Writes every given value onto `params` (`frames` is the caller's).
     pub fn apply(&self, params: &mut SimParams) {
         set(&mut params.dt, self.dt);
@@ -136,7 +168,7 @@ impl SolverOverrides {
         set(&mut params.warm_start, self.warm_start);
         set(&mut params.contact, self.contact);
         set(&mut params.constraint_epsilon, self.epsilon);
-        set(&mut params.gravity, self.gravity);
+        set(&mut params.gravity, self.gravity.map(Gravity::vector));
     }
 
     /// Every key (a `[solver]` key, a flag's id).
@@ -235,6 +267,37 @@ pub struct MaterialOverrides {
 }
 
 impl MaterialOverrides {
+    /// These values over `base`'s: flags over a scene object's `material`. A value given
+    /// here replaces what excludes it there: a Young's modulus the spring constants (and
+    /// `base`'s Poisson's ratio and damping, which belong to its modulus), a spring constant
+    /// the modulus, one mass the other.
+    pub fn over(&self, base: &MaterialOverrides) -> MaterialOverrides {
+        let mut out = base.clone();
+        if self.youngs_modulus.is_some() {
+            (out.ks, out.kd) = (None, None);
+            (out.poisson_ratio, out.damping) = (None, None);
+        }
+        if self.ks.is_some() || self.kd.is_some() {
+            out.youngs_modulus = None;
+            (out.poisson_ratio, out.damping) = (None, None);
+        }
+        if self.node_mass.is_some() {
+            out.density = None;
+        }
+        if self.density.is_some() {
+            out.node_mass = None;
+        }
+        MaterialOverrides {
+            ks: self.ks.or(out.ks),
+            kd: self.kd.or(out.kd),
+            node_mass: self.node_mass.or(out.node_mass),
+            density: self.density.or(out.density),
+            youngs_modulus: self.youngs_modulus.or(out.youngs_modulus),
+            poisson_ratio: self.poisson_ratio.or(out.poisson_ratio),
+            damping: self.damping.or(out.damping),
+        }
+    }
+
     /// Every key (a `material` key, a flag's id).
     pub const KEYS: [&'static str; 7] = [
         "ks",

@@ -31,7 +31,8 @@
 //! contact = "combined"  # or "split": split impulses, no rebound, about twice the solve
 //! # (GPU choices such as --atomics, --device and --workgroup-size are flags, not scene keys)
 //! epsilon = 1e-20     # skip a constraint whose denominator A is at or below this
-//! gravity = 9.81      # m/s^2, along -Y
+//! gravity = 9.81      # m/s^2, along -Y (the up axis is +Y; the floor is y = 0), or a
+//!                     # vector [0.0, 0.0, -9.81] (then a plane collider is the ground)
 //! frames = 400
 //!
 //! [[object]]
@@ -39,6 +40,9 @@
 //!                            # surface (.ply/.obj/.off/.stl); relative to the scene file
 //! method = "volume"
 //! fit_size = 1.0             # m, largest bounding-box side (omit to keep the mesh's size)
+//! rotation = [0.7071, -0.7071, 0.0, 0.0] # [w, x, y, z], about the mesh's bounding-box
+//!                            # centre before fit_size and drop_height (here a Z-up part
+//!                            # stood on the floor: -90 degrees about X); omit: as in the file
 //! drop_height = 0.1          # m, lowest node above y = 0 (omit to keep the position)
 //! offset = [0.0, 0.0, 0.0]   # m, added after fit_size and drop_height (objects start apart)
 //! velocity = [0.0, 0.0, 0.0] # m/s, initial
@@ -116,7 +120,7 @@ mod collider;
 mod pin;
 
 use collider::mesh_grid;
-pub use collider::{Collider, KeyframeSpec, MotionSpec, DEFAULT_CELLS};
+pub use collider::{Collider, KeyframeSpec, MotionSpec, DEFAULT_CELLS, QUATERNION_TOLERANCE};
 pub use pin::{Aabb, Pin, Pins};
 
 use tetrasim::collider::{
@@ -166,6 +170,10 @@ pub struct Object {
     /// mesh where it is.
     #[serde(default)]
     pub drop_height: Option<f64>,
+    /// Turns the mesh about the centre of its bounding box before it is placed (a unit
+    /// quaternion `[w, x, y, z]`, as colliders and keyframes take); absent: as in the file.
+    #[serde(default)]
+    pub rotation: Option<[f64; 4]>,
     /// Moves the placed mesh by this much [m] (added after `fit_size` and `drop_height`), so
     /// that objects start apart.
     #[serde(default)]
@@ -316,6 +324,7 @@ impl Scene {
             if o.velocity.iter().any(|v| !v.is_finite()) {
                 return Err(Error::param(key("velocity"), "must be finite"));
             }
+            self.rotation_for(i)?;
             if o.offset.iter().any(|v| !v.is_finite()) {
                 return Err(Error::param(key("offset"), "must be finite"));
             }
@@ -407,6 +416,15 @@ impl Scene {
         self.solver.apply(&mut params);
         o.material.apply(&mut params);
         params
+    }
+
+    /// The rotation of object `index` (normalised; the identity when none is given), or an
+    /// error naming `object[i].rotation` unless it is a unit quaternion.
+    pub fn rotation_for(&self, index: usize) -> Result<DQuat> {
+        match self.objects[index].rotation {
+            Some(q) => collider::quaternion(&format!("object[{index}].rotation"), q),
+            None => Ok(DQuat::IDENTITY),
+        }
     }
 
     /// Placement of object `index`.

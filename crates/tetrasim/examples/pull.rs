@@ -47,7 +47,7 @@ fn main() -> Result<ExitCode> {
         .pinned([handle])
         .build()?;
     let params = SimParams {
-        gravity: 0.0,
+        gravity: glam::DVec3::ZERO,
         floor: false,
         ..SimParams::default()
     };

@@ -27,7 +27,7 @@ fn sphere(centre: DVec3, velocity: DVec3) -> Model {
 
 fn free_space() -> SimParams {
     SimParams {
-        gravity: 0.0,
+        gravity: glam::DVec3::ZERO,
         floor: false,
         substeps: 5,
         ..SimParams::default()

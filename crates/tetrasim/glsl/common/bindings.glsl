@@ -52,7 +52,7 @@ layout(push_constant, std430) uniform PushConstants {
     float omega;     // relaxation of the averaged constraint forces
     uint member_first; // the sweep's first position in Members (gather path)
     uint slot_first;   // the sweep's first slot in Contributions (gather path)
-    float gravity;   // gravity magnitude along -Y [m/s^2]
+    vec3 gravity;    // gravity's acceleration [m/s^2] (offset 16: a vec3's alignment)
     float friction;  // tangential velocity fraction removed on floor contact
     uint floor_on;   // 1 when the floor y = 0 exists
     uint node_count;

@@ -55,7 +55,7 @@ void main() {
         }
         float mass = velocities[i].w;
         vec4 f = forces[i];
-        vec3 phi = f.xyz - vec3(0.0, -pc.gravity * mass + f.w, 0.0) - contacts[i].xyz;
+        vec3 phi = f.xyz - pc.gravity * mass - vec3(0.0, f.w, 0.0) - contacts[i].xyz;
         vec3 moved = end_of_step(i) - x.xyz;
         df = elastic_step(mass, pc.dt, beta, phi, grad, h0, h1, moved);
     }

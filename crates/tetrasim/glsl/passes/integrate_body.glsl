@@ -70,7 +70,7 @@ void main() {
 #else
     vec3 vn = integrate_node(xn, v.xyz, f.xyz, w, pc.dt, n, pc.friction);
 #endif
-    forces[i] = vec4(0.0, -pc.gravity * v.w, 0.0, 0.0);
+    forces[i] = vec4(pc.gravity * v.w, 0.0);
 #ifdef SPLIT_VELOCITY_PASS
     split_velocities[i] = vec4(vn, 0.0);
 #else

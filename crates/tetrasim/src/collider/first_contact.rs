@@ -21,7 +21,7 @@ const MAX_STEPS: usize = 2000;
 
 /// When the first of `nodes` (start position and velocity of each free node) would come
 /// within its contact thickness of one of the fixed `colliders`, each node falling freely
-/// under `gravity` [m/s^2] along -Y [s]: 0 if one starts in contact, `None` if none does
+/// under `gravity` [m/s^2] [s]: 0 if one starts in contact, `None` if none does
 /// within [`HORIZON_S`] or no collider is fixed. Moving colliders are left out (where they
 /// are is not a question of the body's fall).
 ///
@@ -31,7 +31,7 @@ const MAX_STEPS: usize = 2000;
 pub fn free_fall_contact_time(
     colliders: &[Collider],
     nodes: &[(DVec3, DVec3)],
-    gravity: f64,
+    gravity: DVec3,
 ) -> Option<f64> {
     let fixed: Vec<ColliderAt<'_>> = colliders
         .iter()
@@ -48,8 +48,7 @@ pub fn free_fall_contact_time(
 }
 
 /// [`free_fall_contact_time`] of one node starting at `x0` with velocity `v0`.
-fn node_contact_time(fixed: &[ColliderAt<'_>], x0: DVec3, v0: DVec3, gravity: f64) -> Option<f64> {
-    let a = DVec3::new(0.0, -gravity, 0.0);
+fn node_contact_time(fixed: &[ColliderAt<'_>], x0: DVec3, v0: DVec3, a: DVec3) -> Option<f64> {
     let mut t = 0.0;
     for _ in 0..MAX_STEPS {
         let x = x0 + v0 * t + 0.5 * a * t * t;
@@ -58,7 +57,7 @@ fn node_contact_time(fixed: &[ColliderAt<'_>], x0: DVec3, v0: DVec3, gravity: f6
             return Some(t);
         }
         let speed = (v0 + a * t).length();
-        t += stretch(speed, gravity.abs(), clear)?;
+        t += stretch(speed, a.length(), clear)?;
         if t > HORIZON_S {
             return None;
         }
@@ -86,12 +85,13 @@ mod tests {
     use crate::collider::Pose;
 
     const G: f64 = 9.81;
+    const DOWN: DVec3 = DVec3::new(0.0, -G, 0.0);
 
     #[test]
     fn a_node_dropped_on_a_plane_lands_when_the_closed_form_says() {
         // The half-space y <= -0.5: from y = 0.3 at rest the fall is 0.8 m.
         let plane = Collider::plane(DVec3::Y, -0.5).unwrap();
-        let t = free_fall_contact_time(&[plane], &[(DVec3::new(0.0, 0.3, 0.0), DVec3::ZERO)], G)
+        let t = free_fall_contact_time(&[plane], &[(DVec3::new(0.0, 0.3, 0.0), DVec3::ZERO)], DOWN)
             .unwrap();
         assert!((t - (2.0 * 0.8 / G).sqrt()).abs() < 1e-8, "{t}");
     }
@@ -105,10 +105,10 @@ mod tests {
         ball.thickness = 0.05;
         let resting = (DVec3::new(0.0, 1.0, 0.0), DVec3::ZERO);
         let thrown = (DVec3::new(0.0, 0.5, 0.0), DVec3::new(0.0, -2.0, 0.0));
-        let t = free_fall_contact_time(&[ball.clone()], &[resting, thrown], G).unwrap();
+        let t = free_fall_contact_time(&[ball.clone()], &[resting, thrown], DOWN).unwrap();
         let expected = (-2.0 + (4.0 + 2.0 * G * 0.25f64).sqrt()) / G;
         assert!((t - expected).abs() < 1e-8, "{t} vs {expected}");
-        let t = free_fall_contact_time(&[ball], &[resting], G).unwrap();
+        let t = free_fall_contact_time(&[ball], &[resting], DOWN).unwrap();
         assert!((t - (2.0 * 0.75 / G).sqrt()).abs() < 1e-8, "{t}");
     }
 
@@ -116,13 +116,16 @@ mod tests {
     fn a_node_beside_a_collider_or_a_moving_collider_gives_none() {
         let ball = Collider::sphere(DVec3::ZERO, 0.2);
         let beside = (DVec3::new(1.0, 1.0, 0.0), DVec3::ZERO);
-        assert_eq!(free_fall_contact_time(&[ball.clone()], &[beside], G), None);
+        assert_eq!(
+            free_fall_contact_time(&[ball.clone()], &[beside], DOWN),
+            None
+        );
         let above = (DVec3::new(0.0, 1.0, 0.0), DVec3::ZERO);
         let moving = ball.moving(Motion::Velocity {
             linear: DVec3::X,
             angular: DVec3::ZERO,
         });
-        assert_eq!(free_fall_contact_time(&[moving], &[above], G), None);
+        assert_eq!(free_fall_contact_time(&[moving], &[above], DOWN), None);
     }
 
     #[test]
@@ -136,7 +139,8 @@ mod tests {
                 rotation: glam::DQuat::from_rotation_z(0.3),
             },
         );
-        let t = free_fall_contact_time(&[tilted], &[(DVec3::new(0.1, 0.1, 0.0), DVec3::ZERO)], G);
+        let t =
+            free_fall_contact_time(&[tilted], &[(DVec3::new(0.1, 0.1, 0.0), DVec3::ZERO)], DOWN);
         assert_eq!(t, Some(0.0));
     }
 }

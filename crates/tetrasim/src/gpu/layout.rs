@@ -21,8 +21,8 @@ pub mod binding {
     include!("bindings.rs");
 }
 
-/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 92 bytes used,
-/// padded to 96.
+/// The push-constant block of every pass (`PushConstants` in bindings.glsl), 100 bytes
+/// used, padded to 112 (a multiple of the `vec3`'s 16-byte alignment).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct PushConstants {
@@ -35,8 +35,8 @@ pub struct PushConstants {
     pub member_first: u32,
     /// The current sweep's first slot in the contributions (gather path).
     pub slot_first: u32,
-    /// Gravity magnitude along -Y [m/s^2].
-    pub gravity: f32,
+    /// Gravity's acceleration [m/s^2] (a `vec3` at a 16-byte offset).
+    pub gravity: [f32; 3],
     /// Fraction of tangential velocity removed on floor contact.
     pub friction: f32,
     /// 1 when the floor `y = 0` exists.
@@ -85,7 +85,7 @@ pub struct PushConstants {
     /// Gauss-Seidel).
     pub block_first: u32,
     /// Padding to a multiple of 16 bytes (not in the shader's block).
-    pub pad: [u32; 1],
+    pub pad: [u32; 3],
 }
 
 /// Values of [`PushConstants::phase`] (the `PHASE_*` macros in glsl/physics/solve.glsl).
@@ -124,7 +124,7 @@ impl PushConstants {
             omega: params.omega as f32,
             member_first: 0,
             slot_first: 0,
-            gravity: params.gravity as f32,
+            gravity: params.gravity.as_vec3().to_array(),
             friction: params.friction as f32,
             floor_on: u32::from(params.floor),
             node_count: nodes as u32,
@@ -147,7 +147,7 @@ impl PushConstants {
             grab_first: 0,
             phase: phase::FULL,
             block_first: 0,
-            pad: [0; 1],
+            pad: [0; 3],
         }
     }
 }
@@ -289,7 +289,7 @@ mod tests {
 
     #[test]
     fn sizes_are_std430_multiples_of_16() {
-        assert_eq!(size_of::<PushConstants>(), 96);
+        assert_eq!(size_of::<PushConstants>(), 112);
         assert_eq!(size_of::<GpuSpring>(), 16);
         assert_eq!(size_of::<VolumePartial>(), 16);
         assert_eq!(size_of::<GpuGlobalObject>(), 32);

@@ -1,7 +1,7 @@
 //! [`ModelBuilder`]: a [`Model`] from a tet mesh (placement, orientation, springs, masses,
 //! pins, adjacency), validated once.
 
-use glam::DVec3;
+use glam::{DQuat, DVec3};
 
 use super::*;
 
@@ -17,6 +17,7 @@ pub struct ModelBuilder<'a> {
     self_contact: bool,
     velocity: DVec3,
     offset: DVec3,
+    rotation: DQuat,
     material: Option<SimParams>,
 }
 
@@ -33,6 +34,7 @@ impl<'a> ModelBuilder<'a> {
             self_contact: false,
             velocity: DVec3::ZERO,
             offset: DVec3::ZERO,
+            rotation: DQuat::IDENTITY,
             material: None,
         }
     }
@@ -57,6 +59,14 @@ impl<'a> ModelBuilder<'a> {
     /// and the recorded placement see the moved mesh), so that objects start apart.
     pub fn offset(mut self, offset: DVec3) -> Self {
         self.offset = offset;
+        self
+    }
+
+    /// Turns the mesh by `rotation` about the centre of its bounding box before it is
+    /// placed (`fit_size` and `drop_height` then see the turned mesh): a Z-up part turned
+    /// -90 degrees about X stands on the floor `y = 0`. Normalised by [`Self::build`].
+    pub fn rotation(mut self, rotation: DQuat) -> Self {
+        self.rotation = rotation;
         self
     }
 
@@ -121,7 +131,14 @@ impl<'a> ModelBuilder<'a> {
                 )));
             }
         }
-        let mut placement = place(&mesh.nodes, self.placement)?;
+        let turn = turn_about_centre(&mesh.nodes, self.rotation)?;
+        let turned: Vec<DVec3> = mesh.nodes.iter().map(|&p| turn.apply(p)).collect();
+        let placed = place(&turned, self.placement)?;
+        let mut placement = Similarity {
+            scale: placed.scale,
+            rotation: turn.rotation,
+            offset: turn.offset * placed.scale + placed.offset,
+        };
         if !self.offset.is_finite() {
             return Err(Error::param(
                 "offset",
@@ -260,6 +277,32 @@ impl<'a> ModelBuilder<'a> {
     }
 }
 
+/// The rotation `rotation` (normalised) about the centre of `nodes`' bounding box; an error
+/// naming `rotation` for a quaternion that is not finite or has no length.
+fn turn_about_centre(nodes: &[DVec3], rotation: DQuat) -> Result<Similarity> {
+    let length = rotation.length();
+    if !rotation.is_finite() || length < 1e-9 {
+        return Err(Error::param(
+            "rotation",
+            format!(
+                "must be a finite, non-zero quaternion [w, x, y, z], got {:?}",
+                [rotation.w, rotation.x, rotation.y, rotation.z]
+            ),
+        ));
+    }
+    let rotation = rotation / length;
+    if rotation == DQuat::IDENTITY {
+        return Ok(Similarity::IDENTITY);
+    }
+    let (lo, hi) = bounds_of(nodes).ok_or_else(|| Error::Mesh("the mesh has no nodes".into()))?;
+    let centre = (lo + hi) * 0.5;
+    Ok(Similarity {
+        scale: 1.0,
+        rotation,
+        offset: centre - rotation * centre,
+    })
+}
+
 /// The map that applies a [`Placement`] to a point set.
 fn place(nodes: &[DVec3], placement: Placement) -> Result<Similarity> {
     let (lo, hi) = bounds_of(nodes).ok_or_else(|| Error::Mesh("the mesh has no nodes".into()))?;
@@ -281,5 +324,9 @@ fn place(nodes: &[DVec3], placement: Placement) -> Result<Similarity> {
             (offset.x, offset.z) = (-centre.x, -centre.z);
         }
     }
-    Ok(Similarity { scale, offset })
+    Ok(Similarity {
+        scale,
+        rotation: DQuat::IDENTITY,
+        offset,
+    })
 }

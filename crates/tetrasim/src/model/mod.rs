@@ -16,7 +16,7 @@ pub use material::{bulk_modulus, ElementMaterial};
 
 use std::borrow::Cow;
 
-use glam::DVec3;
+use glam::{DQuat, DVec3};
 
 use crate::error::{Error, Result};
 use crate::mesh::{bounds_of, topology, TetMesh};
@@ -108,12 +108,14 @@ pub struct Model {
     pub grabs: Vec<crate::collider::Grab>,
 }
 
-/// A uniform scale followed by a translation: `p -> scale * p + offset`.
+/// A rotation, a uniform scale and a translation: `p -> scale * (rotation p) + offset`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Similarity {
     /// Uniform scale factor (> 0).
     pub scale: f64,
-    /// Translation applied after scaling.
+    /// Rotation applied first (a unit quaternion).
+    pub rotation: DQuat,
+    /// Translation applied after rotating and scaling.
     pub offset: DVec3,
 }
 
@@ -121,22 +123,23 @@ impl Similarity {
     /// The identity map.
     pub const IDENTITY: Similarity = Similarity {
         scale: 1.0,
+        rotation: DQuat::IDENTITY,
         offset: DVec3::ZERO,
     };
 
     /// The image of point `p`.
     pub fn apply(&self, p: DVec3) -> DVec3 {
-        p * self.scale + self.offset
+        self.rotation * p * self.scale + self.offset
     }
 
     /// The point that maps to `p` (from simulation back to the input's frame).
     pub fn invert_point(&self, p: DVec3) -> DVec3 {
-        (p - self.offset) / self.scale
+        self.rotation.inverse() * ((p - self.offset) / self.scale)
     }
 
-    /// A displacement or velocity `v` expressed in the input's units.
+    /// A displacement or velocity `v` expressed in the input's units and axes.
     pub fn invert_vector(&self, v: DVec3) -> DVec3 {
-        v / self.scale
+        self.rotation.inverse() * (v / self.scale)
     }
 }
 
@@ -351,10 +354,10 @@ impl Model {
     }
 
     /// When the first free node would touch the floor (when `floor`) or a fixed collider,
-    /// falling freely from the start state under `gravity` (along -Y) [s]: the earlier of
+    /// falling freely from the start state under `gravity` [m/s^2] [s]: the earlier of
     /// [`Self::floor_contact_time`] and [`crate::collider::free_fall_contact_time`]; `None`
     /// if neither is ever reached (a collider: within [`crate::collider::HORIZON_S`]).
-    pub fn contact_time(&self, gravity: f64, floor: bool) -> Option<f64> {
+    pub fn contact_time(&self, gravity: DVec3, floor: bool) -> Option<f64> {
         let floor = floor.then(|| self.floor_contact_time(gravity)).flatten();
         let collider = (!self.colliders.is_empty())
             .then(|| {
@@ -376,10 +379,12 @@ impl Model {
     }
 
     /// When the first free node would reach the floor `y = 0` falling freely from the start
-    /// state under `gravity` (along -Y) [s]: 0 if one starts on or below it, `None` if none
+    /// state under `gravity` [m/s^2] [s]: 0 if one starts on or below it, `None` if none
     /// ever does. Exact until the first contact, since nothing but gravity acts on a body
     /// that starts at rest in its shape (an estimate for a deformed start).
-    pub fn floor_contact_time(&self, gravity: f64) -> Option<f64> {
+    pub fn floor_contact_time(&self, gravity: DVec3) -> Option<f64> {
+        // The acceleration toward the floor.
+        let gravity = -gravity.y;
         self.free_nodes()
             .filter_map(|(p, v)| {
                 let (y, vy) = (p.y, v.y);

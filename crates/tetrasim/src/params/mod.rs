@@ -9,6 +9,8 @@ mod blocks;
 pub use blocks::{default_block_sweeps, MAX_BLOCK_SIZE, MAX_BLOCK_SWEEPS, MAX_WORKGROUP_BLOCK};
 mod contact;
 pub use contact::ContactMode;
+mod gravity;
+pub use gravity::Gravity;
 mod placement;
 pub use placement::Placement;
 mod elastic;
@@ -198,8 +200,11 @@ pub struct SimParams {
     /// ratio `kd / ks` of the `seed` preset, 3 ms.
     #[serde(default)]
     pub damping: Option<f64>,
-    /// Gravity magnitude along -Y [m/s^2].
-    pub gravity: f64,
+    /// Gravity's acceleration [m/s^2] (the up axis is +Y: the floor is `y = 0`); read from
+    /// a vector `[x, y, z]` or, as scenes, flags and older records may give it, a magnitude
+    /// along -Y ([`Gravity`]).
+    #[serde(deserialize_with = "gravity::deserialize", default = "gravity::earth")]
+    pub gravity: glam::DVec3,
     /// Whether the floor plane `y = 0` exists.
     pub floor: bool,
     /// Floor friction in `[0, 1]`: a node on the floor loses this fraction of its tangential
@@ -294,7 +299,7 @@ impl Default for SimParams {
             youngs_modulus: None,
             poisson_ratio: None,
             damping: None,
-            gravity: 9.81,
+            gravity: gravity::earth(),
             floor: true,
             friction: 0.0,
             mass: MassMode::PerNode { mass: 1.0 },
@@ -391,7 +396,7 @@ impl SimParams {
         if !self.gravity.is_finite() {
             return Err(Error::param(
                 "gravity",
-                format!("must be finite, got {}", self.gravity),
+                format!("must be finite, got {:?}", self.gravity.to_array()),
             ));
         }
         if !(0.0..=1.0).contains(&self.friction) {

@@ -145,7 +145,7 @@ pub fn speed_limit(model: &Model, params: &SimParams) -> f64 {
         .map(|v| v.length())
         .fold(0.0, f64::max);
     let limit =
-        10.0 * model.bounds_diagonal() / params.dt + 10.0 * v0 + 100.0 * params.gravity.abs();
+        10.0 * model.bounds_diagonal() / params.dt + 10.0 * v0 + 100.0 * params.gravity.length();
     if limit.is_finite() {
         limit.max(1.0)
     } else {

@@ -111,7 +111,7 @@ impl SimBuffers {
         let forces: Vec<[f32; 4]> = model
             .mass
             .iter()
-            .map(|&m| [0.0, -(params.gravity * m) as f32, 0.0, 0.0])
+            .map(|&m| (params.gravity * m).as_vec3().extend(0.0).to_array())
             .collect();
         let springs: Vec<GpuSpring> = model
             .springs

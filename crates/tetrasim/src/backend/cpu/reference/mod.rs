@@ -441,7 +441,7 @@ impl ReferenceBackend {
             std::mem::swap(&mut self.spring_warm, &mut forces.spring_multipliers);
         }
         if !self.elastic_warm.is_empty() {
-            let gravity = DVec3::new(0.0, -self.problem.params.gravity, 0.0);
+            let gravity = self.problem.params.gravity;
             let mass = &self.problem.model.mass;
             self.elastic_warm = (f.iter().zip(mass))
                 .map(|(&f, &m)| elastic_start(f, m, gravity))

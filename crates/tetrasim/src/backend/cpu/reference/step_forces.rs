@@ -48,7 +48,7 @@ impl StepForces {
     pub(super) fn new(backend: &ReferenceBackend, solve: Solve) -> Self {
         let problem = &backend.problem;
         let n = problem.model.node_count();
-        let down = DVec3::new(0.0, -problem.params.gravity, 0.0);
+        let down = problem.params.gravity;
         let gravity: Vec<DVec3> = problem.model.mass.iter().map(|&m| down * m).collect();
         let mut step = StepForces {
             solve,

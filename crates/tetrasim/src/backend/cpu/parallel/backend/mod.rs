@@ -150,7 +150,7 @@ impl ParallelBackend {
         let has = |kind: ConstraintKind| sweeps.iter().any(|s| s.kind == kind);
         let explicit_springs = params.springs == SpringKind::Explicit;
         let schedule = Schedule::of(problem, false);
-        let gravity = Vec3A::new(0.0, -params.gravity as f32, 0.0);
+        let gravity = params.gravity.as_vec3a();
         ParallelBackend {
             stages: schedule.stages.iter().map(|stage| stage.kind).collect(),
             dispatches: schedule.step(),
