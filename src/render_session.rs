@@ -262,6 +262,12 @@ pub fn render_methods(
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     }
 
+    let mut recorders: Vec<_> = match &out.meshes {
+        Some(meshes) => (runs.iter())
+            .map(|run| meshes.recorder(model, run.method, params.frame_time()))
+            .collect(),
+        None => Vec::new(),
+    };
     for frame in 0..=job.frames {
         if frame > 0 {
             let t0 = Instant::now();
@@ -273,9 +279,8 @@ pub fn render_methods(
         }
         if let Some(meshes) = &out.meshes {
             if frame % meshes.every == 0 {
-                for run in runs.iter_mut() {
-                    let state = run.state()?;
-                    meshes.write(model, run.method, frame, params.frame_time(), &state)?;
+                for (run, recorder) in runs.iter_mut().zip(&mut recorders) {
+                    recorder.record(frame, &run.state()?)?;
                 }
             }
         }
@@ -347,6 +352,9 @@ pub fn render_methods(
     bar.finish_and_clear();
 
     let t0 = Instant::now();
+    for recorder in recorders {
+        recorder.finish()?;
+    }
     if let (Some(path), Some(g)) = (&out.gif, gif) {
         g.finish(path)?;
     }

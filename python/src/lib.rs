@@ -7,6 +7,7 @@
 
 mod arrays;
 mod mesh;
+mod series;
 mod simulation;
 
 use pyo3::create_exception;
@@ -47,6 +48,7 @@ pub(crate) fn mesh_error(error: tetmesh::Error) -> PyErr {
 fn _tetrasim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<mesh::Mesh>()?;
     m.add_class::<simulation::Simulation>()?;
+    m.add_class::<series::Series>()?;
     m.add_function(wrap_pyfunction!(mesh::read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(mesh::prep, m)?)?;
     m.add_function(wrap_pyfunction!(simulation::default_params, m)?)?;

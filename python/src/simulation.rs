@@ -106,6 +106,31 @@ impl Simulation {
     fn backend(&mut self) -> PyResult<&mut Box<dyn Backend>> {
         backend_of(&mut self.backend)
     }
+
+    /// The model simulated.
+    pub(crate) fn model(&self) -> &Model {
+        &self.model
+    }
+
+    /// The simulated time of one frame [s].
+    pub(crate) fn frame_time(&self) -> f64 {
+        self.record.params.frame_time()
+    }
+
+    /// The method's name.
+    pub(crate) fn method_name(&self) -> &'static str {
+        self.record.params.method.name()
+    }
+
+    /// Frames completed.
+    pub(crate) fn frame(&self) -> u32 {
+        self.driver.frames()
+    }
+
+    /// The backend's state now.
+    pub(crate) fn state(&mut self) -> PyResult<State> {
+        self.backend()?.state().map_err(to_py)
+    }
 }
 
 /// The backend in `slot`; an error only if a panic poisoned it.
@@ -325,8 +350,9 @@ impl Simulation {
     }
 
     /// Writes the deformed mesh to `path` as `tetrasim run --format` does, the format from
-    /// the extension (`.ply`, `.obj`, `.vtk`, `.vtu`); the tet formats carry the fields
-    /// `displacement`, `velocity`, `volume_ratio`, `pinned` and `inverted`.
+    /// the extension (`.ply`, `.obj`, `.vtk`, `.vtu`, `.usda`: a one-sample stage); the tet
+    /// formats carry the fields `displacement`, `velocity`, `volume_ratio`, `pinned` and
+    /// `inverted`.
     fn write(&mut self, path: PathBuf) -> PyResult<()> {
         let state = self.backend()?.state().map_err(to_py)?;
         tetrasim::output::write_state(&path, &self.model, &state).map_err(to_py)

@@ -30,6 +30,7 @@ __all__ = [
     "HAS_TETGEN",
     "DivergedError",
     "Mesh",
+    "Series",
     "Simulation",
     "default_params",
     "mesh_from_meshio",
@@ -283,12 +284,54 @@ class Simulation:
     def write(self, path: PathLike) -> None:
         """Writes the deformed mesh, the format from the extension: ``.vtk``, ``.vtu`` (tet
         mesh with displacement, velocity, volume ratio, pinned and inverted fields), ``.ply``
-        (surface with per-vertex volume ratio) or ``.obj`` (surface)."""
+        (surface with per-vertex volume ratio), ``.obj`` (surface) or ``.usda`` (a USD
+        stage of one time sample; ``Series`` writes a whole run)."""
         self._sim.write(os.fspath(path))
 
     def __repr__(self) -> str:
         what = repr(self.mesh) if self.mesh is not None else "scene"
         return f"Simulation({what}, backend={self.backend!r}, frames={self.frames})"
+
+
+class Series:
+    """A simulation's frames as one series of files, added as the script steps::
+
+        with tetrasim.Series(sim, "out/run.usda") as series:
+            series.add()                   # frame 0
+            for _ in range(100):
+                sim.step(10)
+                series.add()               # frames 10, 20, ...
+
+    ``path`` ending in ``.usda``: one animated USD stage (every body's surface, its points
+    and ``volume_ratio`` time-sampled at the frames added, metres, up axis Y), written when
+    the series closes; Blender, Houdini, Omniverse and usdview play it. Another ``path``: a
+    folder (made with its parents) of one file per frame, ``frame_FFFFF.EXT`` in ``format``
+    ``"vtu"`` (default; with ``series.pvd``, a ParaView time series rewritten at each add),
+    ``"vtk"``, ``"ply"`` or ``"obj"``, as ``tetrasim run --format`` writes them.
+    """
+
+    def __init__(self, sim: Simulation, path: PathLike, format: Optional[str] = None) -> None:
+        self._series = _tetrasim._Series(sim._sim, os.fspath(path), format)
+        self._sim = sim
+
+    def add(self) -> None:
+        """Adds the simulation's current state as its current frame (``sim.frames``)."""
+        self._series.add(self._sim._sim)
+
+    @property
+    def frames(self) -> list:
+        """The frames added so far."""
+        return self._series.frames
+
+    def close(self) -> None:
+        """Writes what waits for the end (the USD stage, through a temporary file)."""
+        self._series.close()
+
+    def __enter__(self) -> "Series":
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()
 
 
 from .sweep import sweep  # noqa: E402  (uses Simulation)

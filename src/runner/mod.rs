@@ -7,7 +7,7 @@ mod output;
 
 pub use output::{
     create_dir, frame_output, prepare_output_file, prepare_outputs, write_atomically, FrameOutput,
-    OutputFormat, OutputUnits,
+    OutputFormat, OutputUnits, Recorder,
 };
 
 use std::time::Instant;
@@ -54,8 +54,10 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
     );
     let bar = progress_bar(options, params.method);
     let frame_time = params.frame_time();
-    if let Some(out) = &options.output {
-        out.write(model, params.method, 0, frame_time, &backend.state()?)?;
+    let mut recorder =
+        (options.output.as_ref()).map(|out| out.recorder(model, params.method, frame_time));
+    if let Some(recorder) = &mut recorder {
+        recorder.record(0, &backend.state()?)?;
     }
     // With `volume_on_demand` the volume is sampled after the last frame only.
     let every_frame = !options.gpu.volume_on_demand;
@@ -80,14 +82,17 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
             &sample,
             &mut progress,
         )?;
-        if let Some(out) = &options.output {
+        if let (Some(out), Some(recorder)) = (&options.output, &mut recorder) {
             let done = sim.frames();
             if !sim.stopped() && done % out.every == 0 {
-                out.write(model, params.method, done, frame_time, &backend.state()?)?;
+                recorder.record(done, &backend.state()?)?;
             }
         }
     }
     bar.finish_and_clear();
+    if let Some(recorder) = recorder {
+        recorder.finish()?;
+    }
     sim.fill_record(&mut record);
     if !every_frame {
         record.frames_run = sim.frames();

@@ -9,6 +9,7 @@
 //! | `obj` | `METHOD_FFFFF.obj` | boundary surface |
 //! | `vtk` | `METHOD_FFFFF.vtk` | tet mesh with the fields below (legacy ASCII VTK) |
 //! | `vtu` | `METHOD_FFFFF.vtu` + `METHOD.pvd` | tet mesh with the fields below; the `.pvd` gives each file its simulated time |
+//! | `usd` | `METHOD.usda` | one animated USD stage: each body's surface, points and `volume_ratio` time-sampled at the frames written; written when the run ends ([`tetrasim::output::UsdSeries`]) |
 //!
 //! Fields of the tet formats: point data `displacement` (from the start), `velocity`,
 //! `volume_ratio` (the node's incident tets: sum of V over sum of V0) and `pinned` (1 for a
@@ -23,7 +24,7 @@ use tetrasim::backend::State;
 use tetrasim::error::{Error, Result};
 use tetrasim::mesh::io;
 use tetrasim::model::Model;
-pub use tetrasim::output::{write_frame, OutputFormat, OutputUnits};
+pub use tetrasim::output::{write_frame, OutputFormat, OutputUnits, UsdSeries};
 use tetrasim::params::Method;
 
 /// Periodic output of the deformed mesh.
@@ -50,6 +51,13 @@ impl FrameOutput {
         if every == 0 {
             return Err(Error::param("every", "must be at least 1"));
         }
+        if format == OutputFormat::Usd && units == OutputUnits::Input {
+            return Err(Error::param(
+                "units",
+                "usd writes metres in the simulation's frame (units = simulation); `input` \
+                 acts on the per-frame formats",
+            ));
+        }
         let dir = dir.into();
         create_dir(&dir)?;
         Ok(FrameOutput {
@@ -75,10 +83,36 @@ impl FrameOutput {
         self.dir.join(format!("{}.pvd", method.name()))
     }
 
+    /// The USD stage of `method` (written with [`OutputFormat::Usd`]).
+    pub fn usd_path(&self, method: Method) -> PathBuf {
+        self.dir.join(format!("{}.usda", method.name()))
+    }
+
+    /// The recorder of one run of `method` on `model`, frames `frame_time` [s] apart.
+    pub fn recorder<'a>(
+        &'a self,
+        model: &'a Model,
+        method: Method,
+        frame_time: f64,
+    ) -> Recorder<'a> {
+        let usd = (self.format == OutputFormat::Usd).then(|| {
+            let doc = format!("tetrasim {}: {} s per frame", method.name(), frame_time);
+            UsdSeries::new(model, frame_time, &doc)
+        });
+        Recorder {
+            out: self,
+            model,
+            method,
+            frame_time,
+            usd,
+        }
+    }
+
     /// Writes the mesh of `model` in `state` for `method` at `frame`; `frame_time` is the
     /// simulated time of one frame [s] (for the `.pvd`). With [`OutputFormat::Vtu`] the
-    /// method's `.pvd` is rewritten to list every frame written so far.
-    pub fn write(
+    /// method's `.pvd` is rewritten to list every frame written so far. A USD stage holds
+    /// the whole run: it is written by a [`Recorder`], not frame by frame.
+    fn write(
         &self,
         model: &Model,
         method: Method,
@@ -96,6 +130,37 @@ impl FrameOutput {
             io::write_pvd(self.pvd_path(method), &entries)?;
         }
         Ok(())
+    }
+}
+
+/// The files of one run: each frame's file as it comes (and the `.pvd`), or the USD stage,
+/// whose frames are kept until [`Recorder::finish`] writes it.
+pub struct Recorder<'a> {
+    out: &'a FrameOutput,
+    model: &'a Model,
+    method: Method,
+    frame_time: f64,
+    usd: Option<UsdSeries>,
+}
+
+impl Recorder<'_> {
+    /// Records `state` as frame `frame`.
+    pub fn record(&mut self, frame: u32, state: &State) -> Result<()> {
+        match &mut self.usd {
+            Some(stage) => {
+                stage.add(frame, self.model, state);
+                Ok(())
+            }
+            None => (self.out).write(self.model, self.method, frame, self.frame_time, state),
+        }
+    }
+
+    /// Writes what waits for the run's end (the USD stage).
+    pub fn finish(self) -> Result<()> {
+        match &self.usd {
+            Some(stage) => stage.write(&self.out.usd_path(self.method)),
+            None => Ok(()),
+        }
     }
 }
 

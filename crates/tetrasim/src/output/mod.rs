@@ -8,6 +8,7 @@
 //! | `obj` | boundary surface |
 //! | `vtk` | tet mesh with the fields below (legacy ASCII VTK) |
 //! | `vtu` | tet mesh with the fields below (VTK XML) |
+//! | `usd` | the run as one animated USD stage: each body's surface, its points and `volume_ratio` time-sampled ([`UsdSeries`]) |
 //!
 //! Fields of the tet formats: point data `displacement` (from the start), `velocity`,
 //! `volume_ratio` (the node's incident tets: sum of V over sum of V0) and `pinned` (1 for a
@@ -27,6 +28,9 @@ use crate::mesh::{SurfaceMesh, TetMesh};
 use crate::model::{Model, Similarity};
 use crate::physics::tet_volume;
 
+mod usd;
+pub use usd::UsdSeries;
+
 /// What to write.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize)]
 #[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
@@ -43,6 +47,9 @@ pub enum OutputFormat {
     /// The tet mesh with point and cell fields as VTK XML, plus a ParaView time series
     /// `DIR/METHOD.pvd`: `DIR/METHOD_FFFFF.vtu`.
     Vtu,
+    /// The whole run as one animated USD stage (text): each body's boundary surface with
+    /// time-sampled points and volume ratio, `DIR/METHOD.usda`, written when the run ends.
+    Usd,
 }
 
 impl OutputFormat {
@@ -53,6 +60,7 @@ impl OutputFormat {
             OutputFormat::Obj => "obj",
             OutputFormat::Vtk => "vtk",
             OutputFormat::Vtu => "vtu",
+            OutputFormat::Usd => "usda",
         }
     }
 }
@@ -70,7 +78,7 @@ pub enum OutputUnits {
 }
 
 impl OutputFormat {
-    /// The format of `path`'s extension (`ply`, `obj`, `vtk`, `vtu`), if it is one.
+    /// The format of `path`'s extension (`ply`, `obj`, `vtk`, `vtu`, `usda`), if it is one.
     pub fn from_path(path: &Path) -> Option<Self> {
         let extension = path.extension()?.to_string_lossy().to_ascii_lowercase();
         [
@@ -78,6 +86,7 @@ impl OutputFormat {
             OutputFormat::Obj,
             OutputFormat::Vtk,
             OutputFormat::Vtu,
+            OutputFormat::Usd,
         ]
         .into_iter()
         .find(|f| f.extension() == extension)
@@ -114,6 +123,12 @@ pub fn write_frame(
             &data.fields(),
         )?),
         OutputFormat::Vtu => Ok(io::write_vtu(path, &data.mesh(model), &data.fields())?),
+        OutputFormat::Usd => {
+            // One frame: a stage of one time sample (at time code 0).
+            let mut stage = UsdSeries::new(model, 1.0, "tetrasim: one state");
+            stage.add(0, model, state);
+            stage.write(path)
+        }
     }
 }
 
@@ -124,7 +139,7 @@ pub fn write_state(path: &Path, model: &Model, state: &State) -> Result<()> {
         Error::param(
             "path",
             format!(
-                "{}: unknown output format; give .ply, .obj, .vtk or .vtu",
+                "{}: unknown output format; give .ply, .obj, .vtk, .vtu or .usda",
                 path.display()
             ),
         )
