@@ -58,7 +58,8 @@ fn parse_params(json: &str) -> PyResult<SimParams> {
 pub struct Simulation {
     model: Model,
     /// In a mutex only to be `Sync` (PyO3's classes are); `&mut self` reaches it unlocked.
-    backend: Mutex<Box<dyn Backend>>,
+    /// `None` once closed.
+    backend: Mutex<Option<Box<dyn Backend>>>,
     driver: tetrasim::sim::Simulation,
     record: RunRecord,
     /// When the simulation was made (the record's `wall_s` counts from here).
@@ -73,18 +74,18 @@ impl Simulation {
         params: &SimParams,
         label: &str,
         backend: &str,
+        device: Option<&str>,
     ) -> PyResult<Self> {
+        let options = engine_options(backend, device)?;
         let problem = Problem::new(&model, params).map_err(to_py)?;
         let backend = py
-            .allow_threads(|| {
-                BackendFactory::new(EngineOptions::default()).create(backend, &problem)
-            })
+            .allow_threads(|| BackendFactory::new(options).create(backend, &problem))
             .map_err(to_py)?;
         let record = RunRecord::new(&problem, label, 0, backend.name());
         Ok(Simulation {
             driver: tetrasim::sim::Simulation::new(&model, params),
             model,
-            backend: Mutex::new(backend),
+            backend: Mutex::new(Some(backend)),
             record,
             created: Instant::now(),
         })
@@ -133,10 +134,32 @@ impl Simulation {
     }
 }
 
-/// The backend in `slot`; an error only if a panic poisoned it.
-fn backend_of(slot: &mut Mutex<Box<dyn Backend>>) -> PyResult<&mut Box<dyn Backend>> {
+/// The backend in `slot`; an error if the simulation was closed or a panic poisoned it.
+fn backend_of(slot: &mut Mutex<Option<Box<dyn Backend>>>) -> PyResult<&mut Box<dyn Backend>> {
     slot.get_mut()
-        .map_err(|_| PyRuntimeError::new_err("the backend panicked earlier and is unusable"))
+        .map_err(|_| PyRuntimeError::new_err("the backend panicked earlier and is unusable"))?
+        .as_mut()
+        .ok_or_else(|| {
+            PyRuntimeError::new_err("the simulation is closed (its backend and GPU memory freed)")
+        })
+}
+
+/// The engine options of `backend` on `device` (a name's part or an index, as
+/// `tetrasim run --device` takes it; only with `vulkan`).
+fn engine_options(backend: &str, device: Option<&str>) -> PyResult<EngineOptions> {
+    let mut options = EngineOptions::default();
+    if let Some(device) = device {
+        if backend != "vulkan" {
+            return Err(PyValueError::new_err(format!(
+                "`device` acts only with backend=\"vulkan\"; the backend is {backend:?}"
+            )));
+        }
+        options.device = match device.parse() {
+            Ok(selector) => selector,
+            Err(never) => match never {},
+        };
+    }
+    Ok(options)
 }
 
 #[pymethods]
@@ -151,7 +174,7 @@ impl Simulation {
     #[new]
     // The Python keyword signature: one argument per keyword.
     #[allow(clippy::too_many_arguments)]
-    #[pyo3(signature = (mesh, params_json, backend = "cpu", fit_size = Some(1.0), drop_height = Some(0.1), pins = Vec::new(), pin_boxes = Vec::new(), offset = [0.0; 3], self_contact = false, rotation = None))]
+    #[pyo3(signature = (mesh, params_json, backend = "cpu", fit_size = Some(1.0), drop_height = Some(0.1), pins = Vec::new(), pin_boxes = Vec::new(), offset = [0.0; 3], self_contact = false, rotation = None, device = None))]
     fn new(
         py: Python<'_>,
         mesh: &Mesh,
@@ -164,6 +187,7 @@ impl Simulation {
         offset: [f64; 3],
         self_contact: bool,
         rotation: Option<[f64; 4]>,
+        device: Option<&str>,
     ) -> PyResult<Self> {
         let params = parse_params(params_json)?;
         let n = mesh.inner.nodes.len();
@@ -190,15 +214,20 @@ impl Simulation {
             builder = builder.pinned_in_box(lo.into(), hi.into());
         }
         let model = builder.build().map_err(to_py)?;
-        Simulation::of_model(py, model, &params, &mesh.label, backend)
+        Simulation::of_model(py, model, &params, &mesh.label, backend, device)
     }
 
     /// The scene file `path` (objects, materials, pins, velocities, colliders, `[solver]`;
     /// its `[output]` is the command line's and not written here) staged as `tetrasim run
     /// --scene` stages it, on `backend`; also returns the frames the scene asks for.
     #[staticmethod]
-    #[pyo3(signature = (path, backend = "cpu"))]
-    fn from_scene(py: Python<'_>, path: PathBuf, backend: &str) -> PyResult<(Self, u32)> {
+    #[pyo3(signature = (path, backend = "cpu", device = None))]
+    fn from_scene(
+        py: Python<'_>,
+        path: PathBuf,
+        backend: &str,
+        device: Option<&str>,
+    ) -> PyResult<(Self, u32)> {
         if !path.exists() {
             return Err(PyFileNotFoundError::new_err(format!(
                 "{}: the file does not exist",
@@ -211,7 +240,8 @@ impl Simulation {
                 tetrascene::launch::stage(&scene)
             })
             .map_err(to_py)?;
-        let sim = Simulation::of_model(py, staged.model, &staged.params, &staged.label, backend)?;
+        let (model, params, label) = (staged.model, &staged.params, &staged.label);
+        let sim = Simulation::of_model(py, model, params, label, backend, device)?;
         Ok((sim, staged.frames))
     }
 
@@ -322,6 +352,15 @@ impl Simulation {
     #[getter]
     fn time(&self) -> f64 {
         self.driver.time()
+    }
+
+    /// Frees the backend (on `vulkan` its device memory and objects); every later call
+    /// that needs it raises. Closing twice is harmless.
+    fn close(&mut self) -> PyResult<()> {
+        let slot = (self.backend.get_mut())
+            .map_err(|_| PyRuntimeError::new_err("the backend panicked earlier"))?;
+        drop(slot.take());
+        Ok(())
     }
 
     /// The backend's name (`cpu-ref`, `cpu` or `vulkan`).

@@ -274,3 +274,25 @@ def test_a_youngs_modulus_without_a_density_is_refused():
     with pytest.raises(ValueError, match="density"):
         tetrasim.Simulation("meshes/box", method="volume", springs="implicit",
                             youngs_modulus=1e5, poisson_ratio=0.3)
+
+
+def test_pythonic_edges_meshio_names_pyvista_a_device_and_closing():
+    mesh = tetrasim.read_mesh("meshes/box")
+    assert np.array_equal(mesh.points, mesh.nodes) and np.array_equal(mesh.cells["tetra"], mesh.tets)
+    meshio = pytest.importorskip("meshio")
+    assert meshio.Mesh(mesh.points, mesh.cells).cells_dict["tetra"].shape == (1980, 4)
+    pytest.importorskip("pyvista")
+    grid = mesh.to_pyvista()
+    assert grid.n_cells == 1980 and grid.volume == pytest.approx(0.25, rel=1e-9)  # 1 x 0.5 x 0.5
+    # The device by a part of its name, as `tetrasim run --device` takes it.
+    name = tetrasim.Simulation("meshes/sphere", backend="vulkan").record()["device"]
+    with tetrasim.Simulation("meshes/sphere", backend="vulkan", device=name.split()[0]) as sim:
+        sim.step(2)
+        assert sim.record()["device"] == name
+    with pytest.raises(RuntimeError, match="closed"):
+        sim.step(1)
+    sim.close()  # twice is harmless
+    with pytest.raises(ValueError, match="device"):
+        tetrasim.Simulation("meshes/sphere", backend="cpu", device=0)
+    with pytest.raises(RuntimeError):
+        tetrasim.Simulation("meshes/sphere", backend="vulkan", device="no such gpu")

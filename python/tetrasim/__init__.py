@@ -87,9 +87,26 @@ def mesh_to_meshio(mesh: Mesh) -> Any:
     return meshio.Mesh(mesh.nodes, [("tetra", mesh.tets)])
 
 
-# Mesh methods in the Python layer, and pickling (for Ray and process pools).
+def mesh_to_pyvista(mesh: Mesh) -> Any:
+    """The mesh as a ``pyvista.UnstructuredGrid`` of tetrahedra (needs PyVista:
+    ``pip install pyvista``)."""
+    try:
+        import pyvista
+    except ImportError as e:
+        raise ImportError("to_pyvista needs PyVista: pip install pyvista") from e
+    return pyvista.UnstructuredGrid({pyvista.CellType.TETRA: mesh.tets}, mesh.nodes)
+
+
+# Mesh methods in the Python layer, and pickling (for Ray and process pools). ``points``
+# and ``cells`` are meshio's names (``meshio.Mesh(m.points, m.cells)`` works);
+# ``nodes`` and ``tets`` are kept.
 Mesh.from_meshio = staticmethod(mesh_from_meshio)  # type: ignore[attr-defined]
 Mesh.to_meshio = mesh_to_meshio  # type: ignore[attr-defined]
+Mesh.to_pyvista = mesh_to_pyvista  # type: ignore[attr-defined]
+Mesh.points = property(lambda m: m.nodes, doc="Node positions, (n, 3) float64 (meshio's name).")  # type: ignore[attr-defined]
+Mesh.cells = property(  # type: ignore[attr-defined]
+    lambda m: {"tetra": m.tets}, doc="The cells by type, ``{\"tetra\": (t, 4) int64}`` (meshio's ``cells_dict``)."
+)
 copyreg.pickle(Mesh, lambda m: (Mesh, (m.nodes, m.tets, m.label)))
 
 
@@ -151,6 +168,11 @@ class Simulation:
     ``dt=1e-3``, ``iterations=10``, ``solver="gauss-seidel"``, ``youngs_modulus=1e5``,
     ``poisson_ratio=0.45``, ``contact="split"`` (no rebound, at twice the solve)), plus
     ``density`` [kg/m^3] or ``node_mass`` [kg] (a ``youngs_modulus`` needs a ``density``).
+    ``device`` (``backend="vulkan"`` only): the GPU, by a part of its name or its index in
+    ``tetrasim info``'s list, as ``tetrasim run --device`` takes it (default: the best).
+
+    A simulation is a context manager: ``with tetrasim.Simulation(...) as sim:`` closes it
+    at the end (``close()`` frees its backend and, on ``vulkan``, its GPU memory at once).
 
     Raises ``TypeError`` for an unknown parameter name, ``ValueError`` for a bad value (the
     engine's message names it), ``OSError`` for mesh files, ``RuntimeError`` for the GPU.
@@ -168,6 +190,7 @@ class Simulation:
         pins: Iterable[int] = (),
         pin_boxes: Sequence[Tuple[Sequence[float], Sequence[float]]] = (),
         self_contact: bool = False,
+        device: Optional[Union[str, int]] = None,
         **params: Any,
     ) -> None:
         self.mesh = _mesh(mesh)
@@ -183,13 +206,16 @@ class Simulation:
             tuple(map(float, offset)),
             bool(self_contact),
             None if rotation is None else _quaternion(rotation),
+            None if device is None else str(device),
         )
 
     #: Frames the scene asks for (``solver.frames``), for a simulation made by ``from_scene``.
     scene_frames: Optional[int] = None
 
     @classmethod
-    def from_scene(cls, path: PathLike, backend: str = "cpu") -> "Simulation":
+    def from_scene(
+        cls, path: PathLike, backend: str = "cpu", device: Optional[Union[str, int]] = None
+    ) -> "Simulation":
         """The scene file ``path`` (TOML: objects with their meshes, placement, materials,
         pins and velocities, colliders, ``[solver]``) staged as ``tetrasim run --scene``
         stages it, on ``backend``. ``scene_frames`` is the frames it asks for; its
@@ -198,7 +224,9 @@ class Simulation:
         ``ValueError`` naming the scene key that is wrong, ``OSError``."""
         self = cls.__new__(cls)
         self.mesh = None
-        self._sim, self.scene_frames = _tetrasim._Simulation.from_scene(os.fspath(path), backend)
+        self._sim, self.scene_frames = _tetrasim._Simulation.from_scene(
+            os.fspath(path), backend, None if device is None else str(device)
+        )
         return self
 
     @classmethod
@@ -206,6 +234,18 @@ class Simulation:
         """A simulation with the parameters and backend of a run record (``record()`` or a
         record of ``tetrasim run --json``), on ``mesh`` (default: the record's)."""
         return cls(mesh if mesh is not None else record["mesh"], backend=record["backend"], **record["params"], **kw)
+
+    def close(self) -> None:
+        """Frees the backend (on ``vulkan`` its GPU memory and objects) now rather than when
+        the simulation is garbage-collected; later calls that need it raise
+        ``RuntimeError``. Closing twice is harmless."""
+        self._sim.close()
+
+    def __enter__(self) -> "Simulation":
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()
 
     def step(self, frames: int = 1) -> None:
         """Advances ``frames`` frames (``substeps`` time steps of ``dt`` each), releasing the
