@@ -50,6 +50,7 @@ fn run_record(model: &Model, params: &SimParams, backend: &str, frames: u32) -> 
         progress: false,
         output: None,
         gpu: EngineOptions::default(),
+        checkpoint: Default::default(),
     };
     run(model, params, &options).unwrap()
 }

@@ -32,6 +32,7 @@ fn diverging_run_is_recorded_not_fatal() {
             progress: false,
             output: None,
             gpu: Default::default(),
+            checkpoint: Default::default(),
         };
         let record = run(&model, &summed(Method::Distance), &options).unwrap();
         assert!(

@@ -340,6 +340,7 @@ fn run_case(case: &Case, backend: &str) -> RunRecord {
         progress: false,
         output: None,
         gpu: Default::default(),
+        checkpoint: Default::default(),
     };
     run(&case.model, &case.params, &options).unwrap()
 }

@@ -82,6 +82,7 @@ fn horse_run_with(model: &Model, backend: &str, params: &SimParams, frames: u32)
         progress: false,
         output: None,
         gpu: Default::default(),
+        checkpoint: Default::default(),
     };
     let r = run(model, params, &options).unwrap();
     print!("{}", tetrasim::metrics::table(std::slice::from_ref(&r)));

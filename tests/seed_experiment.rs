@@ -32,6 +32,7 @@ fn seed_records_on(mesh: &tetrasim::TetMesh, label: &str, backend: &str) -> Vec<
         progress: false,
         output: None,
         gpu: Default::default(),
+        checkpoint: Default::default(),
     };
     let records = run_methods(
         &model,

@@ -31,6 +31,7 @@ fn springs_are_stable_below_the_estimate_and_diverge_well_above_it() {
                 progress: false,
                 output: None,
                 gpu: Default::default(),
+                checkpoint: Default::default(),
             };
             let r = run(&model, &SimParams { dt, ..base.clone() }, &options).unwrap();
             assert_eq!(

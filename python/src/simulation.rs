@@ -15,7 +15,7 @@ use tetrasim::metrics::RunRecord;
 use tetrasim::model::{Model, ModelBuilder};
 use tetrasim::params::{Placement, SimParams};
 use tetrasim::problem::Problem;
-use tetrasim::sim::{Advance, BackendFactory};
+use tetrasim::sim::{Advance, BackendFactory, Checkpoint};
 
 use crate::arrays::{points_from_numpy, points_to_numpy};
 use crate::mesh::Mesh;
@@ -352,6 +352,28 @@ impl Simulation {
     #[getter]
     fn time(&self) -> f64 {
         self.driver.time()
+    }
+
+    /// Saves the run to the checkpoint file `path` (through a temporary file): its state,
+    /// what its steps carry and its record so far; `load` on a simulation built the same
+    /// way continues it bit for bit.
+    fn save(&mut self, path: PathBuf) -> PyResult<()> {
+        let backend = backend_of(&mut self.backend)?;
+        let params = &self.record.params;
+        let checkpoint =
+            Checkpoint::take(&self.model, params, backend.as_mut(), &self.driver).map_err(to_py)?;
+        checkpoint.write(&path).map_err(to_py)
+    }
+
+    /// Resumes the checkpoint at `path`, saved by a simulation built the same way (mesh,
+    /// placement, parameters, backend); refuses one of another run, naming what differs.
+    fn load(&mut self, path: PathBuf) -> PyResult<()> {
+        let checkpoint = Checkpoint::read(&path).map_err(to_py)?;
+        let backend = backend_of(&mut self.backend)?;
+        let params = &self.record.params;
+        checkpoint
+            .resume(&self.model, params, backend.as_mut(), &mut self.driver)
+            .map_err(to_py)
     }
 
     /// Frees the backend (on `vulkan` its device memory and objects); every later call

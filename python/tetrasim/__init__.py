@@ -235,6 +235,20 @@ class Simulation:
         record of ``tetrasim run --json``), on ``mesh`` (default: the record's)."""
         return cls(mesh if mesh is not None else record["mesh"], backend=record["backend"], **record["params"], **kw)
 
+    def save(self, path: PathLike) -> None:
+        """Saves the run to a checkpoint file (through a temporary file): its state, what
+        its steps carry (warm-started multipliers, the finite elements' forces, the colliders'
+        clock) and its record so far. Backends ``cpu-ref``, ``cpu``, and ``vulkan`` without
+        warm-started springs."""
+        self._sim.save(os.fspath(path))
+
+    def load(self, path: PathLike) -> None:
+        """Resumes a checkpoint saved by a simulation built the same way (mesh, placement,
+        parameters, backend): the next ``step`` continues the saved run bit for bit.
+        Raises ``ValueError`` for a checkpoint that is truncated, corrupt or of another
+        run (saying what differs), ``FileNotFoundError`` for a missing one."""
+        self._sim.load(os.fspath(path))
+
     def close(self) -> None:
         """Frees the backend (on ``vulkan`` its GPU memory and objects) now rather than when
         the simulation is garbage-collected; later calls that need it raise

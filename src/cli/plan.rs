@@ -71,6 +71,8 @@ fn refuse_run_only_flags(args: &RunArgs) -> tetrasim::Result<()> {
         ("validation", args.gpu.validation),
         ("frames-in-flight", args.gpu.frames_in_flight.is_some()),
         ("quiet", args.quiet),
+        ("checkpoint", args.checkpoint.is_some()),
+        ("resume", args.resume.is_some()),
     ];
     match given.iter().find(|(_, on)| *on) {
         Some((flag, _)) => Err(tetrasim::Error::param(

@@ -69,6 +69,15 @@ pub fn execute(args: RenderArgs) -> anyhow::Result<()> {
     if run.json.is_some() {
         anyhow::bail!("--json is not written by `render`; use `tetrasim run --json FILE`");
     }
+    for (flag, given) in [
+        ("checkpoint", run.checkpoint.is_some()),
+        ("resume", run.resume.is_some()),
+    ] {
+        if given {
+            let message = "`render` neither saves nor resumes runs; the flag is `tetrasim run`'s";
+            return Err(tetrasim::Error::param(flag, message).into());
+        }
+    }
     if run.gpu.frames_in_flight.is_some() {
         return Err(tetrasim::Error::param(
             "frames-in-flight",

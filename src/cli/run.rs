@@ -11,7 +11,7 @@ use super::gpu_args::GpuArgs;
 use crate::launch::{stage, Staged};
 use crate::overrides::{MaterialOverrides, SolverOverrides};
 use crate::preset::{Preset, PresetName};
-use crate::runner::{run_methods, OutputFormat, OutputUnits, RunOptions};
+use crate::runner::{run_methods, Checkpointing, OutputFormat, OutputUnits, RunOptions};
 use crate::scene::{Collider, Object, Output, Pins, Scene};
 use tetrasim::metrics::{pass_table, short_run_warnings, table, write_json};
 use tetrasim::params::{Method, SimParams, Solver as SolverKind};
@@ -126,6 +126,18 @@ pub struct RunArgs {
     /// input (the mesh file's own units and position, to overlay the scan).
     #[arg(long, value_enum)]
     pub units: Option<OutputUnits>,
+    /// Save the run to this checkpoint file when it ends, and every --checkpoint-every
+    /// frames (each replacing the last, through a temporary file): `--resume FILE` continues
+    /// it bit for bit (one method; cpu-ref, cpu, and vulkan without warm-started springs).
+    #[arg(long, value_name = "FILE")]
+    pub checkpoint: Option<PathBuf>,
+    /// Frames between checkpoints (needs --checkpoint).
+    #[arg(long, value_name = "N", requires = "checkpoint")]
+    pub checkpoint_every: Option<u32>,
+    /// Resume from a checkpoint of the same run (the same scene or flags and backend) and
+    /// run on to --frames (counted from the run's start); the record holds every frame.
+    #[arg(long, value_name = "FILE")]
+    pub resume: Option<PathBuf>,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -229,6 +241,31 @@ impl RunArgs {
         output.units = self.units.or(output.units);
         scene.validate().map_err(BadScene)?;
         Ok(())
+    }
+
+    /// The checkpoints these flags ask for (one method only); the checkpoint's folder is
+    /// made (or refused) before the run.
+    pub fn checkpointing(&self, methods: &[Method]) -> anyhow::Result<Checkpointing> {
+        let flag = match (&self.checkpoint, &self.resume) {
+            (Some(_), _) => "checkpoint",
+            (None, Some(_)) => "resume",
+            (None, None) => return Ok(Checkpointing::default()),
+        };
+        if methods.len() > 1 {
+            let message = "saves or resumes one method's run: name it with --method";
+            return Err(tetrasim::Error::param(flag, message).into());
+        }
+        if self.checkpoint_every == Some(0) {
+            return Err(tetrasim::Error::param("checkpoint-every", "must be at least 1").into());
+        }
+        if let Some(path) = &self.checkpoint {
+            crate::runner::prepare_output_file(path)?;
+        }
+        Ok(Checkpointing {
+            save: self.checkpoint.clone(),
+            every: self.checkpoint_every,
+            resume: self.resume.clone(),
+        })
     }
 
     /// The preset's parameters with every given flag applied.
@@ -423,6 +460,7 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
     // Staged before the output folders are made, so that a bad scene writes nothing.
     let staged = args.stage(&scene)?;
     crate::runner::prepare_outputs(&scene.output)?;
+    let checkpointing = args.checkpointing(&methods)?;
     for note in &staged.notes {
         eprintln!("{note}");
     }
@@ -463,6 +501,7 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
             volume_on_demand: args.scene.is_some() && out.json.is_none(),
             ..args.gpu.engine_options()
         },
+        checkpoint: checkpointing,
     };
     let records = run_methods(model, params, &methods, &options)?;
     print!("{}", table(&records));

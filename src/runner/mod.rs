@@ -10,6 +10,7 @@ pub use output::{
     OutputFormat, OutputUnits, Recorder,
 };
 
+use std::path::PathBuf;
 use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressStyle};
@@ -20,7 +21,7 @@ use tetrasim::metrics::RunRecord;
 use tetrasim::model::Model;
 use tetrasim::params::{Method, SimParams};
 use tetrasim::problem::Problem;
-use tetrasim::sim::{BackendFactory, Simulation};
+use tetrasim::sim::{BackendFactory, Checkpoint, Simulation};
 
 /// How to run one experiment, besides the model and the physics.
 #[derive(Debug, Clone)]
@@ -37,6 +38,20 @@ pub struct RunOptions {
     pub output: Option<FrameOutput>,
     /// Device, validation and workgroup size of the `vulkan` backend.
     pub gpu: EngineOptions,
+    /// Checkpoints to write and the one to resume from.
+    pub checkpoint: Checkpointing,
+}
+
+/// A run's checkpoints ([`Checkpoint`]).
+#[derive(Debug, Clone, Default)]
+pub struct Checkpointing {
+    /// Where to save the run's checkpoint: every `every` frames (`None`: only when the
+    /// run ends), each replacing the last.
+    pub save: Option<PathBuf>,
+    /// Frames between checkpoints (needs `save`).
+    pub every: Option<u32>,
+    /// The checkpoint to resume from: the run continues from its frame to `frames`.
+    pub resume: Option<PathBuf>,
 }
 
 /// Runs `params.method` on `model` for `options.frames` frames. A run that goes non-finite
@@ -54,10 +69,26 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
     );
     let bar = progress_bar(options, params.method);
     let frame_time = params.frame_time();
+    let mut sim = Simulation::new(model, params);
+    if let Some(path) = &options.checkpoint.resume {
+        let checkpoint = Checkpoint::read(path)?;
+        if checkpoint.frames() >= options.frames {
+            return Err(tetrasim::Error::param(
+                "resume",
+                format!(
+                    "{} is at frame {}: a run of {} frames has nothing left to run",
+                    path.display(),
+                    checkpoint.frames(),
+                    options.frames
+                ),
+            ));
+        }
+        checkpoint.resume(model, params, backend.as_mut(), &mut sim)?;
+    }
     let mut recorder =
         (options.output.as_ref()).map(|out| out.recorder(model, params.method, frame_time));
     if let Some(recorder) = &mut recorder {
-        recorder.record(0, &backend.state()?)?;
+        recorder.record(sim.frames(), &backend.state()?)?;
     }
     // With `volume_on_demand` the volume is sampled after the last frame only.
     let every_frame = !options.gpu.volume_on_demand;
@@ -69,13 +100,19 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
         }
         bar.inc(1);
     };
-    let mut sim = Simulation::new(model, params);
-    // Frames in flight between the outputs, which need the state of their frame.
+    // Frames in flight between the outputs and checkpoints, which need the state of their
+    // frame.
+    let next = |done: u32, every: u32| (done / every + 1) * every;
+    let checkpoint_every = (options.checkpoint.save.as_ref()).and(options.checkpoint.every);
     while sim.frames() < frames && !sim.stopped() {
-        let until = match &options.output {
-            Some(out) => frames.min((sim.frames() / out.every + 1) * out.every),
-            None => frames,
-        };
+        let done = sim.frames();
+        let until = [
+            options.output.as_ref().map(|out| next(done, out.every)),
+            checkpoint_every.map(|every| next(done, every)),
+        ]
+        .into_iter()
+        .flatten()
+        .fold(frames, u32::min);
         sim.advance_frames(
             backend.as_mut(),
             until - sim.frames(),
@@ -86,6 +123,12 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
             let done = sim.frames();
             if !sim.stopped() && done % out.every == 0 {
                 recorder.record(done, &backend.state()?)?;
+            }
+        }
+        let (done, save) = (sim.frames(), &options.checkpoint.save);
+        if let (Some(path), false) = (save, sim.stopped()) {
+            if checkpoint_every.is_some_and(|every| done % every == 0) || done == frames {
+                Checkpoint::take(model, params, backend.as_mut(), &sim)?.write(path)?;
             }
         }
     }

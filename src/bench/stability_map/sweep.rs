@@ -128,6 +128,7 @@ pub fn sweep(
                     progress: false,
                     output: None,
                     gpu: Default::default(),
+                    checkpoint: Default::default(),
                 };
                 let r = run(model, &params, &options)?;
                 let error = r

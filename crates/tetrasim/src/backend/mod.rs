@@ -32,7 +32,7 @@ pub struct VolumeSample {
 
 /// Contact measures of one frame (issue 24: "run records carry contact counts and the
 /// deepest penetration per frame").
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
 pub struct ContactSample {
     /// Nodes a kinematic collider pushed in the frame's last step.
     pub collider_nodes: u32,
@@ -46,7 +46,7 @@ pub struct ContactSample {
 /// The forces the supports exert on the bodies in the last step of the last frame [N]
 /// (issue 51, "Forces out"; docs/PHYSICS.md, "Forces out"). Normal and constraint forces
 /// only: the floor's and the colliders' friction acts on velocities and is not in them.
-#[derive(Debug, Clone, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, serde::Deserialize)]
 pub struct Reactions {
     /// The pinned nodes' (pins and clamps) total force on the bodies: what holds each
     /// pinned node against every other force on it (gravity, springs, constraints or the
@@ -132,6 +132,23 @@ pub trait Backend: Send {
     /// pinned nodes (`examples/pull.rs`). Fails unless `state` has one finite position and
     /// velocity per node.
     fn set_state(&mut self, state: &State) -> Result<()>;
+    /// What its steps carry besides the state ([`Carried`]), for a checkpoint; by default
+    /// an error saying the backend cannot save it.
+    fn carried(&mut self) -> Result<Carried> {
+        Err(crate::Error::param(
+            "checkpoint",
+            format!("the {} backend cannot save its state yet", self.name()),
+        ))
+    }
+    /// Restores `state` and what the steps carry ([`Backend::carried`] of the same backend
+    /// on the same problem): the next frame is the one the saved backend would have stepped.
+    fn restore(&mut self, state: &State, carried: &Carried) -> Result<()> {
+        let _ = (state, carried);
+        Err(crate::Error::param(
+            "checkpoint",
+            format!("the {} backend cannot resume a checkpoint yet", self.name()),
+        ))
+    }
     /// Frames [`Backend::submit_frame`] may queue before [`Backend::collect_frame`] must
     /// finish the oldest: 1 (the default) for a backend whose frames finish as they are
     /// submitted; 2 for `vulkan`, whose next frame runs while the host reads the last.
@@ -170,6 +187,9 @@ pub trait Backend: Send {
         Ok(None)
     }
 }
+
+mod carried;
+pub use carried::{flatten, unflatten, Carried};
 
 pub mod cpu;
 pub mod vulkan;

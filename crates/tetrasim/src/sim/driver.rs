@@ -20,7 +20,7 @@ use crate::model::Model;
 use crate::params::SimParams;
 
 /// The per-frame series of a run, one entry per sampled frame.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Series {
     /// Simulated time at the end of the frame [s].
     pub time_s: Vec<f64>,
@@ -34,6 +34,17 @@ pub struct Series {
     pub contact: Vec<ContactSample>,
     /// The forces the supports exerted, when the backend measures them.
     pub reactions: Vec<Reactions>,
+}
+
+/// How far a run got and what it measured: what a checkpoint keeps of its driver.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Progress {
+    /// Frames completed.
+    pub frames: u32,
+    /// The sampled frames' measures.
+    pub series: Series,
+    /// Wall time spent stepping so far [s].
+    pub stepping_s: f64,
 }
 
 /// A run in progress: how far it got, what it measured, and why it stopped, if it did.
@@ -82,6 +93,23 @@ impl Simulation {
     /// Simulated time reached [s].
     pub fn time(&self) -> f64 {
         f64::from(self.frames) * self.frame_time
+    }
+
+    /// What it has measured so far and how far it got, for a checkpoint.
+    pub fn progress(&self) -> Progress {
+        Progress {
+            frames: self.frames,
+            series: self.series.clone(),
+            stepping_s: self.stepping_s,
+        }
+    }
+
+    /// Continues from `progress` (a checkpoint's), as if it had run those frames.
+    pub fn resume(&mut self, progress: Progress) {
+        self.frames = progress.frames;
+        self.series = progress.series;
+        self.stepping_s = progress.stepping_s;
+        self.divergence = None;
     }
 
     /// Whether the run has stopped (diverged).

@@ -8,7 +8,9 @@ mod driver;
 mod factory;
 mod load;
 
-pub use driver::{Advance, Series, Simulation};
+pub use driver::{Advance, Progress, Series, Simulation};
+mod checkpoint;
+pub use checkpoint::{Checkpoint, CHECKPOINT_VERSION};
 pub use factory::{create_backend, create_backend_with, BackendFactory, BACKENDS};
 pub use load::{load_mesh, LoadedMesh, DEFAULT_MESH, DEFAULT_TARGET_TETS};
 

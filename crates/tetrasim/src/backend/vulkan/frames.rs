@@ -156,6 +156,38 @@ impl Backend for VulkanBackend {
         self.buffers.upload_state(state, &self.inv_mass, &self.mass)
     }
 
+    /// The frame and step counters. Everything else a step starts from is the state or is
+    /// rebuilt at the step's start, except warm-started springs' multipliers, which stay on
+    /// the device (refused for now).
+    fn carried(&mut self) -> Result<Carried> {
+        self.settle()?;
+        if self.plan.schedule.warm_start {
+            return Err(Error::param(
+                "checkpoint",
+                "the vulkan backend keeps warm-started springs' multipliers on the device, \
+                 and cannot save them yet (run on cpu or cpu-ref, or without warm_start)",
+            ));
+        }
+        Ok(Carried {
+            frames: self.frames,
+            steps: self.submitted * u64::from(self.plan.schedule.substeps),
+            arrays: Vec::new(),
+        })
+    }
+
+    fn restore(&mut self, state: &State, carried: &Carried) -> Result<()> {
+        let substeps = u64::from(self.plan.schedule.substeps);
+        if self.plan.schedule.warm_start || carried.steps % substeps != 0 {
+            return Err(Error::param(
+                "checkpoint",
+                "it was not saved by the vulkan backend on this problem",
+            ));
+        }
+        self.set_state(state)?;
+        (self.frames, self.submitted) = (carried.frames, carried.steps / substeps);
+        Ok(())
+    }
+
     fn gpu_report(&mut self) -> Result<Option<GpuReport>> {
         let passes = self.pass_times()?;
         Ok(Some(GpuReport {

@@ -24,7 +24,7 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use crate::backend::{Backend, ContactSample, Divergence, GpuReport, State, VolumeSample};
+use crate::backend::{Backend, Carried, ContactSample, Divergence, GpuReport, State, VolumeSample};
 use crate::error::{Error, Result};
 use crate::gpu::commands::{self, Access, Recorded};
 use crate::gpu::layout::{PushConstants, VolumePartial};

@@ -4,7 +4,9 @@
 use glam::DVec3;
 
 use super::{check_state, diverged, Bad};
-use crate::backend::{Backend, ContactSample, Reactions, State, VolumeSample};
+use crate::backend::{
+    flatten, unflatten, Backend, Carried, ContactSample, Reactions, State, VolumeSample,
+};
 use crate::collider::{self, NodeContact};
 use crate::contact::{deepest, Contact};
 use crate::error::Result;
@@ -555,5 +557,36 @@ impl Backend for ReferenceBackend {
 
     fn set_state(&mut self, state: &State) -> Result<()> {
         ReferenceBackend::set_state(self, state)
+    }
+
+    /// The frame and step counters, the warm-started springs' multipliers and the finite
+    /// elements' forces (each where the run has them).
+    fn carried(&mut self) -> Result<Carried> {
+        let mut arrays = Vec::new();
+        if !self.spring_warm.is_empty() {
+            arrays.push(("spring_multipliers".to_string(), self.spring_warm.clone()));
+        }
+        if !self.elastic_warm.is_empty() {
+            arrays.push(("elastic_forces".to_string(), flatten(&self.elastic_warm)));
+        }
+        Ok(Carried {
+            frames: self.frame,
+            steps: self.steps,
+            arrays,
+        })
+    }
+
+    fn restore(&mut self, state: &State, carried: &Carried) -> Result<()> {
+        ReferenceBackend::set_state(self, state)?;
+        if !self.spring_warm.is_empty() {
+            let values = carried.array("spring_multipliers", self.spring_warm.len())?;
+            self.spring_warm.copy_from_slice(values);
+        }
+        if !self.elastic_warm.is_empty() {
+            let values = carried.array("elastic_forces", 3 * self.elastic_warm.len())?;
+            self.elastic_warm = unflatten(values);
+        }
+        (self.frame, self.steps) = (carried.frames, carried.steps);
+        Ok(())
     }
 }

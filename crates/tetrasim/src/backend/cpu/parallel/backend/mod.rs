@@ -13,7 +13,7 @@ use super::*;
 use crate::backend::cpu::shared::SharedSlice;
 use crate::backend::cpu::team::Team;
 use crate::backend::cpu::team_choice::TeamChoice;
-use crate::backend::ContactSample;
+use crate::backend::{flatten, unflatten, Carried, ContactSample};
 use crate::collider::{Clamp, Collider, Grab};
 use crate::contact::{deepest, Contact};
 use glam::DVec3;
@@ -542,5 +542,33 @@ impl Backend for ParallelBackend {
 
     fn set_state(&mut self, state: &State) -> Result<()> {
         ParallelBackend::set_state(self, state)
+    }
+
+    /// The frame and step counters, the step's forces (the finite elements start the next
+    /// step from them) and the warm-started springs' multipliers.
+    fn carried(&mut self) -> Result<Carried> {
+        let forces: Vec<DVec3> = self.f.iter().map(|f| f.as_dvec3()).collect();
+        let mut arrays = vec![("forces".to_string(), flatten(&forces))];
+        if !self.spring_warm.is_empty() {
+            let values = self.spring_warm.iter().map(|&l| f64::from(l)).collect();
+            arrays.push(("spring_multipliers".to_string(), values));
+        }
+        Ok(Carried {
+            frames: self.frame,
+            steps: self.steps,
+            arrays,
+        })
+    }
+
+    fn restore(&mut self, state: &State, carried: &Carried) -> Result<()> {
+        ParallelBackend::set_state(self, state)?;
+        let forces = carried.array("forces", 3 * self.f.len())?;
+        self.f = unflatten(forces).iter().map(|f| f.as_vec3a()).collect();
+        if !self.spring_warm.is_empty() {
+            let values = carried.array("spring_multipliers", self.spring_warm.len())?;
+            self.spring_warm = values.iter().map(|&l| l as f32).collect();
+        }
+        (self.frame, self.steps) = (carried.frames, carried.steps);
+        Ok(())
     }
 }
