@@ -43,6 +43,19 @@ pub(crate) fn mesh_error(error: tetmesh::Error) -> PyErr {
     to_py(tetrasim::Error::from(error))
 }
 
+/// The tables of the scene text `text` as JSON, once it is valid (a `ValueError` names
+/// the key that is wrong).
+#[pyfunction]
+fn scene_json(text: &str) -> PyResult<String> {
+    tetrascene::scene::scene_json(text).map_err(to_py)
+}
+
+/// The scene file (TOML) of the tables `json`, once they make a valid scene.
+#[pyfunction]
+fn scene_toml(json: &str) -> PyResult<String> {
+    tetrascene::scene::scene_toml(json).map_err(to_py)
+}
+
 /// The extension module.
 #[pymodule]
 fn _tetrasim(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -52,6 +65,8 @@ fn _tetrasim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(mesh::read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(mesh::prep, m)?)?;
     m.add_function(wrap_pyfunction!(simulation::default_params, m)?)?;
+    m.add_function(wrap_pyfunction!(scene_json, m)?)?;
+    m.add_function(wrap_pyfunction!(scene_toml, m)?)?;
     m.add("DivergedError", m.py().get_type::<DivergedError>())?;
     m.add("BACKENDS", tetrasim::sim::BACKENDS.to_vec())?;
     m.add("HAS_TETGEN", cfg!(feature = "tetgen"))?;

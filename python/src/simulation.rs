@@ -245,6 +245,28 @@ impl Simulation {
         Ok((sim, staged.frames))
     }
 
+    /// A scene given as text (TOML, as a scene file; relative paths taken from the folder
+    /// `base`), staged as `from_scene` stages a file; also returns its frames.
+    #[staticmethod]
+    #[pyo3(signature = (text, base, backend = "cpu", device = None))]
+    fn from_scene_text(
+        py: Python<'_>,
+        text: &str,
+        base: PathBuf,
+        backend: &str,
+        device: Option<&str>,
+    ) -> PyResult<(Self, u32)> {
+        let staged = py
+            .allow_threads(|| {
+                let scene = tetrascene::scene::Scene::parse(text)?.relative_to(&base);
+                tetrascene::launch::stage(&scene)
+            })
+            .map_err(to_py)?;
+        let (model, params, label) = (staged.model, &staged.params, &staged.label);
+        let sim = Simulation::of_model(py, model, params, label, backend, device)?;
+        Ok((sim, staged.frames))
+    }
+
     /// Advances `frames` frames (each `substeps` time steps) without holding the GIL,
     /// measuring the volume after each. Raises `DivergedError` when the run diverges (the
     /// frames before it stay in the record).

@@ -30,6 +30,7 @@ __all__ = [
     "HAS_TETGEN",
     "DivergedError",
     "Mesh",
+    "Scene",
     "Series",
     "Simulation",
     "default_params",
@@ -193,6 +194,16 @@ class Simulation:
         device: Optional[Union[str, int]] = None,
         **params: Any,
     ) -> None:
+        if isinstance(mesh, Scene):
+            if params:
+                raise TypeError(
+                    "a Scene carries its own parameters; set them on it (scene.override(...))"
+                )
+            self.mesh = None
+            self._sim, self.scene_frames = _tetrasim._Simulation.from_scene_text(
+                mesh.to_toml(), os.getcwd(), backend, None if device is None else str(device)
+            )
+            return
         self.mesh = _mesh(mesh)
         boxes = [(tuple(map(float, lo)), tuple(map(float, hi))) for lo, hi in pin_boxes]
         self._sim = _tetrasim._Simulation(
@@ -214,14 +225,22 @@ class Simulation:
 
     @classmethod
     def from_scene(
-        cls, path: PathLike, backend: str = "cpu", device: Optional[Union[str, int]] = None
+        cls,
+        path: PathLike,
+        backend: str = "cpu",
+        device: Optional[Union[str, int]] = None,
+        **overrides: Any,
     ) -> "Simulation":
         """The scene file ``path`` (TOML: objects with their meshes, placement, materials,
         pins and velocities, colliders, ``[solver]``) staged as ``tetrasim run --scene``
         stages it, on ``backend``. ``scene_frames`` is the frames it asks for; its
         ``[output]`` is the command line's and not written here (``record()`` and ``write``
         are). ``mesh`` is ``None`` (the objects are one model). Raises ``FileNotFoundError``,
-        ``ValueError`` naming the scene key that is wrong, ``OSError``."""
+        ``ValueError`` naming the scene key that is wrong, ``OSError``. ``overrides`` take
+        their values over the file's, as flags do on the command line (``Scene.override``:
+        ``[solver]`` keys, ``method``, material keys)."""
+        if overrides:
+            return cls(Scene.from_toml(path).override(**overrides), backend=backend, device=device)
         self = cls.__new__(cls)
         self.mesh = None
         self._sim, self.scene_frames = _tetrasim._Simulation.from_scene(
@@ -388,4 +407,5 @@ class Series:
         self.close()
 
 
+from .scene import Scene  # noqa: E402
 from .sweep import sweep  # noqa: E402  (uses Simulation)

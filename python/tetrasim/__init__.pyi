@@ -54,7 +54,7 @@ class Simulation:
     scene_frames: Optional[int]
     def __init__(
         self,
-        mesh: Union[Mesh, PathLike],
+        mesh: Union[Mesh, PathLike, Scene],
         *,
         backend: str = "cpu",
         fit_size: Optional[float] = 1.0,
@@ -74,7 +74,11 @@ class Simulation:
     def __exit__(self, *exc: Any) -> None: ...
     @classmethod
     def from_scene(
-        cls, path: PathLike, backend: str = "cpu", device: Optional[Union[str, int]] = None
+        cls,
+        path: PathLike,
+        backend: str = "cpu",
+        device: Optional[Union[str, int]] = None,
+        **overrides: Any,
     ) -> "Simulation": ...
     @classmethod
     def from_record(
@@ -102,6 +106,29 @@ class Simulation:
     def backend(self) -> str: ...
     def record(self) -> Dict[str, Any]: ...
     def write(self, path: PathLike) -> None: ...
+
+class Scene:
+    solver: Dict[str, Any]
+    objects: List[Dict[str, Any]]
+    colliders: List[Dict[str, Any]]
+    output: Dict[str, Any]
+    def __init__(self, **solver: Any) -> None: ...
+    def add_body(
+        self,
+        mesh: PathLike,
+        *,
+        method: Optional[str] = None,
+        material: Optional[Dict[str, Any]] = None,
+        pin: Any = None,
+        **keys: Any,
+    ) -> int: ...
+    def add_collider(self, type: str, **keys: Any) -> int: ...
+    def to_dict(self) -> Dict[str, Any]: ...
+    def to_toml(self) -> str: ...
+    def write(self, path: PathLike) -> None: ...
+    @classmethod
+    def from_toml(cls, source: Union[str, PathLike]) -> "Scene": ...
+    def override(self, **values: Any) -> "Scene": ...
 
 class Series:
     def __init__(self, sim: Simulation, path: PathLike, format: Optional[str] = None) -> None: ...

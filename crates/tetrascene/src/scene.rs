@@ -118,6 +118,8 @@ use crate::overrides::{MaterialOverrides, SolverOverrides};
 
 mod collider;
 mod pin;
+mod text;
+pub use text::{scene_json, scene_toml};
 
 use collider::mesh_grid;
 pub use collider::{Collider, KeyframeSpec, MotionSpec, DEFAULT_CELLS, QUATERNION_TOLERANCE};
@@ -246,13 +248,19 @@ impl Scene {
     /// to the file's folder.
     pub fn load(path: &Path) -> Result<Scene> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        let mut scene = Scene::parse(&text).map_err(|e| match e {
+        let scene = Scene::parse(&text).map_err(|e| match e {
             Error::Param { key, message } => {
                 Error::param(key, format!("{message} (in {})", path.display()))
             }
             other => other,
         })?;
-        let base = path.parent().unwrap_or(Path::new("."));
+        Ok(scene.relative_to(path.parent().unwrap_or(Path::new("."))))
+    }
+
+    /// The scene with its relative paths (meshes, mesh colliders, outputs) taken relative
+    /// to the folder `base`.
+    pub fn relative_to(mut self, base: &Path) -> Scene {
+        let scene = &mut self;
         for object in &mut scene.objects {
             object.mesh = base.join(&object.mesh);
         }
@@ -265,7 +273,7 @@ impl Scene {
         for p in [&mut output.json, &mut output.dir].into_iter().flatten() {
             *p = base.join(&*p);
         }
-        Ok(scene)
+        self
     }
 
     /// Parses and validates scene text.
