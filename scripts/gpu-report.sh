@@ -105,7 +105,7 @@ for step in $steps; do
       "$B/tetrasim" plan --mesh "$M/$m" --method volume --block-size 1024 > "$R/blocks_plan_$m.txt" 2>&1
     done
     timeout 90 "$B/tetrasim" run --mesh "$M/horse86m" --no-fit --drop-height 0.1 --method volume \
-      --youngs 1e5 --poisson 0.45 --density 1050 --springs implicit --block-size 1024 --backend vulkan \
+      --youngs-modulus 1e5 --poisson-ratio 0.45 --density 1050 --springs implicit --block-size 1024 --backend vulkan \
       --frames 400 > "$R/blocks_implicit_horse.txt" 2>&1
     echo "implicit horse, blocks of 1024:"; sed -n '2,4p' "$R/blocks_implicit_horse.txt"
     n=$(nproc)
@@ -119,7 +119,7 @@ for step in $steps; do
   implicit)
     for v in $builds; do
       timeout 90 "$(bin_of $v)" run --mesh "$M/horse86m" --no-fit --drop-height 0.1 --method volume \
-        --youngs 1e5 --poisson 0.45 --density 1050 --springs implicit --backend vulkan --frames 400 \
+        --youngs-modulus 1e5 --poisson-ratio 0.45 --density 1050 --springs implicit --backend vulkan --frames 400 \
         > "$R/implicit_horse_$v.txt" 2>&1
       echo "$v:"; sed -n '2,4p' "$R/implicit_horse_$v.txt"
     done ;;

@@ -16,4 +16,4 @@ pub mod runner;
 
 /// Scene files, their staging and the parameter overrides: the `tetrascene` crate (shared
 /// with the Python package), under the names the command line has always used.
-pub use tetrascene::{launch, overrides, scene};
+pub use tetrascene::{launch, overrides, renamed, scene};

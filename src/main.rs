@@ -3,6 +3,10 @@
 use clap::Parser;
 
 fn main() -> std::process::ExitCode {
+    let args: Vec<String> = std::env::args().collect();
+    for warning in tetrasim_cli::renamed::flag_warnings(&args) {
+        eprintln!("{warning}");
+    }
     let cli = tetrasim_cli::cli::Cli::parse();
     let by_flags = cli.set_by_flags();
     match tetrasim_cli::cli::execute(cli) {

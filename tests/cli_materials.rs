@@ -21,19 +21,19 @@ fn tetrasim(args: &[&str]) -> Output {
 #[test]
 fn contradictory_or_out_of_range_material_flags_are_refused() {
     for (args, needles) in [
-        (&["--poisson", "0.4"][..], &["--youngs"][..]),
-        (&["--damping", "0.01"][..], &["--youngs"][..]),
+        (&["--poisson-ratio", "0.4"][..], &["--youngs-modulus"][..]),
+        (&["--damping", "0.01"][..], &["--youngs-modulus"][..]),
         (
-            &["--youngs", "1e5", "--ks", "100"][..],
-            &["--ks", "--youngs"][..],
+            &["--youngs-modulus", "1e5", "--ks", "100"][..],
+            &["--ks", "--youngs-modulus"][..],
         ),
         (
-            &["--youngs", "1e5", "--poisson", "0.7"][..],
+            &["--youngs-modulus", "1e5", "--poisson-ratio", "0.7"][..],
             &["poisson_ratio", "(-1, 0.5]"][..],
         ),
-        (&["--youngs=-5"][..], &["youngs_modulus"][..]),
+        (&["--youngs-modulus=-5"][..], &["youngs_modulus"][..]),
         (
-            &["--youngs", "1e5", "--poisson", "0.3"][..],
+            &["--youngs-modulus", "1e5", "--poisson-ratio", "0.3"][..],
             &["density", "1 kg per node"][..],
         ),
         (
@@ -84,7 +84,14 @@ fn a_material_run_records_it_and_does_not_warn_about_the_explicit_bound() {
     let run = |springs: &str| {
         let out = Command::new(env!("CARGO_BIN_EXE_tetrasim"))
             .args(["run", "--quiet", "--method", "volume", "--frames", "20"])
-            .args(["--fit-size", "0.1", "--youngs", "1e5", "--poisson", "0.45"])
+            .args([
+                "--fit-size",
+                "0.1",
+                "--youngs-modulus",
+                "1e5",
+                "--poisson-ratio",
+                "0.45",
+            ])
             .args(["--density", "1000", "--springs", springs, "--json"])
             .arg(&json)
             .output()
@@ -133,7 +140,14 @@ fn a_material_run_records_it_and_does_not_warn_about_the_explicit_bound() {
 fn a_finite_element_run_names_its_solve_and_warns_of_no_spring_bound() {
     let out = Command::new(env!("CARGO_BIN_EXE_tetrasim"))
         .args(["run", "--quiet", "--method", "neo-hookean", "--frames", "5"])
-        .args(["--fit-size", "0.1", "--youngs", "1e5", "--poisson", "0.45"])
+        .args([
+            "--fit-size",
+            "0.1",
+            "--youngs-modulus",
+            "1e5",
+            "--poisson-ratio",
+            "0.45",
+        ])
         .args(["--density", "1000"])
         .output()
         .unwrap();
@@ -249,7 +263,14 @@ fn divergence_advice_names_the_fix_in_the_callers_words() {
     let prefix = dir.path().join("ball");
     write_tetgen(&prefix, &ball_mesh(1.5)).unwrap();
     let mesh = prefix.display().to_string();
-    let material = ["--youngs", "1e7", "--poisson", "0.3", "--density", "1000"];
+    let material = [
+        "--youngs-modulus",
+        "1e7",
+        "--poisson-ratio",
+        "0.3",
+        "--density",
+        "1000",
+    ];
     let flags = tetrasim(
         &[
             &[

@@ -102,7 +102,7 @@ fn a_run_that_ends_before_landing_on_a_collider_is_flagged() {
         let text = format!(
             "[solver]\nframes = {frames}\n\n[[object]]\nmesh = \"{mesh}\"\nmethod = \"volume\"\n\
              drop_height = 0.1\n\n[[collider]]\ntype = \"plane\"\nnormal = [0.0, 1.0, 0.0]\n\
-             offset = -0.3\n\n[output]\njson = \"{}\"\n",
+             distance = -0.3\n\n[output]\njson = \"{}\"\n",
             json.display()
         );
         std::fs::write(&scene, text).unwrap();
@@ -235,7 +235,7 @@ fn flags_that_would_do_nothing_are_refused() {
     .unwrap();
     assert_refused(
         &tetrasim(&["run", "--scene", scene.to_str().unwrap()]),
-        &["output.every", "output.dir"],
+        &["output.every", "output.out_dir"],
     );
 }
 

@@ -184,8 +184,9 @@ fn surface_file_is_meshed_in_process() {
     );
 }
 
-/// `tetrasim run --scene` takes the solver, material, method, floor and output flags over
-/// the scene's values; the mesh and placement flags stay refused beside it (exit 2).
+/// `tetrasim run --scene` takes every flag over the scene's values: the solver, material,
+/// method, floor and output flags, placement for every object and `--mesh` for a one-object
+/// scene; what cannot apply is refused saying why.
 #[test]
 fn flags_override_a_scene() {
     let scene = concat!(
@@ -217,9 +218,38 @@ fn flags_override_a_scene() {
     assert_eq!(p.mass, MassMode::Density { density: 900.0 });
     assert_eq!(record.backend, "cpu-ref");
 
+    let sphere = concat!(env!("CARGO_MANIFEST_DIR"), "/meshes/sphere");
+    let output = tetrasim()
+        .args([
+            "run", "--quiet", "--scene", scene, "--frames", "2", "--mesh", sphere,
+        ])
+        .args(["--fit-size", "0.3", "--drop-height", "0.5", "--json"])
+        .arg(&json)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let records: Vec<RunRecord> =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(records[0].nodes, 823, "the bundled sphere replaced the box");
+    let two = dir.path().join("two.toml");
+    let body = format!("[[object]]\nmesh = {sphere:?}\n");
+    std::fs::write(&two, format!("[solver]\nframes = 2\n{body}{body}")).unwrap();
+    let output = tetrasim()
+        .args(["run", "--quiet", "--scene"])
+        .arg(&two)
+        .args(["--mesh", sphere])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        !output.status.success() && stderr.contains("one body's mesh"),
+        "{stderr}"
+    );
     for (args, says) in [
-        (&["--mesh", "meshes/sphere"][..], "--mesh"),
-        (&["--drop-height", "1"][..], "--drop-height"),
         (&["--method", "all"][..], "name one method"),
         (&["--dt=-1"][..], "`dt`"),
     ] {

@@ -31,7 +31,7 @@ fn z_up_scene() -> Scene {
         "[solver]\nframes = {FRAMES}\ngravity = [0.0, 0.0, -9.81]\n\
          [[object]]\nmesh = {:?}\nrotation = [{half}, 0.0, {half}, 0.0]\n\
          offset = [0.0, 0.0, 0.55]\n\
-         [[collider]]\ntype = \"plane\"\nnormal = [0.0, 0.0, 1.0]\noffset = 0.0\n",
+         [[collider]]\ntype = \"plane\"\nnormal = [0.0, 0.0, 1.0]\ndistance = 0.0\n",
         mesh.display().to_string()
     ))
     .unwrap()

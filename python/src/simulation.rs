@@ -144,6 +144,17 @@ fn backend_of(slot: &mut Mutex<Option<Box<dyn Backend>>>) -> PyResult<&mut Box<d
         })
 }
 
+/// Each of a scene's `warnings` (old key names) as a Python `DeprecationWarning`.
+fn warn_renamed(py: Python<'_>, warnings: &[String]) -> PyResult<()> {
+    let category = py.get_type::<pyo3::exceptions::PyDeprecationWarning>();
+    for warning in warnings {
+        let text = warning.trim_start_matches("warning: ").replace('\0', " ");
+        let message = std::ffi::CString::new(text).unwrap_or_default();
+        PyErr::warn(py, &category, &message, 1)?;
+    }
+    Ok(())
+}
+
 /// The engine options of `backend` on `device` (a name's part or an index, as
 /// `tetrasim run --device` takes it; only with `vulkan`).
 fn engine_options(backend: &str, device: Option<&str>) -> PyResult<EngineOptions> {
@@ -234,12 +245,13 @@ impl Simulation {
                 path.display()
             )));
         }
-        let staged = py
+        let (staged, warnings) = py
             .allow_threads(|| {
                 let scene = tetrascene::scene::Scene::load(&path)?;
-                tetrascene::launch::stage(&scene)
+                Ok::<_, tetrasim::Error>((tetrascene::launch::stage(&scene)?, scene.warnings))
             })
             .map_err(to_py)?;
+        warn_renamed(py, &warnings)?;
         let (model, params, label) = (staged.model, &staged.params, &staged.label);
         let sim = Simulation::of_model(py, model, params, label, backend, device)?;
         Ok((sim, staged.frames))
@@ -256,12 +268,13 @@ impl Simulation {
         backend: &str,
         device: Option<&str>,
     ) -> PyResult<(Self, u32)> {
-        let staged = py
+        let (staged, warnings) = py
             .allow_threads(|| {
                 let scene = tetrascene::scene::Scene::parse(text)?.relative_to(&base);
-                tetrascene::launch::stage(&scene)
+                Ok::<_, tetrasim::Error>((tetrascene::launch::stage(&scene)?, scene.warnings))
             })
             .map_err(to_py)?;
+        warn_renamed(py, &warnings)?;
         let (model, params, label) = (staged.model, &staged.params, &staged.label);
         let sim = Simulation::of_model(py, model, params, label, backend, device)?;
         Ok((sim, staged.frames))

@@ -3,6 +3,7 @@ and from the command line gives the same record; it runs on `vulkan` too; the TO
 trips; bad keys are refused naming them as a scene file would."""
 
 import json
+import os
 import subprocess
 
 import numpy as np
@@ -22,14 +23,14 @@ def pressed_part() -> tetrasim.Scene:
         "meshes/box", fit_size=0.3, rotation=TURN_X, offset=[0.0, 0.0, 0.3],
         pin={
             "box": {"min": [-0.2, -1.0, -1.0], "max": [-0.13, 1.0, 1.0]},
-            "motion": {"keyframes": [{"t": 0.0}, {"t": 0.3, "position": [0.0, 0.0, 0.05]}]},
+            "motion": {"keyframes": [{"t": 0.0}, {"t": 0.3, "translation": [0.0, 0.0, 0.05]}]},
         },
     )
-    scene.add_collider("plane", normal=[0.0, 0.0, 1.0], offset=0.0)
+    scene.add_collider("plane", normal=[0.0, 0.0, 1.0], distance=0.0)
     scene.add_collider(
         "box", center=[0.08, 0.0, 0.45], half_extents=[0.05, 0.2, 0.05],
         motion={"keyframes": [
-            {"t": 0.0}, {"t": 0.15, "position": [0.0, 0.0, -0.12]}, {"t": 0.3, "position": [0.0, 0.0, 0.0]},
+            {"t": 0.0}, {"t": 0.15, "translation": [0.0, 0.0, -0.12]}, {"t": 0.3, "translation": [0.0, 0.0, 0.0]},
         ]},
     )
     return scene
@@ -87,3 +88,18 @@ def test_overrides_and_bad_keys():
     scene.add_collider("sphere", center=[0, 1, 0])
     with pytest.raises(ValueError, match=r"collider\[0\].*radius"):
         scene.to_toml()
+
+
+def test_old_scene_keys_warn_naming_the_new_ones(tmp_path):
+    path = tmp_path / "old.toml"
+    path.write_text(
+        "[solver]\nframes = 2\nepsilon = 1e-20\n[[object]]\nmesh = \"meshes/sphere\"\n"
+        "[[collider]]\ntype = \"plane\"\nnormal = [0, 1, 0]\noffset = 0.0\n"
+    )
+    (tmp_path / "meshes").symlink_to(os.path.abspath("meshes"))  # the tests run from the root
+    with pytest.warns(DeprecationWarning) as caught:
+        sim = tetrasim.Simulation.from_scene(path)
+    said = [str(w.message) for w in caught]
+    assert any("`collider[0].offset` is now `collider[0].distance`" in s for s in said), said
+    assert any("`solver.constraint_epsilon`" in s for s in said), said
+    sim.step(2)

@@ -46,7 +46,7 @@ class Scene:
         self.solver: Dict[str, Any] = _plain(solver)
         self.objects: List[Dict[str, Any]] = []
         self.colliders: List[Dict[str, Any]] = []
-        #: The ``[output]`` table: ``json``, ``dir``, ``every``, ``format``, ``units``.
+        #: The ``[output]`` table: ``json``, ``out_dir``, ``every``, ``format``, ``units``.
         self.output: Dict[str, Any] = {}
 
     def add_body(
@@ -79,13 +79,13 @@ class Scene:
 
     def add_collider(self, type: str, **keys: Any) -> int:
         """Adds a ``[[collider]]`` of ``type`` (``"floor"``, ``"plane"``, ``"sphere"``,
-        ``"box"``, ``"capsule"`` or ``"mesh"``) with its keys (``normal``, ``offset``,
-        ``center``, ``radius``, ``half_extents``, ``rotation``, ``a``, ``b``, ``path``,
+        ``"box"``, ``"capsule"`` or ``"mesh"``) with its keys (``normal``, ``distance``,
+        ``center``, ``radius``, ``half_extents``, ``rotation``, ``a``, ``b``, ``mesh``,
         ``cells``, ``friction``, ``thickness``, ``motion``). Returns its index (the floor
         counts, as in a file)."""
         collider = {"type": type, **keys}
-        if type == "mesh" and "path" in collider:
-            collider["path"] = os.path.abspath(os.fspath(collider["path"]))
+        if type == "mesh" and "mesh" in collider:
+            collider["mesh"] = os.path.abspath(os.fspath(collider["mesh"]))
         self.colliders.append(_plain(collider))
         return len(self.colliders) - 1
 
@@ -100,7 +100,7 @@ class Scene:
         output = _plain(self.output)
         if output:
             tables["output"] = {
-                k: os.path.abspath(v) if k in ("json", "dir") else v for k, v in output.items()
+                k: os.path.abspath(v) if k in ("json", "out_dir") else v for k, v in output.items()
             }
         return tables
 
@@ -129,11 +129,12 @@ class Scene:
             scene.add_body(os.path.join(base, body.pop("mesh")), **body)
         for collider in tables.get("collider", []):
             collider = dict(collider)
-            if collider.get("type") == "mesh" and "path" in collider:
-                collider["path"] = os.path.join(base, collider["path"])
+            for key in ("mesh", "path"):  # `path` before 2026-12-06
+                if collider.get("type") == "mesh" and key in collider:
+                    collider[key] = os.path.join(base, collider[key])
             scene.add_collider(**collider)
         scene.output = {
-            k: os.path.join(base, v) if k in ("json", "dir") else v
+            k: os.path.join(base, v) if k in ("json", "out_dir", "dir") else v
             for k, v in tables.get("output", {}).items()
         }
         return scene

@@ -4,6 +4,7 @@
 mod bench;
 mod gpu_args;
 mod info;
+pub mod params;
 mod plan;
 mod render;
 mod run;
@@ -49,6 +50,9 @@ pub enum Command {
     /// List the Vulkan devices: driver, limits, timestamps, float atomics and the atomic
     /// path and workgroup size the engine would use on each.
     Info,
+    /// Print every parameter of a run with its one name as a flag, a scene key and a
+    /// Python keyword, its default and meaning (Markdown; docs/reference/parameters.md).
+    Params,
     /// Headless benchmark: every mesh x method x backend, frame-time percentiles, GPU pass
     /// times, throughput and volume accuracy.
     #[command(allow_negative_numbers = true)]
@@ -116,6 +120,7 @@ pub fn execute(cli: Cli) -> anyhow::Result<()> {
         Command::Run(args) => run::execute(*args),
         Command::Render(args) => render::execute(*args),
         Command::Info => info::execute(),
+        Command::Params => params::execute(),
         Command::Plan(args) => plan::execute(*args),
         Command::Stability(args) => stability::execute(args),
         Command::Bench(args) => bench::execute(*args),

@@ -54,13 +54,14 @@ impl MethodChoice {
 #[derive(Debug, clap::Args)]
 pub struct RunArgs {
     /// A scene file (TOML, documented in crates/tetrascene/src/scene.rs): objects, colliders, solver and outputs.
-    /// The solver, material, method, floor and output flags below override its values;
-    /// the mesh and placement flags must not be given with it.
-    #[arg(long, conflicts_with_all = scene_conflicts())]
+    /// Every flag below overrides its values: the solver's, the preset's, every object's
+    /// material, method, placement (--fit-size, --no-fit, --drop-height, --rotation) and
+    /// --target-tets, the floor and the outputs; --mesh a one-object scene's mesh.
+    #[arg(long)]
     pub scene: Option<PathBuf>,
     /// Tet mesh (TetGen PREFIX, .vtk, .vtu, .msh, .mesh) or a surface file (.ply/.obj/.off/.stl).
-    #[arg(long, default_value = DEFAULT_MESH)]
-    pub mesh: PathBuf,
+    #[arg(long, value_name = "PATH")]
+    pub mesh: Option<PathBuf>,
     /// When --mesh is a surface: tets to aim at when meshing it in-process (default 5000;
     /// refused with a tet mesh).
     #[arg(long)]
@@ -77,8 +78,8 @@ pub struct RunArgs {
     #[command(flatten)]
     pub gpu: GpuArgs,
     /// Parameter preset; the flags below override its values.
-    #[arg(long, value_enum, default_value = "seed")]
-    pub preset: PresetName,
+    #[arg(long, value_enum)]
+    pub preset: Option<PresetName>,
     /// Time stepping and solver (a scene's `[solver]`).
     #[command(flatten)]
     pub solver: SolverOverrides,
@@ -95,7 +96,7 @@ pub struct RunArgs {
     /// Scale the mesh so its bounding box's largest side is this long [m].
     #[arg(long)]
     pub fit_size: Option<f64>,
-    /// Keep the mesh's own size and position (real size, e.g. with --youngs and --density):
+    /// Keep the mesh's own size and position (real size, e.g. with --youngs-modulus and --density):
     /// no scaling, and no lift unless --drop-height is given, which then only lifts it.
     #[arg(long, conflicts_with = "fit_size")]
     pub no_fit: bool,
@@ -119,7 +120,8 @@ pub struct RunArgs {
     pub every: Option<u32>,
     /// Mesh file format in --out-dir: ply (surface, per-vertex quality V/V0; default), obj
     /// (surface), vtk or vtu (tet mesh with displacement, velocity, V/V0, inverted; vtu adds
-    /// METHOD.pvd, a ParaView time series with the simulated times).
+    /// METHOD.pvd, a ParaView time series with the simulated times), or usd (the whole run
+    /// as one animated stage, METHOD.usda, written when it ends).
     #[arg(long, value_enum)]
     pub format: Option<OutputFormat>,
     /// Units of the files in --out-dir: simulation (metres, fitted and lifted; default) or
@@ -161,24 +163,17 @@ fn parse_quaternion(text: &str) -> Result<[f64; 4], String> {
     }
 }
 
-/// The flags a scene file replaces: one object's mesh and placement, and the preset (a
-/// scene's objects and values are its own). The others override the scene's values
-/// ([`RunArgs::override_scene`]).
-fn scene_conflicts() -> Vec<clap::Id> {
-    [
-        "mesh",
-        "target_tets",
-        "preset",
-        "fit_size",
-        "no_fit",
-        "drop_height",
-        "rotation",
-    ]
-    .map(clap::Id::from)
-    .to_vec()
-}
-
 impl RunArgs {
+    /// The mesh of `--mesh` (the bundled sphere when not given).
+    pub fn mesh(&self) -> PathBuf {
+        self.mesh.clone().unwrap_or_else(|| DEFAULT_MESH.into())
+    }
+
+    /// The preset of `--preset` (`seed` when not given).
+    pub fn preset(&self) -> PresetName {
+        self.preset.unwrap_or(PresetName::Seed)
+    }
+
     /// The methods `--method` names (`all` when not given).
     pub fn methods(&self) -> Vec<Method> {
         self.method.unwrap_or(MethodChoice::All).methods()
@@ -207,9 +202,29 @@ impl RunArgs {
             }
             None => None,
         };
+        if let Some(preset) = self.preset {
+            scene.base = Preset::named(preset).params;
+        }
+        if let Some(mesh) = &self.mesh {
+            if scene.objects.len() != 1 {
+                let message = format!(
+                    "names one body's mesh, and the scene has {} objects",
+                    scene.objects.len()
+                );
+                return Err(tetrasim::Error::param("mesh", message).into());
+            }
+            scene.objects[0].mesh = mesh.clone();
+        }
         for object in &mut scene.objects {
             object.material = self.material.over(&object.material);
             object.method = method.unwrap_or(object.method);
+            object.target_tets = self.target_tets.or(object.target_tets);
+            if self.no_fit {
+                (object.fit_size, object.drop_height) = (None, None);
+            }
+            object.fit_size = self.fit_size.or(object.fit_size);
+            object.drop_height = self.drop_height.or(object.drop_height);
+            object.rotation = self.rotation.or(object.rotation);
         }
         if self.no_floor {
             scene
@@ -270,7 +285,7 @@ impl RunArgs {
 
     /// The preset's parameters with every given flag applied.
     pub fn params(&self) -> SimParams {
-        let mut params = Preset::named(self.preset).params;
+        let mut params = Preset::named(self.preset()).params;
         self.solver.apply(&mut params);
         self.material.apply(&mut params);
         if let Some(friction) = self.friction {
@@ -284,7 +299,7 @@ impl RunArgs {
 
     /// The one-object scene these flags stand for (method: the first of `--method`).
     pub fn scene(&self) -> Scene {
-        let preset = Preset::named(self.preset);
+        let preset = Preset::named(self.preset());
         let params = self.params();
         Scene {
             base: preset.params,
@@ -293,7 +308,7 @@ impl RunArgs {
                 ..self.solver.clone()
             },
             objects: vec![Object {
-                mesh: self.mesh.clone(),
+                mesh: self.mesh(),
                 target_tets: self.target_tets,
                 method: self.methods()[0],
                 fit_size: match self.no_fit {
@@ -327,6 +342,7 @@ impl RunArgs {
                 format: self.format,
                 units: self.units,
             },
+            warnings: Vec::new(),
         }
     }
 
@@ -350,6 +366,9 @@ impl RunArgs {
         match &self.scene {
             Some(path) => {
                 let mut scene = Scene::load(path).map_err(BadScene)?;
+                for warning in &scene.warnings {
+                    eprintln!("{warning} (in {})", path.display());
+                }
                 self.override_scene(&mut scene)?;
                 let method = scene.objects[0].method;
                 Ok((scene, vec![method]))
@@ -381,7 +400,7 @@ impl RunArgs {
                 .map_err(BadScene)
                 .with_context(|| format!("staging the scene {}", path.display())),
             None => stage(scene)
-                .with_context(|| format!("building the model of {}", self.mesh.display())),
+                .with_context(|| format!("building the model of {}", self.mesh().display())),
         }
     }
 }
@@ -530,28 +549,32 @@ mod tests {
     }
 
     #[test]
-    fn a_scene_refuses_every_parameter_flag() {
+    fn a_scene_takes_every_flag() {
         assert!(parse(&[]).is_ok());
-        // The GPU flags are not parameters: they choose how a scene runs.
-        assert!(parse(&["--atomics", "ext", "--device", "0"]).is_ok());
         for flag in [
-            &["--dt", "0.1"][..],
+            &["--atomics", "ext", "--device", "0"][..],
+            &["--dt", "0.1"],
             &["--frames", "3"],
             &["--global-volume"],
+            &["--constraint-epsilon", "0"],
             &["--epsilon", "0"],
+            &["--youngs", "1e5"],
             &["--ks", "1"],
             &["--node-mass", "1"],
             &["--friction", "0.5"],
             &["--no-floor"],
+            &[
+                "--mesh",
+                "m",
+                "--fit-size",
+                "1",
+                "--rotation",
+                "1,0,0,0",
+                "--preset",
+                "seed",
+            ],
         ] {
-            let err = parse(flag)
-                .err()
-                .unwrap_or_else(|| panic!("{flag:?} accepted"));
-            assert_eq!(
-                err.kind(),
-                clap::error::ErrorKind::ArgumentConflict,
-                "{err}"
-            );
+            assert!(parse(flag).is_ok(), "{flag:?} refused");
         }
     }
 }

@@ -8,4 +8,5 @@
 
 pub mod launch;
 pub mod overrides;
+pub mod renamed;
 pub mod scene;

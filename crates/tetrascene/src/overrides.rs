@@ -104,9 +104,11 @@ pub struct SolverOverrides {
     /// not bounce; about twice the solve, a higher local volume error; docs/PHYSICS.md).
     #[cfg_attr(feature = "clap", arg(long, value_enum))]
     pub contact: Option<ContactMode>,
-    /// Skip a constraint whose denominator A is at or below this.
-    #[cfg_attr(feature = "clap", arg(long))]
-    pub epsilon: Option<f64>,
+    /// Skip a constraint whose denominator A is at or below this (`epsilon` before
+    /// 2026-12-06, still read with a warning).
+    #[cfg_attr(feature = "clap", arg(long, alias = "epsilon"))]
+    #[serde(alias = "epsilon")]
+    pub constraint_epsilon: Option<f64>,
     /// Gravity [m/s^2]: a magnitude along -Y (`9.81`, the default) or a vector `x,y,z`
     /// (`--gravity=0,0,-9.81`; the floor stays the plane y = 0, so a body falling along
     /// another axis wants `--no-floor` and a plane collider).
@@ -140,7 +142,7 @@ impl SolverOverrides {
             inversion_sweeps: self.inversion_sweeps.or(base.inversion_sweeps),
             inversion_floor: self.inversion_floor.or(base.inversion_floor),
             contact: self.contact.or(base.contact),
-            epsilon: self.epsilon.or(base.epsilon),
+            constraint_epsilon: self.constraint_epsilon.or(base.constraint_epsilon),
             gravity: self.gravity.or(base.gravity),
             frames: self.frames.or(base.frames),
         }
@@ -167,7 +169,7 @@ impl SolverOverrides {
         set(&mut params.springs, self.springs);
         set(&mut params.warm_start, self.warm_start);
         set(&mut params.contact, self.contact);
-        set(&mut params.constraint_epsilon, self.epsilon);
+        set(&mut params.constraint_epsilon, self.constraint_epsilon);
         set(&mut params.gravity, self.gravity.map(Gravity::vector));
     }
 
@@ -192,7 +194,7 @@ impl SolverOverrides {
         "inversion_sweeps",
         "inversion_floor",
         "contact",
-        "epsilon",
+        "constraint_epsilon",
         "gravity",
         "frames",
     ];
@@ -246,18 +248,23 @@ pub struct MaterialOverrides {
     #[cfg_attr(feature = "clap", arg(long))]
     pub density: Option<f64>,
     /// Young's modulus [Pa]: spring stiffnesses from the material (Van Gelder) instead of
-    /// --ks; use with --density (scene key `youngs_modulus`).
-    #[cfg_attr(feature = "clap", arg(long = "youngs", value_name = "PA", conflicts_with_all = ["ks", "kd"]))]
+    /// --ks; use with --density (`--youngs` before 2026-12-06, still read with a warning).
+    #[cfg_attr(feature = "clap", arg(long, alias = "youngs", value_name = "PA", conflicts_with_all = ["ks", "kd"]))]
     pub youngs_modulus: Option<f64>,
-    /// Poisson's ratio in (-1, 0.5] of the --youngs material: compliant volume constraints
-    /// (bulk modulus E / (3 (1 - 2 nu))); default and 0.5: incompressible (scene key
-    /// `poisson_ratio`).
+    /// Poisson's ratio in (-1, 0.5] of the --youngs-modulus material: compliant volume
+    /// constraints (bulk modulus E / (3 (1 - 2 nu))); default and 0.5: incompressible
+    /// (`--poisson` before 2026-12-06, still read with a warning).
     #[cfg_attr(
         feature = "clap",
-        arg(long = "poisson", value_name = "NU", requires = "youngs_modulus")
+        arg(
+            long,
+            alias = "poisson",
+            value_name = "NU",
+            requires = "youngs_modulus"
+        )
     )]
     pub poisson_ratio: Option<f64>,
-    /// Damping time [s] of the --youngs material: each spring's damping is this times its
+    /// Damping time [s] of the --youngs-modulus material: each spring's damping is this times its
     /// stiffness (default 0.003, the paper's kd / ks).
     #[cfg_attr(
         feature = "clap",
@@ -377,7 +384,7 @@ mod tests {
         MaterialOverrides::default().apply(&mut p);
         assert_eq!(p, base);
         let solver = SolverOverrides {
-            epsilon: Some(1e-9),
+            constraint_epsilon: Some(1e-9),
             global_volume: Some(false),
             rho: Some(0.5),
             ..SolverOverrides::default()
@@ -423,9 +430,10 @@ mod tests {
             .unwrap_err()
             .to_string();
         let expected = unknown.split("expected one of").nth(1).unwrap_or_default();
+        // The old name `epsilon` is listed beside its new one.
         assert_eq!(
             expected.matches('`').count(),
-            2 * SolverOverrides::KEYS.len(),
+            2 * (SolverOverrides::KEYS.len() + 1),
             "{unknown}"
         );
         let unknown = toml::from_str::<MaterialOverrides>("nope = 1")

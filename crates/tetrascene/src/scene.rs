@@ -3,7 +3,9 @@
 //! one-object scene. Unknown keys and out-of-range values are errors naming the key's path
 //! (e.g. `object[0].material.ks`, `object[0].pin[1].motion`,
 //! `collider[2].motion.keyframes[1].t`; colliders are numbered in file order, the floor
-//! included).
+//! included). Keys renamed on 2026-12-06 so that each concept has one name (`epsilon`,
+//! a plane's `offset`, a mesh collider's `path`, a keyframe's `position`, `[output] dir`)
+//! are still read, with a warning naming the new one ([`crate::renamed`]).
 //!
 //! ```toml
 //! [solver]
@@ -30,7 +32,8 @@
 //! warm_start = false    # implicit springs start each step from the last multipliers
 //! contact = "combined"  # or "split": split impulses, no rebound, about twice the solve
 //! # (GPU choices such as --atomics, --device and --workgroup-size are flags, not scene keys)
-//! epsilon = 1e-20     # skip a constraint whose denominator A is at or below this
+//! constraint_epsilon = 1e-20 # skip a constraint whose denominator A is at or below
+//!                     # this (`epsilon` before 2026-12-06)
 //! gravity = 9.81      # m/s^2, along -Y (the up axis is +Y; the floor is y = 0), or a
 //!                     # vector [0.0, 0.0, -9.81] (then a plane collider is the ground)
 //! frames = 400
@@ -52,7 +55,7 @@
 //! pin = { nodes = [0, 1], box = { min = [-1, 0, -1], max = [1, 0.12, 1] } }
 //! # A pin may move: its nodes follow a motion (as a collider's, below) rigidly about their
 //! # centroid, e.g. pin = { box = { .. }, motion = { keyframes = [{ t = 0.0 },
-//! #   { t = 0.5, position = [0.3, 0, 0] }] } }  (a motion that holds no node is an error).
+//! #   { t = 0.5, translation = [0.3, 0, 0] }] } }  (a motion that holds no node is an error).
 //! # Several pins, each fixed or with its own motion (keys object[0].pin[1].motion...):
 //! #   pin = [{ box = { .. } }, { box = { .. }, motion = { .. } }]   or [[object.pin]] tables
 //! self_contact = false       # whether its surface collides with itself (different objects
@@ -68,16 +71,16 @@
 //! # step, at most friction x the push's normal velocity: Coulomb's bound), thickness (m, >= 0, default 0: nodes are kept this far
 //! # out) and an optional motion of its declared pose, either
 //! #   motion = { velocity = [0, -0.1, 0], angular_velocity = [0, 1, 0] }  # m/s, rad/s
-//! # (turning about the collider's centre) or keyframes in increasing time (positions
+//! # (turning about the collider's centre) or keyframes in increasing time (translations
 //! # linear, rotations slerped, the last key held):
-//! #   motion = { keyframes = [{ t = 0.0 }, { t = 1.0, position = [0, -0.2, 0],
+//! #   motion = { keyframes = [{ t = 0.0 }, { t = 1.0, translation = [0, -0.2, 0],
 //! #                                         rotation = [1, 0, 0, 0] }] }
-//! # (position: displacement of the centre, default [0, 0, 0]; rotation about the centre,
+//! # (translation: displacement of the centre, default [0, 0, 0]; rotation about the centre,
 //! # default none). Quaternions are [w, x, y, z], unit within 1e-3 (then normalised).
 //! [[collider]]
-//! type = "plane"             # the half-space normal . x <= offset
+//! type = "plane"             # the half-space normal . x <= distance
 //! normal = [0.1, 1.0, 0.0]   # need not be unit
-//! offset = 0.0               # m, along the unit normal
+//! distance = 0.0             # m, of the plane from the origin along the unit normal
 //!
 //! [[collider]]
 //! type = "sphere"
@@ -98,12 +101,12 @@
 //!
 //! [[collider]]
 //! type = "mesh"              # a closed surface (.ply/.obj/.off/.stl), relative to the scene
-//! path = "tool.off"          # file, sampled as a signed distance grid; it turns about the
+//! mesh = "tool.off"          # file, sampled as a signed distance grid; it turns about the
 //! cells = 48                 # centre of its bounds; cells along its longest side (8 to 512)
 //!
 //! [output]
 //! json = "out/metrics.json"  # the run records (`metrics` is accepted too)
-//! dir = "out/frames"         # the deformed mesh every `every` frames (`surface_dir` too)
+//! out_dir = "out/frames"     # the deformed mesh every `every` frames
 //! every = 10                 # these three need `dir`
 //! format = "vtu"             # ply (default), obj, vtk or vtu (+ METHOD.pvd time series)
 //! units = "input"            # simulation (default) or input: the mesh file's units
@@ -151,6 +154,9 @@ pub struct Scene {
     /// What to write.
     #[serde(default)]
     pub output: Output,
+    /// Warnings of the text it was read from: old key names ([`crate::renamed`]).
+    #[serde(skip)]
+    pub warnings: Vec<String>,
 }
 
 /// `[[object]]`: one tet mesh with its placement, material and pins.
@@ -206,8 +212,9 @@ pub struct Output {
     /// The run records as JSON (`metrics` in older scenes).
     #[serde(alias = "metrics")]
     pub json: Option<PathBuf>,
-    /// Folder for the deformed mesh every `every` frames (`surface_dir` in older scenes).
-    #[serde(alias = "surface_dir")]
+    /// Folder for the deformed mesh every `every` frames (the flag's name, `--out-dir`;
+    /// `dir` and `surface_dir` before 2026-12-06, still read with a warning).
+    #[serde(rename = "out_dir", alias = "dir", alias = "surface_dir")]
     pub dir: Option<PathBuf>,
     /// Frames between mesh files (default [`DEFAULT_EVERY`]); needs `dir`.
     pub every: Option<u32>,
@@ -293,7 +300,12 @@ impl Scene {
             )
         })?;
         scene.validate()?;
-        Ok(scene)
+        let tables: toml::Value = toml::from_str(text)
+            .map_err(|e| Error::param("scene", format!("not TOML: {}", e.message())))?;
+        Ok(Scene {
+            warnings: crate::renamed::scene_warnings(&tables),
+            ..scene
+        })
     }
 
     /// Checks ranges; errors name the key's path.
@@ -308,7 +320,7 @@ impl Scene {
             return Err(Error::param("output.every", "must be at least 1"));
         }
         self.output
-            .check(|name| format!("output.{name}"), "output.dir")?;
+            .check(|name| format!("output.{name}"), "output.out_dir")?;
         let solver = self.solver.solver.unwrap_or(self.base.solver);
         if let Some((key, needs)) = self.solver.misplaced(solver) {
             return Err(Error::param(
@@ -448,7 +460,6 @@ impl Scene {
 /// Where a [`SimParams`] key lives in a scene file.
 fn scene_key(object: usize, key: &str) -> String {
     match key {
-        "constraint_epsilon" => "solver.epsilon".to_string(),
         "friction" => "collider.friction".to_string(),
         "mass" => format!("object[{object}].material.node_mass"),
         key if SolverOverrides::has(key) => format!("solver.{key}"),

@@ -19,7 +19,9 @@ pub enum Collider {
     Plane {
         /// Outward normal (need not be unit, must not be zero).
         normal: [f64; 3],
-        /// Offset along the unit normal [m].
+        /// Distance of the plane from the origin along the unit normal [m] (`offset` before
+        /// 2026-12-06, still read with a warning).
+        #[serde(rename = "distance", alias = "offset")]
         offset: f64,
         /// Friction in [0, 1]: Coulomb's mu (at most this fraction of the sliding removed per step).
         #[serde(default)]
@@ -88,7 +90,8 @@ pub enum Collider {
     /// A closed triangle surface (`.ply`, `.obj`, `.off`, `.stl`; relative to the scene
     /// file), sampled as a signed distance grid; it turns about the centre of its bounds.
     Mesh {
-        /// The surface file.
+        /// The surface file (`path` before 2026-12-06, still read with a warning).
+        #[serde(rename = "mesh", alias = "path")]
         path: PathBuf,
         /// Grid cells along the longest side of its bounds (default [`DEFAULT_CELLS`]).
         #[serde(default = "default_cells")]
@@ -142,8 +145,9 @@ pub struct MotionSpec {
 pub struct KeyframeSpec {
     /// Time [s].
     pub t: f64,
-    /// Displacement of the declared centre [m] (default none).
-    #[serde(default)]
+    /// Displacement of the declared centre [m] (default none; `position` before
+    /// 2026-12-06, still read with a warning).
+    #[serde(default, rename = "translation", alias = "position")]
     pub position: [f64; 3],
     /// Rotation about the declared centre, a unit quaternion `[w, x, y, z]` (default none).
     #[serde(default = "identity")]

@@ -231,7 +231,7 @@ fn bad_colliders_name_their_key() {
         ),
         (
             &["type = \"mesh\"\ncells = 32"],
-            &["collider[0]", "missing field `path`"],
+            &["collider[0]", "missing field `mesh`"],
         ),
     ];
     for (colliders, needles) in cases {
