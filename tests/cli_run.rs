@@ -263,3 +263,32 @@ fn flags_override_a_scene() {
         assert!(stderr.contains(says), "{args:?}: {stderr}");
     }
 }
+
+/// Reports fit the run: the paper's column only for its experiment (the `seed` preset's
+/// drop from flags), and a held body (pinned or clamped) is not given a free fall's
+/// contact time, nor told it ended before one.
+#[test]
+fn reports_fit_the_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("r.json");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/scenes/clamped_block.toml");
+    let run = |args: &[&str]| {
+        let out = tetrasim()
+            .args(["run", "--quiet", "--frames", "5", "--json"])
+            .arg(&json)
+            .args(args)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let records: Vec<RunRecord> =
+            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        let text = String::from_utf8_lossy(&out.stdout).into_owned();
+        (text + &String::from_utf8_lossy(&out.stderr), records)
+    };
+    let (said, records) = run(&["--scene", scene]);
+    assert!(!said.contains("paper") && !said.contains("free fall"), "{said}");
+    assert_eq!(records[0].contact_time_s, None, "a clamped body does not fall freely");
+    let (said, records) = run(&["--method", "volume"]);
+    assert!(said.contains("paper avg") && said.contains("not the paper's experiment"), "{said}");
+    assert!(records[0].contact_time_s.is_some());
+}

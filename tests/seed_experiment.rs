@@ -41,7 +41,7 @@ fn seed_records_on(mesh: &tetrasim::TetMesh, label: &str, backend: &str) -> Vec<
         &options,
     )
     .unwrap();
-    print!("{}", tetrasim::metrics::table(&records));
+    print!("{}", tetrasim::metrics::table(&records, true));
     records
 }
 

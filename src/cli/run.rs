@@ -523,7 +523,9 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
         checkpoint: checkpointing,
     };
     let records = run_methods(model, params, &methods, &options)?;
-    print!("{}", table(&records));
+    // The paper's column only for its experiment: the `seed` preset's drop from flags.
+    let paper = args.scene.is_none() && args.preset() == crate::preset::PresetName::Seed;
+    print!("{}", table(&records, paper));
     print!("{}", pass_table(&records));
     eprint!("{}", short_run_warnings(&records));
     if let Some(path) = &out.json {

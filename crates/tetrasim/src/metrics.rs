@@ -227,7 +227,10 @@ impl RunRecord {
             params: params.clone(),
             derived: RecordFacts::of(problem),
             time_s: Vec::with_capacity(frames as usize),
-            contact_time_s: model.contact_time(params.gravity, params.floor),
+            // A held body does not fall freely: no free fall's contact time for it.
+            contact_time_s: (model.free_node_count() == model.node_count())
+                .then(|| model.contact_time(params.gravity, params.floor))
+                .flatten(),
             volume_pct: Vec::with_capacity(frames as usize),
             inverted_tets: Vec::with_capacity(frames as usize),
             local_error_pct: Vec::with_capacity(frames as usize),
@@ -293,10 +296,10 @@ impl RunRecord {
     }
 }
 
-/// The paper-style table: per run, min and average volume %, the local volume error's
-/// average and maximum, inverted tets at the worst frame, ms per frame, and the paper's
-/// average for the method.
-pub fn table(records: &[RunRecord]) -> String {
+/// The run table: per run, min and average volume %, the local volume error's average and
+/// maximum, inverted tets at the worst frame, ms per frame, and, for the paper's experiment
+/// (`paper`: the `seed` preset's drop), the paper's average for the method.
+pub fn table(records: &[RunRecord], paper: bool) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -309,14 +312,20 @@ pub fn table(records: &[RunRecord]) -> String {
         "max local %",
         "inverted",
         "ms/frame",
-        "paper avg"
+        if paper { "paper avg" } else { "" }
     );
     for r in records {
-        let paper = paper_avg_volume_pct(&r.method).map_or("-".to_string(), |p| format!("{p:.2}"));
+        let paper_avg =
+            paper_avg_volume_pct(&r.method).map_or("-".to_string(), |p| format!("{p:.2}"));
         let note = if r.diverged {
             format!("diverged after {} frames", r.frames_run)
         } else if let Some(t) = r.ends_before_contact() {
-            format!("ended before its first contact (at {t:.3} s): not the paper's experiment")
+            let why = if paper {
+                ": not the paper's experiment"
+            } else {
+                ""
+            };
+            format!("ended before its first contact (at {t:.3} s){why}")
         } else if r.measured_last_frame_only() {
             "the last frame's volume only (a scene's output.json measures every frame)".into()
         } else {
@@ -333,7 +342,7 @@ pub fn table(records: &[RunRecord]) -> String {
             r.max_local_error_pct,
             r.max_inverted_tets,
             r.ms_per_frame,
-            paper
+            if paper { paper_avg } else { String::new() }
         );
     }
     out
