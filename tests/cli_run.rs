@@ -271,7 +271,10 @@ fn flags_override_a_scene() {
 fn reports_fit_the_run() {
     let dir = tempfile::tempdir().unwrap();
     let json = dir.path().join("r.json");
-    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/scenes/clamped_block.toml");
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/scenes/clamped_block.toml"
+    );
     let run = |args: &[&str]| {
         let out = tetrasim()
             .args(["run", "--quiet", "--frames", "5", "--json"])
@@ -279,16 +282,29 @@ fn reports_fit_the_run() {
             .args(args)
             .output()
             .unwrap();
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         let records: Vec<RunRecord> =
             serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
         let text = String::from_utf8_lossy(&out.stdout).into_owned();
         (text + &String::from_utf8_lossy(&out.stderr), records)
     };
     let (said, records) = run(&["--scene", scene]);
-    assert!(!said.contains("paper") && !said.contains("free fall"), "{said}");
-    assert_eq!(records[0].contact_time_s, None, "a clamped body does not fall freely");
+    assert!(
+        !said.contains("paper") && !said.contains("free fall"),
+        "{said}"
+    );
+    assert_eq!(
+        records[0].contact_time_s, None,
+        "a clamped body does not fall freely"
+    );
     let (said, records) = run(&["--method", "volume"]);
-    assert!(said.contains("paper avg") && said.contains("not the paper's experiment"), "{said}");
+    assert!(
+        said.contains("paper avg") && said.contains("not the paper's experiment"),
+        "{said}"
+    );
     assert!(records[0].contact_time_s.is_some());
 }

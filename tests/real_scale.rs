@@ -85,7 +85,10 @@ fn horse_run_with(model: &Model, backend: &str, params: &SimParams, frames: u32)
         checkpoint: Default::default(),
     };
     let r = run(model, params, &options).unwrap();
-    print!("{}", tetrasim::metrics::table(std::slice::from_ref(&r), false));
+    print!(
+        "{}",
+        tetrasim::metrics::table(std::slice::from_ref(&r), false)
+    );
     r
 }
 

@@ -1,8 +1,8 @@
 """``tetrasim.Scene``: a whole scene built in code, one to one with the scene file format
 (``tetrasim run --scene``; every table and key is documented in docs/STABILITY.md and
 crates/tetrascene/src/scene.rs): the ``[solver]`` keys as the constructor's keywords,
-``add_body`` for an ``[[object]]``, ``add_collider`` for a ``[[collider]]``, ``output`` for
-``[output]``. Keywords are named as the scene keys are. ``to_toml()`` writes the scene file
+``add_body`` for an ``[[object]]``, ``add_collider`` for a ``[[collider]]``, ``add_grab``
+for a ``[[grab]]`` (a handle holding nodes), ``output`` for ``[output]``. Keywords are named as the scene keys are. ``to_toml()`` writes the scene file
 and ``Scene.from_toml`` reads one (text or a path); ``tetrasim.Simulation(scene)`` runs it
 as the command line runs the file. The engine's own parser checks every scene: an error
 names the key as the file would (``object[1].material.density``, ``collider[2].motion``).
@@ -46,6 +46,7 @@ class Scene:
         self.solver: Dict[str, Any] = _plain(solver)
         self.objects: List[Dict[str, Any]] = []
         self.colliders: List[Dict[str, Any]] = []
+        self.grabs: List[Dict[str, Any]] = []
         #: The ``[output]`` table: ``json``, ``out_dir``, ``every``, ``format``, ``units``.
         self.output: Dict[str, Any] = {}
 
@@ -89,6 +90,14 @@ class Scene:
         self.colliders.append(_plain(collider))
         return len(self.colliders) - 1
 
+    def add_grab(self, point: Any, radius: float, **keys: Any) -> int:
+        """Adds a ``[[grab]]``: a handle holding the free nodes within ``radius`` [m] of
+        ``point`` [m] at the start, moved by its ``motion`` (as a collider's), hard or
+        through a spring of ``stiffness`` [N/m], letting go at ``release`` [s]. Returns its
+        index."""
+        self.grabs.append(_plain({"point": point, "radius": radius, **keys}))
+        return len(self.grabs) - 1
+
     def to_dict(self) -> Dict[str, Any]:
         """The scene's tables, as a scene file holds them."""
         tables: Dict[str, Any] = {}
@@ -97,6 +106,8 @@ class Scene:
         tables["object"] = [dict(o) for o in self.objects]
         if self.colliders:
             tables["collider"] = [dict(c) for c in self.colliders]
+        if self.grabs:
+            tables["grab"] = [dict(g) for g in self.grabs]
         output = _plain(self.output)
         if output:
             tables["output"] = {
@@ -133,6 +144,8 @@ class Scene:
                 if collider.get("type") == "mesh" and key in collider:
                     collider[key] = os.path.join(base, collider[key])
             scene.add_collider(**collider)
+        for grab in tables.get("grab", []):
+            scene.add_grab(**grab)
         scene.output = {
             k: os.path.join(base, v) if k in ("json", "out_dir", "dir") else v
             for k, v in tables.get("output", {}).items()

@@ -342,6 +342,7 @@ impl RunArgs {
                 format: self.format,
                 units: self.units,
             },
+            grabs: Vec::new(),
             warnings: Vec::new(),
         }
     }

@@ -90,9 +90,13 @@ pub fn stage(scene: &Scene) -> Result<Staged> {
         labels.push(loaded.label);
         notes.extend(loaded.note);
     }
+    // Each collider was checked with its scene key by `Scene::colliders`.
+    let mut model = Model::concat(&models)?.with_colliders(colliders)?;
+    for (k, grab) in scene.grabs.iter().enumerate() {
+        model = model.with_grab(grab.grab(&format!("grab[{k}]"))?)?;
+    }
     Ok(Staged {
-        // Each collider was checked with its scene key by `Scene::colliders`.
-        model: Model::concat(&models)?.with_colliders(colliders)?,
+        model,
         params,
         frames: scene.frames(),
         label: labels.join("+"),

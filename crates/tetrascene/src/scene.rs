@@ -104,6 +104,11 @@
 //! mesh = "tool.off"          # file, sampled as a signed distance grid; it turns about the
 //! cells = 48                 # centre of its bounds; cells along its longest side (8 to 512)
 //!
+//! [[grab]]                  # a handle (forceps, a gripper): holds the free nodes within
+//! point = [0.0, 0.6, 0.0]    # radius (m) of point (m) at the start, moves them with its
+//! radius = 0.05              # motion (as a collider's), hard or through a spring
+//! motion = { velocity = [0.0, 0.2, 0.0] }  # stiffness (N/m), and lets go at release (s)
+//!
 //! [output]
 //! json = "out/metrics.json"  # the run records (`metrics` is accepted too)
 //! out_dir = "out/frames"     # the deformed mesh every `every` frames
@@ -120,12 +125,14 @@ use serde::Deserialize;
 use crate::overrides::{MaterialOverrides, SolverOverrides};
 
 mod collider;
+mod grab;
 mod pin;
 mod text;
 pub use text::{scene_json, scene_toml};
 
 use collider::mesh_grid;
 pub use collider::{Collider, KeyframeSpec, MotionSpec, DEFAULT_CELLS, QUATERNION_TOLERANCE};
+pub use grab::GrabSpec;
 pub use pin::{Aabb, Pin, Pins};
 
 use tetrasim::collider::{
@@ -151,6 +158,9 @@ pub struct Scene {
     /// Collision shapes.
     #[serde(rename = "collider", default)]
     pub colliders: Vec<Collider>,
+    /// Handles holding nodes (`[[grab]]`, applied in order after the objects are placed).
+    #[serde(rename = "grab", default)]
+    pub grabs: Vec<GrabSpec>,
     /// What to write.
     #[serde(default)]
     pub output: Output,
@@ -394,6 +404,10 @@ impl Scene {
                 floor = Some(i);
             }
             c.engine(&format!("collider[{i}]"), None)?;
+        }
+        for (k, grab) in self.grabs.iter().enumerate() {
+            let key = format!("grab[{k}]");
+            grab.grab(&key)?.validate(&key)?;
         }
         Ok(())
     }
