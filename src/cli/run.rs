@@ -499,6 +499,13 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
         params.iterations,
         solver_label(params)
     );
+    if args.scene.is_none() && args.method.is_none() {
+        // The one default that differs between the command line and scenes or Python.
+        eprintln!(
+            "methods mss, distance and volume: the command line's default (--method all); \
+             scenes and Python default to volume"
+        );
+    }
     let estimate = tetrasim::stability::estimate(model, params);
     if estimate.exceeded_by(params.dt) {
         eprintln!(
