@@ -181,8 +181,20 @@ pub fn execute(args: BenchArgs) -> anyhow::Result<()> {
             substeps: args.ref_substeps,
         }),
     };
+    // Each method's solve, as `run`'s header names it (the finite elements' is a Newton
+    // step, not the sweeps').
+    let mut solvers: Vec<String> = (options.methods.iter())
+        .map(|&method| {
+            super::run::solver_label(&tetrasim::params::SimParams {
+                method,
+                ..params.clone()
+            })
+        })
+        .collect();
+    solvers.dedup();
+    let solvers = solvers.join(" / ");
     eprintln!(
-        "bench: {} meshes x {} methods x backends {}; {} warm-up + {} timed frames; dt {} s x {} substeps, {} iterations, solver {}{}{}",
+        "bench: {} meshes x {} methods x backends {}; {} warm-up + {} timed frames; dt {} s x {} substeps, {} iterations, solver {}",
         meshes.len(),
         options.methods.len(),
         options.backends.join(", "),
@@ -191,22 +203,7 @@ pub fn execute(args: BenchArgs) -> anyhow::Result<()> {
         params.dt,
         params.substeps,
         params.iterations,
-        params.solver,
-        if params.solves_global_volume() {
-            " + global volume"
-        } else {
-            ""
-        },
-        match params.anderson {
-            0 => String::new(),
-            m => format!(" + anderson {m}"),
-        } + &match params.minres {
-            0 => String::new(),
-            k => format!(" + minres {k}"),
-        } + &match params.inversion_sweeps {
-            0 => String::new(),
-            n => format!(" + {n} inversion sweeps"),
-        }
+        solvers,
     );
     let mut backends = Backends::new(args.gpu.engine_options());
     let records = run_suite(&meshes, &params, &options, &mut backends, &mut |r| {

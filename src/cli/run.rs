@@ -421,7 +421,7 @@ pub struct DivergedRun(pub String);
 /// `jacobi`, or `gauss-seidel (8 groups)`, with ` + global volume` when it is solved and
 /// ` + anderson M` with Anderson acceleration, ` + minres K` with MINRES after the sweeps,
 /// and the inversion sweeps when they run.
-fn solver_label(params: &SimParams) -> String {
+pub(super) fn solver_label(params: &SimParams) -> String {
     if !params.has_springs() {
         return format!(
             "newton (conjugate gradients, block-Jacobi preconditioned, {} per step)",
