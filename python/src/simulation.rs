@@ -91,6 +91,26 @@ impl Simulation {
         })
     }
 
+    /// The scene `load` gives, staged as `tetrasim run --scene` stages it (without the GIL;
+    /// its old key names raised as `DeprecationWarning`s), on `backend`, and its frames.
+    fn of_scene(
+        py: Python<'_>,
+        load: impl FnOnce() -> tetrasim::Result<tetrascene::scene::Scene> + Send,
+        backend: &str,
+        device: Option<&str>,
+    ) -> PyResult<(Self, u32)> {
+        let (staged, warnings) = py
+            .allow_threads(|| {
+                let scene = load()?;
+                Ok::<_, tetrasim::Error>((tetrascene::launch::stage(&scene)?, scene.warnings))
+            })
+            .map_err(to_py)?;
+        warn_renamed(py, &warnings)?;
+        let (model, params, label) = (staged.model, &staged.params, &staged.label);
+        let sim = Simulation::of_model(py, model, params, label, backend, device)?;
+        Ok((sim, staged.frames))
+    }
+
     /// The forces out of the last step ([`Backend::reactions`]); an error naming the
     /// backend where it does not measure them.
     fn reactions(&mut self) -> PyResult<Reactions> {
@@ -245,16 +265,8 @@ impl Simulation {
                 path.display()
             )));
         }
-        let (staged, warnings) = py
-            .allow_threads(|| {
-                let scene = tetrascene::scene::Scene::load(&path)?;
-                Ok::<_, tetrasim::Error>((tetrascene::launch::stage(&scene)?, scene.warnings))
-            })
-            .map_err(to_py)?;
-        warn_renamed(py, &warnings)?;
-        let (model, params, label) = (staged.model, &staged.params, &staged.label);
-        let sim = Simulation::of_model(py, model, params, label, backend, device)?;
-        Ok((sim, staged.frames))
+        let load = || tetrascene::scene::Scene::load(&path);
+        Simulation::of_scene(py, load, backend, device)
     }
 
     /// A scene given as text (TOML, as a scene file; relative paths taken from the folder
@@ -268,16 +280,8 @@ impl Simulation {
         backend: &str,
         device: Option<&str>,
     ) -> PyResult<(Self, u32)> {
-        let (staged, warnings) = py
-            .allow_threads(|| {
-                let scene = tetrascene::scene::Scene::parse(text)?.relative_to(&base);
-                Ok::<_, tetrasim::Error>((tetrascene::launch::stage(&scene)?, scene.warnings))
-            })
-            .map_err(to_py)?;
-        warn_renamed(py, &warnings)?;
-        let (model, params, label) = (staged.model, &staged.params, &staged.label);
-        let sim = Simulation::of_model(py, model, params, label, backend, device)?;
-        Ok((sim, staged.frames))
+        let load = || Ok(tetrascene::scene::Scene::parse(text)?.relative_to(&base));
+        Simulation::of_scene(py, load, backend, device)
     }
 
     /// Advances `frames` frames (each `substeps` time steps) without holding the GIL,
