@@ -14,6 +14,19 @@ fn tetrasim() -> Command {
     Command::new(env!("CARGO_BIN_EXE_tetrasim"))
 }
 
+/// The run records in the JSON file `path`.
+fn read_records(path: &std::path::Path) -> Vec<RunRecord> {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// `command`'s output, which must be a success (else its stderr is the panic's message).
+fn succeeded(command: &mut Command) -> std::process::Output {
+    let output = command.output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    output
+}
+
 #[test]
 fn run_writes_table_metrics_and_surfaces() {
     let dir = tempfile::tempdir().unwrap();
@@ -55,8 +68,7 @@ fn run_writes_table_metrics_and_surfaces() {
             "no `{method}` row in\n{stdout}"
         );
     }
-    let records: Vec<RunRecord> =
-        serde_json::from_str(&std::fs::read_to_string(&metrics).unwrap()).unwrap();
+    let records = read_records(&metrics);
     assert_eq!(records.len(), 3);
     for r in &records {
         assert_eq!(
@@ -174,8 +186,7 @@ fn surface_file_is_meshed_in_process() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(output.status.success(), "{stderr}");
     assert!(stderr.contains("meshed in-process"), "{stderr}");
-    let records: Vec<RunRecord> =
-        serde_json::from_str(&std::fs::read_to_string(&metrics).unwrap()).unwrap();
+    let records = read_records(&metrics);
     // Within tetprep's 25 % of the target.
     assert!(
         (1125..=1875).contains(&records[0].tets),
@@ -195,19 +206,16 @@ fn flags_override_a_scene() {
     );
     let dir = tempfile::tempdir().unwrap();
     let json = dir.path().join("run.json");
-    let output = tetrasim()
-        .args([
-            "run", "--quiet", "--scene", scene, "--frames", "3", "--dt", "5e-4",
-        ])
-        .args(["--method", "distance", "--density", "900", "--no-floor"])
-        .args(["--gravity=0,0,-9.81", "--backend", "cpu-ref", "--json"])
-        .arg(&json)
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(output.status.success(), "{stderr}");
-    let records: Vec<RunRecord> =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    succeeded(
+        tetrasim()
+            .args([
+                "run", "--quiet", "--scene", scene, "--frames", "3", "--dt", "5e-4",
+            ])
+            .args(["--method", "distance", "--density", "900", "--no-floor"])
+            .args(["--gravity=0,0,-9.81", "--backend", "cpu-ref", "--json"])
+            .arg(&json),
+    );
+    let records = read_records(&json);
     let [record] = &records[..] else {
         panic!("{} records", records.len())
     };
@@ -219,21 +227,15 @@ fn flags_override_a_scene() {
     assert_eq!(record.backend, "cpu-ref");
 
     let sphere = concat!(env!("CARGO_MANIFEST_DIR"), "/meshes/sphere");
-    let output = tetrasim()
-        .args([
-            "run", "--quiet", "--scene", scene, "--frames", "2", "--mesh", sphere,
-        ])
-        .args(["--fit-size", "0.3", "--drop-height", "0.5", "--json"])
-        .arg(&json)
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
+    succeeded(
+        tetrasim()
+            .args([
+                "run", "--quiet", "--scene", scene, "--frames", "2", "--mesh", sphere,
+            ])
+            .args(["--fit-size", "0.3", "--drop-height", "0.5", "--json"])
+            .arg(&json),
     );
-    let records: Vec<RunRecord> =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let records = read_records(&json);
     assert_eq!(records[0].nodes, 823, "the bundled sphere replaced the box");
     let two = dir.path().join("two.toml");
     let body = format!("[[object]]\nmesh = {sphere:?}\n");
@@ -276,19 +278,13 @@ fn reports_fit_the_run() {
         "/examples/scenes/clamped_block.toml"
     );
     let run = |args: &[&str]| {
-        let out = tetrasim()
-            .args(["run", "--quiet", "--frames", "5", "--json"])
-            .arg(&json)
-            .args(args)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
+        let out = succeeded(
+            tetrasim()
+                .args(["run", "--quiet", "--frames", "5", "--json"])
+                .arg(&json)
+                .args(args),
         );
-        let records: Vec<RunRecord> =
-            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        let records = read_records(&json);
         let text = String::from_utf8_lossy(&out.stdout).into_owned();
         (text + &String::from_utf8_lossy(&out.stderr), records)
     };
