@@ -17,7 +17,7 @@
 //! a rank-one direction `delta g_a^T` (J is linear in each column), so the per-node Newton
 //! step needs no eigenvalue projection.
 
-use super::{Real, Vector};
+use super::{definite_volume_term, Real, Vector};
 
 /// Lame's parameters `(mu, lambda)` [Pa] of Young's modulus `e` [Pa] and Poisson's ratio
 /// `nu` (`nu < 0.5`).
@@ -153,7 +153,8 @@ pub fn elastic_corner<V: Vector>(
 /// Corner `a`'s share of the tet's stiffness-proportional damping force before its factor
 /// `-beta`: `V0 dP(F)[dF] g_a`, the energy's Hessian applied to the nodes' velocities `u`
 /// (`dF = sum_b u_b g_b^T`), so that the Rayleigh force `-beta K u` damps strain rates only,
-/// never a rigid motion.
+/// never a rigid motion; the Hessian as the solve keeps it (positive semi-definite,
+/// `volume_term`), so that damping never feeds a mode.
 #[inline]
 pub fn elastic_rate<V: Vector>(t: &ElasticTet<V::Real>, p: [V; 4], u: [V; 4], a: usize) -> V {
     let one = V::Real::ONE;
@@ -175,18 +176,45 @@ pub fn elastic_rate<V: Vector>(t: &ElasticTet<V::Real>, p: [V; 4], u: [V; 4], a:
     (apply(&df) * (t.mu * (one - s))
         + apply(&f) * (two * t.mu * s * s * f_df)
         + apply(&cof) * (t.lambda * cof_df)
-        + apply(&dcof) * (t.lambda * (j - t.alpha)))
+        + apply(&dcof) * volume_term(t, &f, j, s))
         * t.volume
 }
 
+/// The factor `lambda_s (J - alpha)` of the determinant's Hessian in the tet's stiffness at
+/// `F` (columns `f`, `J`, `s = 1 / (I_C + 1)`), scaled back where it would make the Hessian
+/// indefinite ([`definite_volume_term`]): the stiffness the solve and the damping use is
+/// positive semi-definite (projected Newton).
+#[inline]
+fn volume_term<V: Vector>(t: &ElasticTet<V::Real>, f: &[V; 3], j: V::Real, s: V::Real) -> V::Real {
+    let one = V::Real::ONE;
+    let d = t.lambda * (j - t.alpha);
+    let a = t.mu * (one - s);
+    let b = (one + one) * t.mu * s * s;
+    let columns = f.map(|c| c.to_dvec3());
+    let kept = definite_volume_term(
+        a.to_f64(),
+        b.to_f64(),
+        t.lambda.to_f64(),
+        d.to_f64(),
+        columns,
+    );
+    if kept == d.to_f64() {
+        d
+    } else {
+        V::Real::from_f64(kept)
+    }
+}
+
 /// A tet's stiffness at one configuration, kept for products with it ([`elastic_product`]):
-/// the columns of `F` and of its cofactor matrix, and the factors of `V0 dP[dF]`.
+/// the columns of `F` and of its cofactor matrix, and the factors of `V0 dP[dF]`, the last
+/// scaled back where the energy's Hessian is indefinite (`volume_term`), so that the Newton
+/// step's matrix stays positive definite.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ElasticLinear<V: Vector> {
     f: [V; 3],
     cof: [V; 3],
-    /// `V0 mu_s (1 - s)`, `V0 2 mu_s s^2`, `V0 lambda_s`, `V0 lambda_s (J - alpha)`, with
-    /// `s = 1 / (I_C + 1)`.
+    /// `V0 mu_s (1 - s)`, `V0 2 mu_s s^2`, `V0 lambda_s`, `V0 lambda_s (J - alpha)` (the
+    /// last as `volume_term` keeps it), with `s = 1 / (I_C + 1)`.
     k: [V::Real; 4],
 }
 
@@ -217,7 +245,7 @@ pub fn elastic_linearise<V: Vector>(t: &ElasticTet<V::Real>, p: [V; 4]) -> Elast
             v * t.mu * (one - s),
             v * (one + one) * t.mu * s * s,
             v * t.lambda,
-            v * t.lambda * (j - t.alpha),
+            v * volume_term(t, &f, j, s),
         ],
     }
 }
@@ -248,6 +276,15 @@ pub fn elastic_product<V: Vector>(
     let corner = |g: [V::Real; 3]| dp[0] * g[0] + dp[1] * g[1] + dp[2] * g[2];
     let (a, b, c) = (corner(t.shape[0]), corner(t.shape[1]), corner(t.shape[2]));
     [-(a + b + c), a, b, c]
+}
+
+/// How much the corner displacements `d` change tet `t`'s deformation gradient: the
+/// Frobenius norm of `dF = sum_a d_a g_a^T`, the strain a step makes in the tet (a rigid
+/// translation makes none).
+#[inline]
+pub fn strain_change<V: Vector>(t: &ElasticTet<V::Real>, d: [V; 4]) -> V::Real {
+    let df = columns(t, d);
+    (df[0].dot(df[0]) + df[1].dot(df[1]) + df[2].dot(df[2])).sqrt()
 }
 
 /// The tet's energy `V0 Psi(F)` [J] at positions `p`.

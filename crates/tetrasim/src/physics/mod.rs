@@ -27,6 +27,7 @@ mod anderson;
 mod chebyshev;
 mod constraint;
 mod contact;
+mod definite;
 mod elastic;
 mod held;
 mod integrate;
@@ -47,10 +48,11 @@ pub use constraint::{
     spring_constraint, spring_softness, volume_constraint, volume_softness,
 };
 pub use contact::{contact_push, end_position, surface_friction, Solve};
+pub use definite::{definite_volume_term, singular_values};
 pub use elastic::{
     elastic_corner, elastic_energy, elastic_linearise, elastic_product, elastic_rate,
-    elastic_start, elastic_step, lame, node_block, shape_gradients, stable_neo_hookean, sym3_apply,
-    sym3_inverse, ElasticLinear, ElasticTet, Sym3,
+    elastic_start, elastic_step, lame, node_block, shape_gradients, stable_neo_hookean,
+    strain_change, sym3_apply, sym3_inverse, ElasticLinear, ElasticTet, Sym3,
 };
 pub use held::{floor_holds, held_block, held_increment, held_mass, HELD_GAP, HELD_STIFFNESS};
 pub use integrate::{

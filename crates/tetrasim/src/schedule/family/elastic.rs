@@ -12,12 +12,12 @@
 use super::{Access, BufferId, PassKind};
 use crate::model::{adjacency, Csr, Model};
 use crate::physics::{
-    elastic_corner, elastic_rate, held_block, node_block, shape_gradients, stable_neo_hookean,
-    sym3_inverse, ElasticTet, Real, Sym3, Vector,
+    elastic_corner, elastic_product, held_block, node_block, shape_gradients, stable_neo_hookean,
+    strain_change, sym3_inverse, ElasticLinear, ElasticTet, Real, Sym3, Vector,
 };
 use crate::problem::Problem;
 
-/// The largest strain change (step length over a tet's height at the node) a
+/// The largest strain change (the norm of the change of a tet's deformation gradient) a
 /// conjugate-gradient step may make without a check of the incremental potential: the
 /// quadratic model's error is of third order in it, far below the step's gain.
 pub const TRUSTED_STRAIN: f64 = 0.01;
@@ -190,20 +190,22 @@ impl<R: Real> ElasticNodes<R> {
         }
     }
 
-    /// The largest strain change of moving node `i` by `step` in its tets: its length
-    /// times the node's reach. A conjugate-gradient step whose largest strain change is at most
-    /// [`TRUSTED_STRAIN`] is taken as it is; a longer one is checked against the step's
-    /// incremental potential and halved until it lowers it.
+    /// The strain change of moving tet `t`'s corners by `step` (the norm of its `dF`;
+    /// [`crate::physics::strain_change`]). A conjugate-gradient step whose largest strain
+    /// change over the tets is at most [`TRUSTED_STRAIN`] is taken as it is; a longer one
+    /// is checked against the step's incremental potential and halved until it lowers it.
     #[inline]
-    pub fn strain<V: Vector<Real = R>>(&self, i: usize, step: V) -> R {
-        step.length() * self.reach[i]
+    pub fn strain<V: Vector<Real = R>>(&self, t: usize, step: [V; 4]) -> R {
+        strain_change(&self.tets[t], step)
     }
 
     /// Node `i`'s row of the step's Newton system, linearised where each node `k` ends
-    /// the step so far, `end(k)` (it started at `start_of(k)`), its elastic force so far
-    /// being `phi`: the residual `b_i = -(phi + dE/dx_i + beta (K v)_i)` [N] (`v` the
-    /// nodes' velocities over the step, `(end - start) / dt`; the step's equation is
-    /// `b = 0`) and the inverse of its diagonal block ([`node_block`]), the conjugate
+    /// the step so far, `end(k)`, its elastic force so far being `phi`: the residual
+    /// `b_i = -(phi + dE/dx_i + beta (K v)_i)` [N] (`v` the nodes' velocities over the
+    /// step, `(end - start) / dt`, `K v` summed from its tets' corners, `rate(4 t + c)`:
+    /// [`crate::physics::elastic_product`] of tet `t`'s kept stiffness and its corners'
+    /// velocities, at its corner `c`; the step's equation is `b = 0`) and the inverse of
+    /// its diagonal block ([`node_block`]), the conjugate
     /// gradients' preconditioner, the block stiffened along `held`, the direction a contact
     /// holds the node along (zero where none does; [`held_block`]), and that stiffening `h`.
     /// Zero for a pinned node (`w = 0`), whose position is given.
@@ -217,23 +219,19 @@ impl<R: Real> ElasticNodes<R> {
         phi: V,
         held: V,
         tets: &[[u32; 4]],
-        start_of: impl Fn(usize) -> V,
         end: impl Fn(usize) -> V,
+        rate: impl Fn(usize) -> V,
     ) -> (V, Sym3<R>, V) {
         if w <= R::ZERO {
             return (V::ZERO, [R::ZERO; 6], V::ZERO);
         }
         let (grad, hessian) = self.gradient(i, tets, &end);
         let beta = self.damping[i];
-        let mut rate = V::ZERO;
-        if beta > R::ZERO {
-            for &item in self.node_tets.row(i) {
-                let (t, corner) = ((item / 4) as usize, (item % 4) as usize);
-                let p = tets[t].map(|k| end(k as usize));
-                let u = tets[t].map(|k| (end(k as usize) - start_of(k as usize)) * (R::ONE / dt));
-                rate += elastic_rate(&self.tets[t], p, u, corner);
-            }
-        }
+        let rate = if beta > R::ZERO {
+            self.gather(i, rate)
+        } else {
+            V::ZERO
+        };
         let (block, h) = held_block(node_block(self.mass[i], dt, beta, hessian), held);
         let inverse = sym3_inverse(block).unwrap_or([R::ZERO; 6]);
         (-(grad + rate * beta + phi), inverse, h)
@@ -257,11 +255,35 @@ impl<R: Real> ElasticNodes<R> {
         if w <= R::ZERO {
             return V::ZERO;
         }
-        let mut k = V::ZERO;
-        for &item in self.node_tets.row(i) {
-            k += corner(item as usize);
-        }
+        let k = self.gather(i, corner);
         self.increment(i, dt, h, p, R::ONE) + k * (R::ONE + self.damping[i] / dt)
+    }
+
+    /// The sum of `corner(4 t + c)` over node `i`'s tets `t` (`c` its corner in each).
+    #[inline]
+    pub fn gather<V: Vector<Real = R>>(&self, i: usize, corner: impl Fn(usize) -> V) -> V {
+        let mut sum = V::ZERO;
+        for &item in self.node_tets.row(i) {
+            sum += corner(item as usize);
+        }
+        sum
+    }
+
+    /// Tet `t`'s stiffness `linear` (kept at the step's linearisation) times its corners'
+    /// velocities over the step so far, `(end - start) / dt`: the corners' shares of
+    /// `K v`, the Rayleigh damping's ([`ElasticNodes::newton_row`]).
+    #[inline]
+    pub fn rate_corners<V: Vector<Real = R>>(
+        &self,
+        t: usize,
+        tet: [u32; 4],
+        linear: &ElasticLinear<V>,
+        dt: R,
+        start: impl Fn(usize) -> V,
+        end: impl Fn(usize) -> V,
+    ) -> [V; 4] {
+        let u = tet.map(|k| (end(k as usize) - start(k as usize)) * (R::ONE / dt));
+        elastic_product(&self.tets[t], linear, u)
     }
 
     /// The elastic force a move `alpha p` of node `i` within the step adds: its inertia's

@@ -130,7 +130,7 @@ impl NewtonScalars {
 
 /// Iteration `iteration` of sweep `s`'s conjugate gradients as `member`: the force
 /// increments `m/dt^2 alpha p` in the node results. Four phases between barriers (the
-/// first iteration linearises the step in three more); the caller's wait ends the last.
+/// first iteration linearises the step in four more); the caller's wait ends the last.
 /// The last iteration of the step also removes the rigid part of each free object's
 /// elastic forces, as `cpu-ref` does (two more phases).
 ///
@@ -239,9 +239,17 @@ unsafe fn increments(
         unsafe {
             let at = cg.at.whole();
             let linear = cg.linear.part(own_tets.clone());
-            for (linear, t) in linear.iter_mut().zip(own_tets.clone()) {
+            let rates = cg.corners.part(own_tets.clone());
+            for ((linear, rate), t) in linear.iter_mut().zip(rates).zip(own_tets.clone()) {
                 *linear = elastic_linearise(&family.tets[t], tets[t].map(|k| at[k as usize]));
+                let (start, end) = (|k| x[k], |k| at[k]);
+                *rate = family.rate_corners(t, tets[t], linear, dt, start, end);
             }
+        }
+        member.wait();
+        // SAFETY: nobody writes the forces, `at` or the corners; these nodes' vectors are
+        // this member's.
+        unsafe {
             let (f, floor, contact) = (
                 outputs.f.whole(),
                 outputs.floor_force.whole(),
@@ -253,6 +261,7 @@ unsafe fn increments(
             let (y, dx) = (cg.y.part(nodes.clone()), cg.dx.part(nodes.clone()));
             let held = cg.held.part(nodes.clone());
             let colliders = inputs.colliders.as_ref().map_or(&[][..], |c| c.at);
+            let rates = cg.corners.whole();
             for (j, i) in nodes.clone().enumerate() {
                 let pushed = contact.get(i).copied().unwrap_or(Vec3A::ZERO);
                 let phi = f[i] - k.gravity * family.mass[i] - Vec3A::Y * floor[i] - pushed;
@@ -260,9 +269,10 @@ unsafe fn increments(
                 let on_floor = inputs.floor.then_some(floor[i] > 0.0);
                 let normal =
                     collider::held_normal(on_floor, pushed, at[i], family.reach[i], colliders);
-                let (start, end) = (|q| x[q], |q| at[q]);
+                let end = |q| at[q];
+                let rate = |item: usize| rates[item / 4][item % 4];
                 (r[j], inverse[j], held[j]) =
-                    family.newton_row(i, w[i], dt, phi, normal, tets, start, end);
+                    family.newton_row(i, w[i], dt, phi, normal, tets, end, rate);
                 z[j] = sym3_apply(inverse[j], r[j]);
                 p[j] = z[j];
             }
@@ -309,18 +319,20 @@ unsafe fn increments(
         out.fill(Vec3A::ZERO);
         return;
     }
-    // The largest strain change per unit step, each chunk's maximum then theirs.
+    // The largest strain change per unit step, each chunk of tets' maximum then theirs.
+    let tet_chunks = member.block(tets.len().div_ceil(CHUNK));
     // SAFETY: nobody writes `p`; these chunks' sums are this member's.
     unsafe {
-        let (p, sums) = (cg.p.whole(), cg.sums.part(chunks.clone()));
-        for (c, sum) in chunks.clone().zip(sums) {
-            let strains = (c * CHUNK..((c + 1) * CHUNK).min(n)).map(|i| family.strain(i, p[i]));
+        let (p, sums) = (cg.p.whole(), cg.tet_sums.part(tet_chunks.clone()));
+        for (c, sum) in tet_chunks.zip(sums) {
+            let strains = (c * CHUNK..((c + 1) * CHUNK).min(tets.len()))
+                .map(|t| family.strain(t, tets[t].map(|k| p[k as usize])));
             *sum = f64::from(strains.fold(0.0, f32::max));
         }
     }
     member.wait();
     // SAFETY: after a wait nobody writes the sums until the next phase.
-    let strain = unsafe { cg.sums.whole() }
+    let strain = unsafe { cg.tet_sums.whole() }
         .iter()
         .copied()
         .fold(0.0, f64::max);

@@ -106,6 +106,12 @@ impl ReferenceBackend {
             cg.linear = (tets.iter().zip(&nodes.tets))
                 .map(|(tet, t)| elastic_linearise(t, tet.map(|k| cg.at[k as usize])))
                 .collect();
+            let rates: Vec<[DVec3; 4]> = (0..tets.len())
+                .map(|t| {
+                    let (start, end) = (|k| self.x[k], |k| cg.at[k]);
+                    nodes.rate_corners(t, tets[t], &cg.linear[t], dt, start, end)
+                })
+                .collect();
             cg.r = vec![DVec3::ZERO; n];
             cg.inverse = vec![[0.0; 6]; n];
             cg.held = vec![DVec3::ZERO; n];
@@ -116,9 +122,9 @@ impl ReferenceBackend {
                 let pushed = step.contacts[i].force;
                 let normal =
                     collider::held_normal(floor, pushed, cg.at[i], nodes.reach[i], &colliders);
-                let (start, end) = (|k| self.x[k], |k| cg.at[k]);
+                let (end, rate) = (|k| cg.at[k], |item: usize| rates[item / 4][item % 4]);
                 (cg.r[i], cg.inverse[i], cg.held[i]) =
-                    nodes.newton_row(i, w[i], dt, phi[i], normal, tets, start, end);
+                    nodes.newton_row(i, w[i], dt, phi[i], normal, tets, end, rate);
             }
             cg.z = (cg.r.iter().zip(&cg.inverse))
                 .map(|(r, m)| sym3_apply(*m, *r))
@@ -150,8 +156,8 @@ impl ReferenceBackend {
         // and raises the incremental potential (a large deformation the linearisation
         // misjudges) is halved until it lowers it or is trusted; an untrusted step is followed by
         // a new Newton step, linearised where the nodes then end.
-        let strain = (members.iter())
-            .map(|&i| nodes.strain(i as usize, cg.p[i as usize]))
+        let strain = (0..tets.len())
+            .map(|t| nodes.strain(t, tets[t].map(|k| cg.p[k as usize])))
             .fold(0.0, f64::max);
         let (at, dx, p) = (&cg.at, &cg.dx, &cg.p);
         let stepped = backtrack(cg.rz / curvature, strain, cg.potential, |a| {
