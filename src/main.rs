@@ -22,8 +22,13 @@ fn main() -> std::process::ExitCode {
                 false => eprintln!("error: {message}"),
             }
             // A diverged run exits with 3 (docs/STABILITY.md), a bad scene file with 2 (as
-            // clap does for bad flags); other failures with 1.
-            if diverged {
+            // clap does for bad flags), a run ended by SIGINT or SIGTERM with 130 (as a
+            // shell reports an interrupted command); other failures with 1.
+            if e.downcast_ref::<tetrasim_cli::cli::InterruptedRun>()
+                .is_some()
+            {
+                std::process::ExitCode::from(130)
+            } else if diverged {
                 std::process::ExitCode::from(3)
             } else if e.downcast_ref::<tetrasim_cli::cli::BadScene>().is_some() {
                 std::process::ExitCode::from(2)

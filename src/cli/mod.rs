@@ -4,6 +4,7 @@
 mod bench;
 mod gpu_args;
 mod info;
+mod outcome;
 pub mod params;
 mod plan;
 mod render;
@@ -12,8 +13,9 @@ mod stability;
 mod tradeoff;
 
 pub use bench::BenchArgs;
+pub use outcome::{BadScene, DivergedRun, InterruptedRun};
 pub use render::RenderArgs;
-pub use run::{BadScene, DivergedRun, RunArgs};
+pub use run::RunArgs;
 pub use tradeoff::{ScalingArgs, TradeoffArgs};
 
 /// `tetrasim`: volume-preserving mass-spring simulation of tetrahedral meshes.

@@ -8,6 +8,7 @@ use anyhow::Context as _;
 use tetrasim::backend::vulkan::EngineOptions;
 
 use super::gpu_args::GpuArgs;
+use super::outcome::{BadScene, DivergedRun, InterruptedRun};
 use crate::launch::{stage, Staged};
 use crate::overrides::{MaterialOverrides, SolverOverrides};
 use crate::preset::{Preset, PresetName};
@@ -406,18 +407,6 @@ impl RunArgs {
     }
 }
 
-/// A scene file that cannot be read, parsed, validated or staged (a bad key, value, mesh or
-/// collider surface): `tetrasim` exits with status 2, as for bad flags, having written
-/// nothing.
-#[derive(Debug, thiserror::Error)]
-#[error(transparent)]
-pub struct BadScene(pub tetrasim::Error);
-
-/// A run that diverged: `tetrasim` exits with status 3 (after writing the metrics).
-#[derive(Debug, thiserror::Error)]
-#[error("{0}")]
-pub struct DivergedRun(pub String);
-
 /// `jacobi`, or `gauss-seidel (8 groups)`, with ` + global volume` when it is solved and
 /// ` + anderson M` with Anderson acceleration, ` + minres K` with MINRES after the sweeps,
 /// and the inversion sweeps when they run.
@@ -530,6 +519,7 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
         },
         checkpoint: checkpointing,
     };
+    crate::runner::listen_for_interrupts()?;
     let records = run_methods(model, params, &methods, &options)?;
     // The paper's column only for its experiment: the `seed` preset's drop from flags.
     let paper = args.scene.is_none() && args.preset() == crate::preset::PresetName::Seed;
@@ -539,6 +529,14 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
     if let Some(path) = &out.json {
         write_json(path, &records)?;
         eprintln!("metrics written to {}", path.display());
+    }
+    if let Some(r) = records.iter().find(|r| r.interrupted) {
+        return Err(InterruptedRun {
+            method: r.method.clone(),
+            frames: r.frames_run,
+            of: r.frames,
+        }
+        .into());
     }
     match records.iter().find_map(|r| r.divergence.as_ref()) {
         Some(d) => Err(DivergedRun(d.clone()).into()),

@@ -3,8 +3,10 @@
 //! progress, write surfaces on request, and return a [`RunRecord`]. `run`, `bench`, `render`
 //! and the tests run experiments through here.
 
+mod interrupt;
 mod output;
 
+pub use interrupt::{interrupt_flag, listen_for_interrupts};
 pub use output::{
     create_dir, frame_output, prepare_output_file, prepare_outputs, write_atomically, FrameOutput,
     OutputFormat, OutputUnits, Recorder,
@@ -70,6 +72,9 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
     let bar = progress_bar(options, params.method);
     let frame_time = params.frame_time();
     let mut sim = Simulation::new(model, params);
+    if let Some(flag) = interrupt_flag() {
+        sim.stop_on(flag);
+    }
     if let Some(path) = &options.checkpoint.resume {
         let checkpoint = Checkpoint::read(path)?;
         if checkpoint.frames() >= options.frames {
@@ -104,7 +109,7 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
     // frame.
     let next = |done: u32, every: u32| (done / every + 1) * every;
     let checkpoint_every = (options.checkpoint.save.as_ref()).and(options.checkpoint.every);
-    while sim.frames() < frames && !sim.stopped() {
+    while sim.frames() < frames && !sim.stopped() && !sim.interrupted() {
         let done = sim.frames();
         let until = [
             options.output.as_ref().map(|out| next(done, out.every)),
@@ -127,7 +132,8 @@ pub fn run(model: &Model, params: &SimParams, options: &RunOptions) -> Result<Ru
         }
         let (done, save) = (sim.frames(), &options.checkpoint.save);
         if let (Some(path), false) = (save, sim.stopped()) {
-            if checkpoint_every.is_some_and(|every| done % every == 0) || done == frames {
+            let at_end = done == frames || sim.interrupted();
+            if checkpoint_every.is_some_and(|every| done % every == 0) || at_end {
                 Checkpoint::take(model, params, backend.as_mut(), &sim)?.write(path)?;
             }
         }
@@ -164,19 +170,21 @@ pub fn run_methods(
     methods: &[Method],
     options: &RunOptions,
 ) -> Result<Vec<RunRecord>> {
-    methods
-        .iter()
-        .map(|&method| {
-            run(
-                model,
-                &SimParams {
-                    method,
-                    ..params.clone()
-                },
-                options,
-            )
-        })
-        .collect()
+    let mut records = Vec::new();
+    for &method in methods {
+        let params = SimParams {
+            method,
+            ..params.clone()
+        };
+        let record = run(model, &params, options)?;
+        // An interrupted run ends the methods still to run too.
+        let interrupted = record.interrupted;
+        records.push(record);
+        if interrupted {
+            break;
+        }
+    }
+    Ok(records)
 }
 
 fn progress_bar(options: &RunOptions, method: Method) -> ProgressBar {

@@ -199,6 +199,10 @@ pub struct RunRecord {
     pub diverged: bool,
     /// Where and why it diverged.
     pub divergence: Option<String>,
+    /// The run was asked to end (SIGINT or SIGTERM) before its last frame; the series hold
+    /// the frames it completed.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub interrupted: bool,
     /// GPU device name (`vulkan` only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub device: Option<String>,
@@ -250,6 +254,7 @@ impl RunRecord {
             wall_s: 0.0,
             diverged: false,
             divergence: None,
+            interrupted: false,
             device: None,
             atomics: None,
             passes: None,
@@ -464,6 +469,7 @@ mod tests {
             wall_s: 0.01,
             diverged: false,
             divergence: None,
+            interrupted: false,
             device: None,
             atomics: None,
             passes: None,

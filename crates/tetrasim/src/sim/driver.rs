@@ -11,6 +11,8 @@
 //! `tests/gpu_frames_in_flight.rs` on `vulkan`).
 
 use std::collections::VecDeque;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Instant;
 
 use crate::backend::{Backend, ContactSample, Divergence, Reactions, VolumeSample};
@@ -60,6 +62,9 @@ pub struct Simulation {
     pub divergence: Option<String>,
     /// Wall time spent in `step_frame` over all frames [s] (sampling excluded).
     pub stepping_s: f64,
+    /// Set (by a signal handler, say) to end the run after the frames in flight
+    /// ([`Simulation::stop_on`]).
+    interrupt: Option<Arc<AtomicBool>>,
 }
 
 /// What one call of [`Simulation::advance`] did.
@@ -82,7 +87,20 @@ impl Simulation {
             series: Series::default(),
             divergence: None,
             stepping_s: 0.0,
+            interrupt: None,
         }
+    }
+
+    /// Ends the run, once `flag` is set, after the frames already started: no further frame
+    /// is submitted, those in flight are completed and recorded, and [`Simulation::interrupted`]
+    /// says so (the command line sets it on SIGINT and SIGTERM).
+    pub fn stop_on(&mut self, flag: Arc<AtomicBool>) {
+        self.interrupt = Some(flag);
+    }
+
+    /// Whether the run was asked to end before its last frame ([`Simulation::stop_on`]).
+    pub fn interrupted(&self) -> bool {
+        (self.interrupt.as_ref()).is_some_and(|flag| flag.load(Ordering::SeqCst))
     }
 
     /// Frames completed.
@@ -145,6 +163,7 @@ impl Simulation {
         }
         record.diverged = self.divergence.is_some();
         record.divergence = self.divergence.clone();
+        record.interrupted = self.interrupted();
         record.summarise();
     }
 
@@ -206,6 +225,7 @@ impl Simulation {
         let mut failed_submit = None;
         loop {
             while !self.stopped()
+                && !self.interrupted()
                 && failed_submit.is_none()
                 && submitted < frames
                 && started.len() < depth
