@@ -45,7 +45,7 @@ pub enum Command {
     /// Sweep dt x ks per method and write stability heat maps (PNG) and a table.
     #[command(allow_negative_numbers = true)]
     Stability(stability::StabilityArgs),
-    /// Simulate like `run` (always on the `vulkan` backend) and draw it offscreen: PNG
+    /// Simulate like `run` (on `--backend`; a CPU backend's state is drawn through `vulkan`'s buffers) and draw it offscreen: PNG
     /// frames, an animated GIF, a contact sheet of every method (coloured by V/V0 by default).
     #[command(allow_negative_numbers = true)]
     Render(Box<RenderArgs>),

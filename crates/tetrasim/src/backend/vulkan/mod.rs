@@ -192,7 +192,8 @@ impl VulkanBackend {
         if params.method == crate::params::Method::NeoHookean {
             return Err(Error::param(
                 "method",
-                "neo-hookean runs on the cpu-ref and cpu backends; the vulkan engine does not                  run the finite elements yet (use --backend cpu)",
+                "neo-hookean runs on the cpu-ref and cpu backends; the vulkan engine does not run \
+                 the finite elements yet (use --backend cpu)",
             ));
         }
         let depth = options.frames_in_flight.unwrap_or(FRAMES_IN_FLIGHT);
