@@ -557,7 +557,7 @@ fn bench_takes_a_scene_with_its_material() {
 
 /// `tradeoff --cantilever`: springs and finite elements on one front against scikit-fem's
 /// cantilever; at the default 10 iterations the finite elements are within 5 % of its field
-/// and the springs far from it (measured: 0.89 / 1.55 % against 116 / 204 % at nu 0.3 /
+/// and the springs far from it (measured: 0.86 / 0.60 % against 116 / 204 % at nu 0.3 /
 /// 0.45), so the front holds the finite elements' points (the least error is on it
 /// whatever the timings).
 #[test]

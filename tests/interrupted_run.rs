@@ -54,7 +54,7 @@ fn sigterm_ends_a_run_with_its_record_frames_and_checkpoint_whole() {
         dir.path().join("run.ckpt"),
     );
     let total = 1_000_000;
-    let mut child = run_sphere(total)
+    let child = run_sphere(total)
         .args(["--format", "vtk", "--every", "5", "--json"])
         .arg(&json)
         .arg("--out-dir")

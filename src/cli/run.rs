@@ -413,7 +413,7 @@ impl RunArgs {
 pub(super) fn solver_label(params: &SimParams) -> String {
     if !params.has_springs() {
         return format!(
-            "newton (conjugate gradients, block-Jacobi preconditioned, {} per step)",
+            "newton (conjugate gradients, two-level preconditioned, {} per step)",
             params.iterations
         );
     }

@@ -17,7 +17,7 @@ pub enum Method {
     Volume,
     /// Finite elements: stable Neo-Hookean tets with the material's Young's modulus and
     /// Poisson's ratio, solved each step by one Newton step whose linear system gets
-    /// `iterations` iterations of block-Jacobi preconditioned conjugate gradients
+    /// `iterations` iterations of two-level preconditioned conjugate gradients
     /// (docs/PHYSICS.md, "Finite elements"). No springs.
     NeoHookean,
 }

@@ -25,6 +25,7 @@
 
 mod anderson;
 mod chebyshev;
+mod coarse;
 mod constraint;
 mod contact;
 mod definite;
@@ -42,6 +43,7 @@ pub use anderson::{
 pub use chebyshev::{
     chebyshev_rho, chebyshev_rho_limit, chebyshev_weights, CHEBYSHEV_MAX_REVERSAL,
 };
+pub use coarse::{touching, Aggregates, CoarseSpace, MOST_AGGREGATES, NO_AGGREGATE};
 pub use constraint::{
     compliant_multiplier, contact_held, distance_constraint, face_volume, global_multiplier,
     held_direction, implicit_accumulate, implicit_lambda, implicit_multiplier, inversion_floor,

@@ -1,5 +1,5 @@
 //! Finite elements (`neo-hookean`): each step one Newton step on the stable Neo-Hookean
-//! incremental potential, `(M/dt^2 + (1 + beta/dt) K) dx = b`, solved by block-Jacobi
+//! incremental potential, `(M/dt^2 + (1 + beta/dt) K) dx = b`, solved by two-level
 //! preconditioned conjugate gradients, one iteration per dispatch of the `elastic` pass
 //! (docs/PHYSICS.md, "Finite elements"). Its "constraints" are the nodes themselves, in one
 //! group; each iteration writes one force increment per node, `m/dt^2 alpha p`. Here: the
@@ -11,9 +11,12 @@
 
 use super::{Access, BufferId, PassKind};
 use crate::model::{adjacency, Csr, Model};
+use glam::DVec3;
+
 use crate::physics::{
     elastic_corner, elastic_product, held_block, node_block, shape_gradients, stable_neo_hookean,
-    strain_change, sym3_inverse, ElasticLinear, ElasticTet, Real, Sym3, Vector,
+    strain_change, sym3_inverse, Aggregates, CoarseSpace, ElasticLinear, ElasticTet, Real, Sym3,
+    Vector, NO_AGGREGATE,
 };
 use crate::problem::Problem;
 
@@ -117,6 +120,9 @@ pub struct ElasticNodes<R> {
     /// The node ranges of the objects with no pinned node: the elastic forces on each sum to
     /// no force and no torque ([`crate::physics::RigidPart`]).
     pub free_objects: Vec<std::ops::Range<usize>>,
+    /// The free nodes' aggregates: the conjugate gradients' coarse level
+    /// ([`crate::physics::CoarseSpace`]).
+    pub aggregates: Aggregates,
 }
 
 impl<R: Real> ElasticNodes<R> {
@@ -187,6 +193,12 @@ impl<R: Real> ElasticNodes<R> {
             damping,
             reach,
             free_objects,
+            aggregates: Aggregates::group(
+                &model.positions,
+                &model.inv_mass,
+                &model.objects,
+                &model.tets,
+            ),
         }
     }
 
@@ -293,6 +305,60 @@ impl<R: Real> ElasticNodes<R> {
     #[inline]
     pub fn increment<V: Vector<Real = R>>(&self, i: usize, dt: R, h: V, p: V, alpha: R) -> V {
         p * (alpha * self.mass[i] / (dt * dt)) + h * (h.dot(p) * alpha)
+    }
+
+    /// The coarse level of the conjugate gradients' preconditioner at the linearisation
+    /// `at` ([`CoarseSpace`]), its matrix not yet assembled.
+    pub fn coarse_space<V: Vector<Real = R>>(&self, at: &[V]) -> CoarseSpace {
+        CoarseSpace::new(&self.aggregates, |k| at[k].to_dvec3())
+    }
+
+    /// Aggregate `a`'s six columns of the coarse matrix `P^T A P` into `columns` (zeroed
+    /// here; column-major, all rows): its free nodes' own blocks (`m/dt^2 I + h h^T`, `h`
+    /// their contacts' stiffening) and its tets' stiffness `linear` times its modes, each
+    /// row scaled by `1 + beta/dt` as [`ElasticNodes::product`] scales it. In `f64` from
+    /// the `R` products.
+    #[allow(clippy::too_many_arguments)]
+    pub fn coarse_columns<V: Vector<Real = R>>(
+        &self,
+        coarse: &CoarseSpace,
+        a: usize,
+        tets: &[[u32; 4]],
+        at: &[V],
+        linear: &[ElasticLinear<V>],
+        held: &[V],
+        dt: R,
+        columns: &mut [f64],
+    ) {
+        columns.fill(0.0);
+        let aggregates = &self.aggregates;
+        let dt64 = dt.to_f64();
+        for &i in &aggregates.members[a] {
+            let i = i as usize;
+            let (m, h) = (self.mass[i].to_f64() / (dt64 * dt64), held[i].to_dvec3());
+            let block = [
+                m + h.x * h.x,
+                m + h.y * h.y,
+                m + h.z * h.z,
+                h.x * h.y,
+                h.y * h.z,
+                h.x * h.z,
+            ];
+            coarse.add_node(a, at[i].to_dvec3(), block, columns);
+        }
+        let of = |k: u32| {
+            Some(aggregates.of[k as usize] as usize).filter(|&b| b != NO_AGGREGATE as usize)
+        };
+        for &t in &aggregates.tets[a] {
+            let (t, tet) = (t as usize, tets[t as usize]);
+            let corners = tet.map(|k| (of(k), at[k as usize].to_dvec3()));
+            let scale = tet.map(|k| 1.0 + self.damping[k as usize].to_f64() / dt64);
+            let product = |d: [DVec3; 4]| {
+                let applied = elastic_product(&self.tets[t], &linear[t], d.map(V::from_dvec3));
+                std::array::from_fn(|c| applied[c].to_dvec3() * scale[c])
+            };
+            coarse.add_tet(a, corners, product, columns);
+        }
     }
 
     /// The sums over node `i`'s tets of the energy's gradient at its corner and the

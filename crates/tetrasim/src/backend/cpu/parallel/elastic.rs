@@ -6,105 +6,17 @@
 //! summed per chunk and the chunks' sums added in order by every member, so the result has
 //! the same bits on a team of any size.
 
+use super::coarse::{coarse_level, precondition};
 use super::iterations::{Inputs, Outputs};
+use super::newton::CHUNK;
 use super::*;
-use crate::backend::cpu::shared::SharedSlice;
 use crate::backend::cpu::team::Member;
 use crate::collider;
 use crate::physics::{
-    elastic_energy, elastic_linearise, elastic_product, held_increment, held_mass, sym3_apply,
-    ElasticLinear, ElasticTet, RigidPart, Sym3,
+    elastic_energy, elastic_linearise, elastic_product, held_increment, held_mass, touching,
+    ElasticTet, RigidPart,
 };
 use crate::schedule::family::{backtrack, ElasticNodes};
-
-/// Nodes per chunk of a dot product's partial sums.
-const CHUNK: usize = 256;
-
-/// The conjugate gradients' vectors, kept from step to step (empty without finite
-/// elements): per node the linearisation point, the residual, the preconditioned residual,
-/// the search direction, the matrix times it, the inverse diagonal block and the stiffening
-/// of the contact holding the node (zero: none; `cpu-ref`'s `held`); per tet its
-/// stiffness at the linearisation point and its product's corners; per chunk a partial sum.
-#[derive(Debug, Clone, Default)]
-pub(super) struct NewtonVectors {
-    at: Vec<Vec3A>,
-    /// Where inertia alone would take each node, the displacement added to `at` so far and
-    /// a trial position (the line search's).
-    y: Vec<Vec3A>,
-    dx: Vec<Vec3A>,
-    trial: Vec<Vec3A>,
-    r: Vec<Vec3A>,
-    z: Vec<Vec3A>,
-    p: Vec<Vec3A>,
-    q: Vec<Vec3A>,
-    inverse: Vec<Sym3<f32>>,
-    held: Vec<Vec3A>,
-    linear: Vec<ElasticLinear<Vec3A>>,
-    corners: Vec<[Vec3A; 4]>,
-    sums: Vec<f64>,
-    /// Per chunk of tets: a partial sum of their energies.
-    tet_sums: Vec<f64>,
-}
-
-impl NewtonVectors {
-    /// The vectors of `nodes` nodes and `tets` tets.
-    pub(super) fn new(nodes: usize, tets: usize) -> Self {
-        NewtonVectors {
-            at: vec![Vec3A::ZERO; nodes],
-            y: vec![Vec3A::ZERO; nodes],
-            dx: vec![Vec3A::ZERO; nodes],
-            trial: vec![Vec3A::ZERO; nodes],
-            r: vec![Vec3A::ZERO; nodes],
-            z: vec![Vec3A::ZERO; nodes],
-            p: vec![Vec3A::ZERO; nodes],
-            q: vec![Vec3A::ZERO; nodes],
-            inverse: vec![[0.0; 6]; nodes],
-            held: vec![Vec3A::ZERO; nodes],
-            linear: vec![ElasticLinear::default(); tets],
-            corners: vec![[Vec3A::ZERO; 4]; tets],
-            sums: vec![0.0; nodes.div_ceil(CHUNK)],
-            tet_sums: vec![0.0; tets.div_ceil(CHUNK)],
-        }
-    }
-
-    /// The vectors shared with the team.
-    pub(super) fn share(&mut self) -> NewtonShared<'_> {
-        NewtonShared {
-            at: SharedSlice::new(&mut self.at),
-            y: SharedSlice::new(&mut self.y),
-            dx: SharedSlice::new(&mut self.dx),
-            trial: SharedSlice::new(&mut self.trial),
-            r: SharedSlice::new(&mut self.r),
-            z: SharedSlice::new(&mut self.z),
-            p: SharedSlice::new(&mut self.p),
-            q: SharedSlice::new(&mut self.q),
-            inverse: SharedSlice::new(&mut self.inverse),
-            held: SharedSlice::new(&mut self.held),
-            linear: SharedSlice::new(&mut self.linear),
-            corners: SharedSlice::new(&mut self.corners),
-            sums: SharedSlice::new(&mut self.sums),
-            tet_sums: SharedSlice::new(&mut self.tet_sums),
-        }
-    }
-}
-
-/// [`NewtonVectors`] shared by the team.
-pub(super) struct NewtonShared<'a> {
-    at: SharedSlice<'a, Vec3A>,
-    y: SharedSlice<'a, Vec3A>,
-    dx: SharedSlice<'a, Vec3A>,
-    trial: SharedSlice<'a, Vec3A>,
-    r: SharedSlice<'a, Vec3A>,
-    z: SharedSlice<'a, Vec3A>,
-    p: SharedSlice<'a, Vec3A>,
-    q: SharedSlice<'a, Vec3A>,
-    inverse: SharedSlice<'a, Sym3<f32>>,
-    held: SharedSlice<'a, Vec3A>,
-    linear: SharedSlice<'a, ElasticLinear<Vec3A>>,
-    corners: SharedSlice<'a, [Vec3A; 4]>,
-    sums: SharedSlice<'a, f64>,
-    tet_sums: SharedSlice<'a, f64>,
-}
 
 /// What each member keeps between the iterations of a step (all members the same values).
 #[derive(Debug, Clone, Copy, Default)]
@@ -129,8 +41,9 @@ impl NewtonScalars {
 }
 
 /// Iteration `iteration` of sweep `s`'s conjugate gradients as `member`: the force
-/// increments `m/dt^2 alpha p` in the node results. Four phases between barriers (the
-/// first iteration linearises the step in four more); the caller's wait ends the last.
+/// increments `m/dt^2 alpha p` in the node results. Six phases between barriers (an
+/// iteration that linearises the step adds five, the step's first three more for the
+/// preconditioner's coarse level); the caller's wait ends the last.
 /// The last iteration of the step also removes the rigid part of each free object's
 /// elastic forces, as `cpu-ref` does (two more phases).
 ///
@@ -256,10 +169,10 @@ unsafe fn increments(
                 outputs.contact.whole(),
             );
             let at = cg.at.whole();
-            let (r, z) = (cg.r.part(nodes.clone()), cg.z.part(nodes.clone()));
-            let (p, inverse) = (cg.p.part(nodes.clone()), cg.inverse.part(nodes.clone()));
+            let (r, inverse) = (cg.r.part(nodes.clone()), cg.inverse.part(nodes.clone()));
             let (y, dx) = (cg.y.part(nodes.clone()), cg.dx.part(nodes.clone()));
             let held = cg.held.part(nodes.clone());
+            let touches = cg.touching.part(nodes.clone());
             let colliders = inputs.colliders.as_ref().map_or(&[][..], |c| c.at);
             let rates = cg.corners.whole();
             for (j, i) in nodes.clone().enumerate() {
@@ -273,9 +186,24 @@ unsafe fn increments(
                 let rate = |item: usize| rates[item / 4][item % 4];
                 (r[j], inverse[j], held[j]) =
                     family.newton_row(i, w[i], dt, phi, normal, tets, end, rate);
-                z[j] = sym3_apply(inverse[j], r[j]);
-                p[j] = z[j];
+                touches[j] = touching(on_floor, pushed, held[j]);
             }
+        }
+        member.wait();
+        if iteration == 0 {
+            // SAFETY: the caller's promise.
+            unsafe { coarse_level(member, inputs, cg, family) };
+        }
+        // SAFETY: the caller's promise.
+        unsafe { precondition(member, cg, family, nodes.clone()) };
+        // SAFETY: these nodes' vectors are this member's.
+        unsafe {
+            let (r, z, p) = (
+                cg.r.part(nodes.clone()),
+                cg.z.part(nodes.clone()),
+                cg.p.part(nodes.clone()),
+            );
+            p.copy_from_slice(z);
             partial(r, z);
         }
         member.wait();
@@ -351,9 +279,9 @@ unsafe fn increments(
     let alpha = alpha as f32;
     // SAFETY: these nodes' vectors are this member's; nobody writes the contacts' forces.
     unsafe {
-        let (r, z) = (cg.r.part(nodes.clone()), cg.z.part(nodes.clone()));
+        let r = cg.r.part(nodes.clone());
         let (p, q) = (cg.p.part(nodes.clone()), cg.q.part(nodes.clone()));
-        let (inverse, dx) = (cg.inverse.part(nodes.clone()), cg.dx.part(nodes.clone()));
+        let dx = cg.dx.part(nodes.clone());
         let held = cg.held.part(nodes.clone());
         let (floor, contact) = (outputs.floor_force.whole(), outputs.contact.whole());
         for (j, i) in nodes.clone().enumerate() {
@@ -362,10 +290,13 @@ unsafe fn increments(
             out[j] = held_increment(family.increment(i, dt, h, p[j], alpha), h, d, pushed);
             dx[j] += p[j] * alpha;
             r[j] -= q[j] * alpha;
-            z[j] = sym3_apply(inverse[j], r[j]);
         }
-        partial(r, z);
     }
+    member.wait();
+    // SAFETY: the caller's promise.
+    unsafe { precondition(member, cg, family, nodes.clone()) };
+    // SAFETY: these nodes' vectors are this member's.
+    unsafe { partial(cg.r.part(nodes.clone()), cg.z.part(nodes.clone())) };
     member.wait();
     let rz = total();
     let beta = (rz / scalars.rz) as f32;

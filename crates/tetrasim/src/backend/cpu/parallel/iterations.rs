@@ -61,7 +61,7 @@ pub(super) struct Outputs<'a> {
     /// Finite elements: per node, in group order, its step's force increment.
     pub node_out: SharedSlice<'a, Vec3A>,
     /// Finite elements: the conjugate gradients' vectors.
-    pub newton: super::elastic::NewtonShared<'a>,
+    pub newton: super::newton::NewtonShared<'a>,
     /// The Chebyshev forces two iterations back (total, floor).
     pub chebyshev: Option<(SharedSlice<'a, Vec3A>, SharedSlice<'a, f32>)>,
     /// Per chunk of every object's surface nodes, object after object (global

@@ -35,9 +35,11 @@ use crate::schedule::{Dispatch, PassKind, Schedule};
 mod anderson;
 mod backend;
 mod blocks;
+mod coarse;
 mod elastic;
 mod inversion;
 mod iterations;
+mod newton;
 #[cfg(test)]
 mod tests;
 

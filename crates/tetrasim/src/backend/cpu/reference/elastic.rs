@@ -1,5 +1,6 @@
 //! `cpu-ref`'s finite elements: each step one Newton step on the stable Neo-Hookean energy,
-//! its linear system solved by block-Jacobi preconditioned conjugate gradients, one
+//! its linear system solved by conjugate gradients with a two-level preconditioner
+//! (block-Jacobi and rigid modes of aggregates; [`crate::physics::CoarseSpace`]), one
 //! iteration per dispatch of the `elastic` pass (docs/PHYSICS.md, "Finite elements").
 
 use glam::DVec3;
@@ -9,7 +10,7 @@ use super::ReferenceBackend;
 use crate::collider;
 use crate::physics::{
     elastic_energy, elastic_linearise, elastic_product, end_position, held_increment, held_mass,
-    sym3_apply, ElasticLinear, RigidPart, Sym3,
+    sym3_apply, touching, CoarseSpace, ElasticLinear, RigidPart, Sym3, NO_AGGREGATE,
 };
 use crate::schedule::family::{backtrack, ElasticNodes, Family};
 use crate::schedule::GroupAt;
@@ -37,6 +38,10 @@ pub(super) struct NewtonCg {
     /// Per node: the stiffening of the contact that holds it at the linearisation (zero:
     /// none; [`ElasticNodes::newton_row`]).
     held: Vec<DVec3>,
+    /// The coarse level of the preconditioner at this linearisation.
+    coarse: CoarseSpace,
+    /// Per node: in contact at the latest linearisation (left out of the coarse correction).
+    touching: Vec<bool>,
     rz: f64,
     /// Converged, or the direction met non-positive curvature: no further increments.
     done: bool,
@@ -115,6 +120,7 @@ impl ReferenceBackend {
             cg.r = vec![DVec3::ZERO; n];
             cg.inverse = vec![[0.0; 6]; n];
             cg.held = vec![DVec3::ZERO; n];
+            cg.touching = vec![false; n];
             let colliders = collider::at_step(&model.colliders, self.steps, dt);
             for &i in members {
                 let i = i as usize;
@@ -125,10 +131,21 @@ impl ReferenceBackend {
                 let (end, rate) = (|k| cg.at[k], |item: usize| rates[item / 4][item % 4]);
                 (cg.r[i], cg.inverse[i], cg.held[i]) =
                     nodes.newton_row(i, w[i], dt, phi[i], normal, tets, end, rate);
+                cg.touching[i] = touching(floor, pushed, cg.held[i]);
             }
-            cg.z = (cg.r.iter().zip(&cg.inverse))
-                .map(|(r, m)| sym3_apply(*m, *r))
-                .collect();
+            if iteration == 0 {
+                // The coarse level, once per step.
+                let mut coarse = nodes.coarse_space(&cg.at);
+                let n = coarse.unknowns();
+                let mut columns = vec![0.0; n * n];
+                for (a, columns) in columns.chunks_mut(6 * n).enumerate() {
+                    let (at, linear, held) = (&cg.at, &cg.linear, &cg.held);
+                    nodes.coarse_columns(&coarse, a, tets, at, linear, held, dt, columns);
+                }
+                coarse.assemble(&columns);
+                cg.coarse = coarse;
+            }
+            cg.z = precondition(nodes, cg);
             cg.p.clone_from(&cg.z);
             cg.rz = dot(&cg.r, &cg.z);
             cg.done = !positive(cg.rz);
@@ -176,8 +193,8 @@ impl ReferenceBackend {
             let pushed = DVec3::Y * step.floor[i] + step.contacts[i].force;
             sum[i] = held_increment(nodes.increment(i, dt, h, cg.p[i], alpha), h, d, pushed);
             cg.r[i] -= q[i] * alpha;
-            cg.z[i] = sym3_apply(cg.inverse[i], cg.r[i]);
         }
+        cg.z = precondition(nodes, cg);
         let rz = dot(&cg.r, &cg.z);
         let beta = rz / cg.rz;
         for (p, z) in cg.p.iter_mut().zip(&cg.z) {
@@ -214,6 +231,33 @@ impl ReferenceBackend {
             .sum();
         inertia + energy
     }
+}
+
+/// The two-level preconditioner: each node's inverse block times its residual plus the
+/// coarse correction `P A_c^-1 P^T r`.
+fn precondition(nodes: &ElasticNodes<f64>, cg: &NewtonCg) -> Vec<DVec3> {
+    let aggregates = &nodes.aggregates;
+    let mut u = vec![0.0; cg.coarse.unknowns()];
+    for (a, nodes) in aggregates.members.iter().enumerate() {
+        for &i in nodes {
+            if cg.touching[i as usize] {
+                continue;
+            }
+            let share = cg.coarse.restrict(a, cg.at[i as usize], cg.r[i as usize]);
+            (u[6 * a..6 * a + 6].iter_mut().zip(share)).for_each(|(u, s)| *u += s);
+        }
+    }
+    cg.coarse.solve(&mut u);
+    (0..cg.r.len())
+        .map(|i| {
+            let z = sym3_apply(cg.inverse[i], cg.r[i]);
+            match aggregates.of[i] {
+                NO_AGGREGATE => z,
+                _ if cg.touching[i] => z,
+                a => z + cg.coarse.prolong(a as usize, cg.at[i], &u),
+            }
+        })
+        .collect()
 }
 
 /// `sum_i a_i . b_i`, in node order.

@@ -107,7 +107,7 @@ pub struct ParallelBackend {
     /// What the supports did in the last step, for the forces out.
     supports: reactions::Supports,
     /// Finite elements: the conjugate gradients' vectors (empty otherwise).
-    newton: super::elastic::NewtonVectors,
+    newton: super::newton::NewtonVectors,
     frame: u32,
     /// Divergence speed limit [m/s] ([`crate::stability::speed_limit`]).
     speed_limit: f32,
@@ -256,7 +256,16 @@ impl ParallelBackend {
             elastic_warm: has(ConstraintKind::Elastic),
             supports: reactions::Supports::of(model, params.floor),
             newton: match has(ConstraintKind::Elastic) {
-                true => super::elastic::NewtonVectors::new(model.node_count(), model.tets.len()),
+                true => super::newton::NewtonVectors::new(
+                    model.node_count(),
+                    model.tets.len(),
+                    (sweeps.iter())
+                        .find_map(|s| match &s.family {
+                            Family::Elastic(nodes) => Some(nodes.aggregates.len()),
+                            _ => None,
+                        })
+                        .unwrap_or(0),
+                ),
                 false => Default::default(),
             },
             tet_out: if has(ConstraintKind::Volume) {
