@@ -16,8 +16,8 @@ use crate::schedule::family::ElasticNodes;
 /// matrix. Three phases; the last ends with a wait.
 ///
 /// # Safety
-/// As [`super::elastic::iteration`], after a wait that ended the writes of `at`, the stiffnesses and
-/// `held`.
+/// As [`super::elastic::iteration`], after a wait that ended the writes of `at`, the
+/// stiffnesses and `held`.
 pub(super) unsafe fn coarse_level(
     member: &Member<'_>,
     inputs: &Inputs<'_>,
@@ -56,7 +56,8 @@ pub(super) unsafe fn coarse_level(
 /// every member) and writes its nodes' `z`. One phase and the start of the next.
 ///
 /// # Safety
-/// As [`super::elastic::iteration`], after a wait that ended the writes of `r`; `nodes` this member's.
+/// As [`super::elastic::iteration`], after a wait that ended the writes of `r`; `nodes`
+/// this member's.
 pub(super) unsafe fn precondition(
     member: &Member<'_>,
     cg: &NewtonShared<'_>,
@@ -77,7 +78,8 @@ pub(super) unsafe fn precondition(
                 .iter()
                 .filter(|&&i| !touches[i as usize])
             {
-                let share = coarse.restrict(a, at[i as usize].as_dvec3(), r[i as usize].as_dvec3());
+                let (x, residual) = (at[i as usize].as_dvec3(), r[i as usize].as_dvec3());
+                let share = coarse.restrict(a, x, residual);
                 sum.iter_mut().zip(share).for_each(|(s, x)| *s += x);
             }
         }
