@@ -62,6 +62,7 @@
 
 mod cursor;
 mod fields;
+pub mod fuzzing;
 pub mod gmsh;
 pub mod medit;
 pub mod obj;

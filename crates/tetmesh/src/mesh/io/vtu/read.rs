@@ -397,7 +397,9 @@ impl Grid<'_> {
                 "the data ends inside its compression header (truncated?)".into(),
             ));
         }
-        let mut out = Vec::with_capacity(want);
+        // The values' size comes from the file: reserve no more than the compressed bytes
+        // can inflate to (zlib's largest ratio); the blocks' own checks bound the rest.
+        let mut out = Vec::with_capacity(want.min(b.len().saturating_mul(ZLIB_LARGEST_RATIO)));
         for k in 0..blocks {
             let csize = usize::try_from(word(3 + k)?).unwrap_or(usize::MAX);
             let chunk = b.get(pos..pos.saturating_add(csize)).ok_or_else(|| {
@@ -439,6 +441,10 @@ impl Grid<'_> {
         Ok(out)
     }
 }
+
+/// The most bytes one compressed byte can inflate to with zlib (deflate's limit is about
+/// 1032 to 1; a file that claims more values than its blocks can hold is refused by them).
+const ZLIB_LARGEST_RATIO: usize = 1032;
 
 enum Data<'d> {
     Text(&'d str),
