@@ -318,3 +318,33 @@ fn output_folders_are_made_or_refused_before_any_work() {
         assert!(nested.join(name).is_file(), "{name}");
     }
 }
+
+#[test]
+fn frames_beyond_the_disk_are_refused_before_any_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = ball(dir.path());
+    let out = dir.path().join("frames");
+    let json = dir.path().join("run.json");
+    // Four billion frame files of a few kB each: terabytes, more than any test machine has.
+    let o = tetrasim(&[
+        "run",
+        "--quiet",
+        "--method",
+        "volume",
+        "--frames",
+        "4000000000",
+        "--every",
+        "1",
+        "--mesh",
+        &mesh,
+        "--out-dir",
+        out.to_str().unwrap(),
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert_refused(
+        &o,
+        &["the run would write about", "4000000001 files of", "free"],
+    );
+    assert!(!out.exists() && !json.exists(), "a refused run made output");
+}

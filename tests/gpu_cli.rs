@@ -214,3 +214,87 @@ fn frames_in_flight_change_nothing_but_the_waiting() {
         "{stderr}"
     );
 }
+
+/// The MiB figure after `label` in `text`.
+fn mib_after(text: &str, label: &str) -> f64 {
+    let at = text
+        .find(label)
+        .unwrap_or_else(|| panic!("no `{label}` in {text}"));
+    let rest = text[at + label.len()..].trim_start();
+    let number: String = rest
+        .chars()
+        .take_while(|c| c.is_ascii_digit() || *c == '.')
+        .collect();
+    number
+        .parse()
+        .unwrap_or_else(|_| panic!("no number after `{label}` in {text}"))
+}
+
+#[test]
+fn a_problem_larger_than_the_device_memory_is_refused_before_any_output() {
+    if !gpu_support::vulkan_available() {
+        return;
+    }
+    let (dir, prefix) = ball_files(2.5);
+    let (out, metrics) = (dir.path().join("frames"), dir.path().join("run.json"));
+    let run = |limit: &str| {
+        tetrasim()
+            .args([
+                "run",
+                "--backend",
+                "vulkan",
+                "--method",
+                "volume",
+                "--frames",
+                "3",
+            ])
+            .args(["--quiet", "--device-memory", limit, "--mesh"])
+            .arg(&prefix)
+            .arg("--out-dir")
+            .arg(&out)
+            .arg("--json")
+            .arg(&metrics)
+            .output()
+            .unwrap()
+    };
+    // What the plan allocates on the device, in bytes.
+    let plan = tetrasim()
+        .args(["plan", "--method", "volume", "--mesh"])
+        .arg(&prefix)
+        .output()
+        .unwrap();
+    let plan = String::from_utf8_lossy(&plan.stdout).to_string();
+    assert!(plan.contains("the plan fits"), "{plan}");
+    let planned = mib_after(&plan, "total device memory") / (1024.0 * 1024.0);
+
+    let refused = run("0.05");
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("not enough memory: the vulkan backend needs"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("offers 0.05 MiB (the --device-memory limit)"),
+        "{stderr}"
+    );
+    let needs = mib_after(&stderr, "needs");
+    assert!(
+        needs >= planned && needs > 0.05,
+        "needs {needs} MiB, planned {planned} MiB"
+    );
+    assert!(
+        !out.exists() && !metrics.exists(),
+        "a refused run wrote output"
+    );
+
+    // Given what it needs, the same run goes.
+    let limit = format!("{:.2}", needs + 0.01);
+    let ran = run(&limit);
+    assert!(
+        ran.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ran.stderr)
+    );
+    assert!(metrics.exists());
+}

@@ -11,7 +11,9 @@ mod series;
 mod simulation;
 
 use pyo3::create_exception;
-use pyo3::exceptions::{PyFileNotFoundError, PyOSError, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{
+    PyFileNotFoundError, PyMemoryError, PyOSError, PyRuntimeError, PyValueError,
+};
 use pyo3::prelude::*;
 
 create_exception!(
@@ -34,6 +36,7 @@ pub(crate) fn to_py(error: tetrasim::Error) -> PyErr {
             PyValueError::new_err(message)
         }
         Error::Diverged(_) => DivergedError::new_err(message),
+        Error::Memory(_) => PyMemoryError::new_err(message),
         _ => PyRuntimeError::new_err(message),
     }
 }

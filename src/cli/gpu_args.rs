@@ -4,9 +4,9 @@
 
 use tetrasim::backend::vulkan::{AtomicsMode, EngineOptions};
 
-/// Device, validation, workgroup size, frames in flight and float atomics of the `vulkan`
-/// backend. Each acts only there: [`GpuArgs::first_given`] names the first one given, so a
-/// command can refuse it on another backend.
+/// Device, validation, workgroup size, frames in flight, float atomics and memory limit of
+/// the `vulkan` backend. Each acts only there: [`GpuArgs::first_given`] names the first one
+/// given, so a command can refuse it on another backend.
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct GpuArgs {
     /// GPU for the `vulkan` backend: an index or a name fragment from `tetrasim info`
@@ -26,6 +26,21 @@ pub struct GpuArgs {
     /// Float atomics of the GPU scatter passes: auto, ext (atomicAdd on float) or cas.
     #[arg(long, value_enum)]
     pub atomics: Option<AtomicsMode>,
+    /// The most device memory the GPU backend may take, in MiB (default: all the device
+    /// offers); a scene that needs more is refused before anything is allocated.
+    #[arg(long, value_name = "MIB", value_parser = positive_mib)]
+    pub device_memory: Option<f64>,
+}
+
+/// Bytes per MiB.
+const MIB: f64 = 1024.0 * 1024.0;
+
+/// A memory size in MiB: a positive number.
+fn positive_mib(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(mib) if mib.is_finite() && mib > 0.0 => Ok(mib),
+        _ => Err(format!("`{text}` is not a positive number of MiB")),
+    }
 }
 
 impl GpuArgs {
@@ -44,6 +59,7 @@ impl GpuArgs {
             workgroup_size: self.workgroup_size,
             frames_in_flight: self.frames_in_flight,
             atomics: self.atomics.unwrap_or(defaults.atomics),
+            memory_limit: self.device_memory.map(|mib| (mib * MIB) as u64),
             ..defaults
         }
     }
@@ -56,6 +72,7 @@ impl GpuArgs {
             ("validation", self.validation),
             ("frames-in-flight", self.frames_in_flight.is_some()),
             ("atomics", self.atomics.is_some()),
+            ("device-memory", self.device_memory.is_some()),
         ]
         .into_iter()
         .find_map(|(flag, given)| given.then_some(flag))
@@ -75,6 +92,7 @@ mod tests {
             validation: true,
             frames_in_flight: Some(3),
             atomics: Some(AtomicsMode::Cas),
+            device_memory: Some(2.5),
         };
         let o = args.engine_options();
         assert_eq!(o.device, DeviceSelector::Index(1));
@@ -82,6 +100,8 @@ mod tests {
         assert!(o.validation);
         assert_eq!(o.frames_in_flight, Some(3));
         assert_eq!(o.atomics, AtomicsMode::Cas);
+        assert_eq!(o.memory_limit, Some(5 << 19));
+        assert!(positive_mib("0").is_err() && positive_mib("nan").is_err());
         assert_eq!(args.first_given(), Some("device"));
         assert_eq!(GpuArgs::default().first_given(), None);
         let defaults = GpuArgs::default().engine_options();

@@ -5,10 +5,12 @@ mod bench;
 mod gpu_args;
 mod info;
 mod outcome;
+mod output_flags;
 pub mod params;
 mod plan;
 mod render;
 mod run;
+mod soak;
 mod stability;
 mod tradeoff;
 
@@ -16,6 +18,7 @@ pub use bench::BenchArgs;
 pub use outcome::{BadScene, DivergedRun, InterruptedRun};
 pub use render::RenderArgs;
 pub use run::RunArgs;
+pub use soak::SoakArgs;
 pub use tradeoff::{ScalingArgs, TradeoffArgs};
 
 /// `tetrasim`: volume-preserving mass-spring simulation of tetrahedral meshes.
@@ -66,6 +69,11 @@ pub enum Command {
     /// Cost per element against mesh size (a voxel-meshed sphere at several sizes).
     #[command(allow_negative_numbers = true)]
     Scaling(Box<ScalingArgs>),
+    /// A long run that watches itself (default: the bundled sphere, 100000 frames): resident
+    /// and device memory, energy and volume sampled; fails when memory grows after the
+    /// warm-up, the energy rises, the volume leaves its band or the run diverges.
+    #[command(allow_negative_numbers = true)]
+    Soak(Box<SoakArgs>),
 }
 
 impl Cli {
@@ -75,6 +83,7 @@ impl Cli {
         match &self.command {
             Command::Run(args) | Command::Plan(args) => args.scene.is_none(),
             Command::Render(args) => args.run.scene.is_none(),
+            Command::Soak(args) => args.run.scene.is_none(),
             _ => true,
         }
     }
@@ -128,6 +137,7 @@ pub fn execute(cli: Cli) -> anyhow::Result<()> {
         Command::Bench(args) => bench::execute(*args),
         Command::Tradeoff(args) => tradeoff::execute_tradeoff(*args),
         Command::Scaling(args) => tradeoff::execute_scaling(*args),
+        Command::Soak(args) => soak::execute(*args),
     }
 }
 

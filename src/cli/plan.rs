@@ -4,11 +4,13 @@
 //! the same value the engine is built from.
 
 use tetrasim::backend::vulkan::plan::EnginePlan;
-use tetrasim::backend::vulkan::{EngineOptions, VulkanBackend};
+use tetrasim::backend::vulkan::{EngineOptions, VulkanBackend, FRAMES_IN_FLIGHT};
+use tetrasim::gpu::memory::mib;
 use tetrasim::gpu::{device, list_devices, DeviceSelector};
 use tetrasim::params::SimParams;
 use tetrasim::problem::Problem;
 
+use super::output_flags::{output_flags, refuse_given};
 use super::RunArgs;
 
 /// Workgroup size assumed when no Vulkan device can be asked (and none is given).
@@ -48,6 +50,20 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
             }
         };
         print!("{}", plan.render());
+        if let Some(info) = &info {
+            let depth = FRAMES_IN_FLIGHT;
+            let fits =
+                info.memory
+                    .check(plan.memory_needs(depth), options.memory_limit, &info.name);
+            println!(
+                "device memory on offer {}: {}",
+                mib(info.memory.device_local_offered()),
+                match fits {
+                    Ok(()) => "the plan fits".to_string(),
+                    Err(e) => e.to_string(),
+                }
+            );
+        }
         println!();
     }
     Ok(())
@@ -61,24 +77,15 @@ fn refuse_run_only_flags(args: &RunArgs) -> tetrasim::Result<()> {
             format!("`plan` describes the `vulkan` backend, not `{backend}`"),
         ));
     }
-    let given = [
-        ("json", args.json.is_some()),
-        ("out-dir", args.out_dir.is_some()),
-        ("every", args.every.is_some()),
-        ("format", args.format.is_some()),
-        ("units", args.units.is_some()),
+    let mut given = output_flags(args).to_vec();
+    given.extend([
         ("frames", args.solver.frames.is_some()),
         ("validation", args.gpu.validation),
         ("frames-in-flight", args.gpu.frames_in_flight.is_some()),
         ("quiet", args.quiet),
-        ("checkpoint", args.checkpoint.is_some()),
-        ("resume", args.resume.is_some()),
-    ];
-    match given.iter().find(|(_, on)| *on) {
-        Some((flag, _)) => Err(tetrasim::Error::param(
-            *flag,
-            "`plan` runs nothing and writes nothing; use it with `tetrasim run`",
-        )),
-        None => Ok(()),
-    }
+    ]);
+    refuse_given(
+        &given,
+        "`plan` runs nothing and writes nothing; use it with `tetrasim run`",
+    )
 }

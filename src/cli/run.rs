@@ -466,14 +466,23 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
         let message = "acts only with --out-dir (or a scene's output.dir), and none is given";
         return Err(tetrasim::Error::param("every", message).into());
     }
-    // Staged before the output folders are made, so that a bad scene writes nothing.
+    // Staged (and checked against the device's memory and the disk's free space) before
+    // the output folders are made, so that a bad scene or one too large writes nothing.
     let staged = args.stage(&scene)?;
+    let gpu = EngineOptions {
+        // A scene without a metrics file measures the volume only after the last frame
+        // (no per-frame readback); the flags' run always prints its per-frame table.
+        volume_on_demand: args.scene.is_some() && scene.output.json.is_none(),
+        ..args.gpu.engine_options()
+    };
+    let (model, params) = (&staged.model, &staged.params);
+    crate::runner::preflight(backend, model, params, &methods, &gpu)?;
+    crate::runner::check_disk_space(&scene.output, model, methods.len(), staged.frames)?;
     crate::runner::prepare_outputs(&scene.output)?;
     let checkpointing = args.checkpointing(&methods)?;
     for note in &staged.notes {
         eprintln!("{note}");
     }
-    let (model, params) = (&staged.model, &staged.params);
     eprintln!(
         "{}: {} nodes ({} pinned), {} tets, {} springs; backend {}, {} frames of dt {} s x {} substeps, {} iterations, solver {}",
         staged.label,
@@ -511,12 +520,7 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
         mesh_label: staged.label.clone(),
         progress: !args.quiet,
         output,
-        gpu: EngineOptions {
-            // A scene without a metrics file measures the volume only after the last frame
-            // (no per-frame readback); the flags' run always prints its per-frame table.
-            volume_on_demand: args.scene.is_some() && out.json.is_none(),
-            ..args.gpu.engine_options()
-        },
+        gpu,
         checkpoint: checkpointing,
     };
     crate::runner::listen_for_interrupts()?;

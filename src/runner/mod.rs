@@ -5,12 +5,16 @@
 
 mod interrupt;
 mod output;
+mod preflight;
+mod space;
 
 pub use interrupt::{interrupt_flag, listen_for_interrupts};
 pub use output::{
     create_dir, frame_output, prepare_output_file, prepare_outputs, write_atomically, FrameOutput,
     OutputFormat, OutputUnits, Recorder,
 };
+pub use preflight::preflight;
+pub use space::check_disk_space;
 
 use std::path::PathBuf;
 use std::time::Instant;

@@ -51,6 +51,10 @@ pub enum Error {
     /// The GPU setup is unusable (no device, missing feature, loader not found ...).
     #[error("GPU: {0}")]
     Gpu(String),
+    /// A problem needs more memory than the device (or the machine) offers: said before
+    /// anything is allocated, with both sizes.
+    #[error("not enough memory: {0}")]
+    Memory(String),
     /// The simulation became non-finite or unbounded.
     #[error("{0}")]
     Diverged(Box<Divergence>),

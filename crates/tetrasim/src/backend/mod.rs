@@ -113,6 +113,9 @@ pub struct GpuReport {
     pub passes: Vec<crate::gpu::PassTime>,
     /// Validation-layer warnings and errors (empty when validation is off).
     pub validation_messages: Vec<String>,
+    /// Device memory the allocator holds in live allocations on this backend's context
+    /// [bytes] (gpu-allocator's report; what a long run watches for growth).
+    pub memory_in_use: u64,
 }
 
 /// A solver backend advancing one model in time. Backends are `Send`: a program (the Python

@@ -6,6 +6,7 @@ use std::ffi::CStr;
 use ash::vk;
 use serde::{Deserialize, Serialize};
 
+use super::memory::DeviceMemory;
 use crate::error::{Error, Result, VkContext};
 
 /// Lowest Vulkan version the engine accepts on a device.
@@ -108,6 +109,9 @@ pub struct DeviceInfo {
     pub timestamps: bool,
     /// `shaderBufferFloat32AtomicAdd` of `VK_EXT_shader_atomic_float`.
     pub float_atomic_add: bool,
+    /// Its memory heaps (and budgets where it reports them): what a plan is checked against
+    /// before anything is allocated.
+    pub memory: DeviceMemory,
     /// Whether that compute queue also supports graphics (needed by `tetrasim render`).
     pub graphics: bool,
     /// Sample counts that colour, depth and stencil attachments all support (rendering).
@@ -227,6 +231,7 @@ impl DeviceInfo {
                 timestamps: compute.is_some_and(|(_, f)| f.timestamp_valid_bits > 0)
                     && limits.timestamp_period > 0.0,
                 float_atomic_add,
+                memory: DeviceMemory::query(instance, pd, has_ext(ash::ext::memory_budget::NAME)),
                 graphics: compute
                     .is_some_and(|(_, f)| f.queue_flags.contains(vk::QueueFlags::GRAPHICS)),
                 framebuffer_samples: limits.framebuffer_color_sample_counts
@@ -362,6 +367,15 @@ impl std::fmt::Display for DeviceInfo {
         )?;
         writeln!(
             f,
+            "  memory: {} device-local on offer{}",
+            super::memory::mib(self.memory.device_local_offered()),
+            match self.memory.heaps.iter().any(|h| h.available.is_some()) {
+                true => " (the driver's budget less what is in use)",
+                false => "",
+            }
+        )?;
+        writeln!(
+            f,
             "  timestamps: {} (period {} ns)",
             yes(self.timestamps),
             self.timestamp_period_ns
@@ -462,6 +476,7 @@ mod tests {
             timestamp_period_ns: 1.0,
             timestamps: true,
             float_atomic_add: false,
+            memory: DeviceMemory::default(),
             graphics: true,
             framebuffer_samples: vk::SampleCountFlags::TYPE_1,
             depth_stencil_format: None,

@@ -10,6 +10,7 @@ pub mod descriptors;
 pub mod device;
 pub mod kernel;
 pub mod layout;
+pub mod memory;
 /// Test support only: the SPIR-V reader behind the shader-vs-host layout checks (not part of
 /// the library's API, not compiled outside `cargo test`).
 #[cfg(test)]
@@ -21,4 +22,5 @@ pub use context::{list_devices, live_contexts, Context, ContextOptions};
 pub use descriptors::BindingLayout;
 pub use device::{AtomicsMode, AtomicsPath, DeviceInfo, DeviceSelector};
 pub use kernel::Kernel;
+pub use memory::{DeviceMemory, MemoryNeeds};
 pub use timing::{PassTime, Timer};

@@ -196,6 +196,11 @@ impl Backend for VulkanBackend {
             workgroup_size: self.workgroup_size,
             passes,
             validation_messages: self.validation_messages(),
+            memory_in_use: self
+                .ctx
+                .allocator()?
+                .generate_report()
+                .total_allocated_bytes,
         }))
     }
 }

@@ -181,15 +181,17 @@ impl VulkanBackend {
         Ok(plan)
     }
 
-    /// The backend for a prepared problem on an existing context, with all options but the
-    /// device.
-    pub fn on_context(
-        ctx: Arc<Context>,
+    /// What [`Self::on_context`] checks before it allocates anything, and the plan it then
+    /// builds: the method runs here, the frames in flight are in range, and the plan's
+    /// buffers fit the device's memory (at most `options.memory_limit` of it), refused
+    /// otherwise with what it needs and what the device offers. `tetrasim run` asks it
+    /// before it makes any output.
+    pub fn preflight(
+        info: &DeviceInfo,
         problem: &Problem,
         options: &EngineOptions,
-    ) -> Result<Self> {
-        let (model, params) = (&problem.model, &problem.params);
-        if params.method == crate::params::Method::NeoHookean {
+    ) -> Result<EnginePlan> {
+        if problem.params.method == crate::params::Method::NeoHookean {
             return Err(Error::param(
                 "method",
                 "neo-hookean runs on the cpu-ref and cpu backends; the vulkan engine does not run \
@@ -203,9 +205,24 @@ impl VulkanBackend {
                 format!("must be 1 to {MAX_FRAMES_IN_FLIGHT}, not {depth}"),
             ));
         }
-        let info = ctx.info();
-        let atomics = info.atomics_path(options.atomics)?;
         let plan = Self::plan_for(info, problem, options)?;
+        let needs = plan.memory_needs(depth);
+        info.memory.check(needs, options.memory_limit, &info.name)?;
+        Ok(plan)
+    }
+
+    /// The backend for a prepared problem on an existing context, with all options but the
+    /// device.
+    pub fn on_context(
+        ctx: Arc<Context>,
+        problem: &Problem,
+        options: &EngineOptions,
+    ) -> Result<Self> {
+        let (model, params) = (&problem.model, &problem.params);
+        let depth = options.frames_in_flight.unwrap_or(FRAMES_IN_FLIGHT);
+        let info = ctx.info();
+        let plan = Self::preflight(info, problem, options)?;
+        let atomics = info.atomics_path(options.atomics)?;
         let wg = plan.workgroup_size;
         let counts = plan.counts;
         let buffers = SimBuffers::new(&ctx, problem, &plan)?;

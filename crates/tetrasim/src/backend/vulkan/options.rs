@@ -1,6 +1,7 @@
 //! What the `vulkan` backend is asked to do besides the physics: the device, validation,
-//! workgroup size, timing, volume read-back, frames in flight and float atomics. The command
-//! line fills it from its GPU flags in one place (`tetrasim_cli::cli::gpu_args`).
+//! workgroup size, timing, volume read-back, frames in flight, float atomics and a memory
+//! limit. The command line fills it from its GPU flags in one place
+//! (`tetrasim_cli::cli::gpu_args`).
 
 #[cfg(doc)]
 use super::VulkanBackend;
@@ -33,6 +34,10 @@ pub struct EngineOptions {
     /// Float atomics of the scatter passes (`--atomics`): `auto` takes
     /// `VK_EXT_shader_atomic_float` where the device has it.
     pub atomics: AtomicsMode,
+    /// The most device memory the engine may take [bytes] (`--device-memory MIB`), below
+    /// what the device offers; `None`: all it offers. A problem that needs more is refused
+    /// before anything is allocated.
+    pub memory_limit: Option<u64>,
 }
 
 /// Frames the `vulkan` backend has in flight by default (recorded frame slots): the next

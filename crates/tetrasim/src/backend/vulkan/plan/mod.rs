@@ -46,6 +46,7 @@ pub use minres::{MinresCounts, MINRES_PLANES, MINRES_STATE_BYTES};
 pub use pass::{volume_sum_pass, PassPlan, Variant};
 pub use workgroups::for_elements as workgroup_for_elements;
 
+use crate::gpu::MemoryNeeds;
 use crate::model::ConstraintKind;
 use crate::params::{Method, SimParams, SpringKind};
 pub use crate::schedule::{Access, BufferId, Repeat, SweepPlan};

@@ -134,6 +134,16 @@ impl EnginePlan {
         self.buffers.iter().map(|b| b.bytes).sum()
     }
 
+    /// What the backend allocates for this plan with `slots` frame slots: its buffers on
+    /// the device; on the host side the initial uploads' staging (at most every buffer's
+    /// size, all of it alive at once) and each slot's readbacks.
+    pub fn memory_needs(&self, slots: u32) -> MemoryNeeds {
+        MemoryNeeds {
+            device_local: self.device_bytes(),
+            host_visible: self.device_bytes() + u64::from(slots) * self.readback_bytes(),
+        }
+    }
+
     /// Host-visible bytes copied back every frame.
     pub fn readback_bytes(&self) -> u64 {
         self.buffers.iter().map(|b| b.readback_bytes).sum()
