@@ -1,19 +1,23 @@
 #!/usr/bin/env bash
-# Fuzzes every mesh reader: builds the cargo-fuzz targets in fuzz/ (nightly, libFuzzer) and
-# runs each in turn for SECONDS (default 60) with its seed corpus (fuzz/corpus/TARGET, made
-# here from tests/data and meshes/) and the formats' dictionary (fuzz/dict/mesh.dict).
+# Fuzzes every mesh reader, the scene parser (with its staging) and the checkpoint reader:
+# builds the cargo-fuzz targets in fuzz/ (nightly, libFuzzer) and runs each in turn for
+# SECONDS (default 60) with its seed corpus (fuzz/corpus/TARGET, made here from tests/data,
+# meshes/, examples/scenes and a checkpoint of the bundled box) and its dictionary
+# (fuzz/dict/mesh.dict, fuzz/dict/scene.dict). The scene and checkpoint targets build the
+# engine, and with it shaderc, once per toolchain (about 15 minutes on 2 cores).
 # Limits: 10 s per input, 2 GiB of memory. A crash, hang or out-of-memory input is copied
 # to fuzz/regressions/TARGET/, which tests/fuzz_regressions.rs replays on stable; the script
 # goes on with the other targets and exits non-zero at the end, naming them.
 #
-#   scripts/fuzz.sh [SECONDS] [TARGET...]     targets: surface tet_mesh sniffed tetgen
+#   scripts/fuzz.sh [SECONDS] [TARGET...]
+#       targets: surface tet_mesh sniffed tetgen scene checkpoint
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(surface tet_mesh sniffed tetgen)
+[ ${#targets[@]} -gt 0 ] || targets=(surface tet_mesh sniffed tetgen scene checkpoint)
 
 if ! rustup toolchain list | grep -q '^nightly'; then
     echo "fuzz: cargo-fuzz needs a nightly toolchain: rustup toolchain install nightly" >&2
@@ -59,15 +63,27 @@ printf 'solid t\nfacet normal 0 0 -1\nouter loop\nvertex 0 0 0\nvertex 0 1 0\nve
 seed surface tet.ply 0 "$tmp/tet.ply"
 seed surface tet.obj 1 "$tmp/tet.obj"
 seed surface tet.stl 3 "$tmp/tet.stl"
+for f in examples/scenes/*.toml; do seed scene "$(basename "$f")" - "$f"; done
+# A checkpoint of the run the checkpoint target checks against (the bundled box's scene).
+printf '[[object]]\nmesh = "%s"\n' "$PWD/meshes/box" > "$tmp/box.toml"
+cargo build --release --bin tetrasim
+target/release/tetrasim run --scene "$tmp/box.toml" --frames 3 --quiet \
+    --checkpoint "$tmp/box.checkpoint" > /dev/null
+seed checkpoint box - "$tmp/box.checkpoint"
 
 failed=()
 for target in "${targets[@]}"; do
     echo "== fuzz: $target for $seconds s"
+    case $target in
+        scene) dict=(-dict=fuzz/dict/scene.dict) ;;
+        checkpoint) dict=() ;;
+        *) dict=(-dict=fuzz/dict/mesh.dict) ;;
+    esac
     log="fuzz/artifacts/$target.log"
     mkdir -p "fuzz/artifacts/$target"
     if cargo +nightly fuzz run "$target" "fuzz/corpus/$target" -- \
         -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 \
-        -dict=fuzz/dict/mesh.dict -print_final_stats=1 > "$log" 2>&1; then
+        "${dict[@]}" -print_final_stats=1 > "$log" 2>&1; then
         runs=$(grep -a 'stat::number_of_executed_units' "$log" | awk '{print $2}')
         echo "fuzz: $target: no crash, hang or out-of-memory in $runs runs"
     else

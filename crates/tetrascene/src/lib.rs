@@ -6,6 +6,7 @@
 //! same everywhere. [`overrides`] holds the parameters a scene (or a command line's flags)
 //! sets on top of a base.
 
+pub mod fuzzing;
 pub mod launch;
 pub mod overrides;
 pub mod renamed;

@@ -183,7 +183,9 @@ impl Checkpoint {
         }
         let (payload, crc) = bytes.split_at(bytes.len() - 4);
         let crc = u32::from_le_bytes([crc[0], crc[1], crc[2], crc[3]]);
-        if crc32fast::hash(payload) != crc {
+        // A fuzzer's inputs rarely carry a right checksum: under cargo-fuzz the checks
+        // behind it are reached without one.
+        if crc32fast::hash(payload) != crc && !cfg!(fuzzing) {
             return Err("corrupt: its checksum does not match its content".to_string());
         }
         let mut values = rest[..rest.len() - 4]
