@@ -13,7 +13,7 @@ use tetrasim::backend::vulkan::EngineOptions;
 use tetrasim::backend::{Backend, Reactions, State};
 use tetrasim::metrics::RunRecord;
 use tetrasim::model::{Model, ModelBuilder};
-use tetrasim::params::{Placement, SimParams};
+use tetrasim::params::{Accuracy, Placement, SimParams};
 use tetrasim::problem::Problem;
 use tetrasim::sim::{Advance, BackendFactory, Checkpoint};
 
@@ -25,6 +25,21 @@ use crate::{to_py, DivergedError};
 #[pyfunction]
 pub fn default_params() -> PyResult<String> {
     serde_json::to_string(&SimParams::default()).map_err(|e| PyValueError::new_err(e.to_string()))
+}
+
+/// The default parameters with the speed/accuracy dial's level `accuracy` (`fast`,
+/// `balanced`, `accurate`) written on them, as JSON: the base Python's keywords then
+/// override ([`tetrasim::params::Accuracy`]).
+#[pyfunction]
+pub fn accuracy_params(accuracy: &str) -> PyResult<String> {
+    let level: Accuracy = serde_json::from_value(serde_json::Value::from(accuracy)).map_err(|_| {
+        PyValueError::new_err(format!(
+            "invalid parameter `accuracy` = {accuracy:?}: one of \"fast\", \"balanced\", \"accurate\""
+        ))
+    })?;
+    let mut params = SimParams::default();
+    level.apply(&mut params);
+    serde_json::to_string(&params).map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
 /// `json` (the keys of `SimParams`) as parameters; an error names the first key whose value

@@ -296,3 +296,29 @@ def test_pythonic_edges_meshio_names_pyvista_a_device_and_closing():
         tetrasim.Simulation("meshes/sphere", backend="cpu", device=0)
     with pytest.raises(RuntimeError):
         tetrasim.Simulation("meshes/sphere", backend="vulkan", device="no such gpu")
+
+
+def test_the_accuracy_dial_orders_cost_and_error_and_yields_to_settings_given():
+    """``accuracy=`` picks the front's settings (the same as ``--accuracy`` and a scene's
+    ``[solver] accuracy``); on the bundled sphere the local volume error falls from ``fast``
+    to ``accurate``, and a setting given beside the dial wins."""
+    errors = {}
+    for level in ("fast", "balanced", "accurate"):
+        sim = tetrasim.Simulation("meshes/sphere", accuracy=level)
+        sim.step(200)
+        record = sim.record()
+        errors[level] = record["avg_local_error_pct"]
+        params = record["params"]
+        # The frame's length is the same at every level.
+        assert params["dt"] * params["substeps"] == pytest.approx(1e-3)
+    assert errors["fast"] > errors["balanced"] > errors["accurate"], errors
+    params = tetrasim.Simulation("meshes/sphere", accuracy="fast").record()["params"]
+    assert (params["iterations"], params["groups"]) == (5, 4)
+    params = tetrasim.Simulation("meshes/sphere", accuracy="fast", iterations=7).record()["params"]
+    assert (params["iterations"], params["groups"]) == (7, 4)
+    scene = tetrasim.Scene(accuracy="accurate")
+    scene.add_body("meshes/sphere")
+    params = tetrasim.Simulation(scene).record()["params"]
+    assert (params["substeps"], params["dt"]) == (2, 5e-4)
+    with pytest.raises(ValueError, match="accuracy"):
+        tetrasim.Simulation("meshes/sphere", accuracy="perfect")

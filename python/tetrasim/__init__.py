@@ -119,13 +119,17 @@ def _mesh(mesh: Union[Mesh, PathLike]) -> Mesh:
 
 def _params(overrides: dict) -> str:
     params = default_params()
-    unknown = sorted(set(overrides) - set(params) - {"density", "node_mass"})
+    unknown = sorted(set(overrides) - set(params) - {"density", "node_mass", "accuracy"})
     if unknown:
         raise TypeError(
             f"unknown parameter(s) {', '.join(unknown)}; known: {', '.join(sorted(params))}, "
-            "density, node_mass"
+            "density, node_mass, accuracy"
         )
     overrides = dict(overrides)
+    # The speed/accuracy dial first; every parameter given beside it overrides it.
+    accuracy = overrides.pop("accuracy", None)
+    if accuracy is not None:
+        params = json.loads(_tetrasim.accuracy_params(str(accuracy)))
     density = overrides.pop("density", None)
     node_mass = overrides.pop("node_mass", None)
     if density is not None and node_mass is not None:
@@ -168,7 +172,9 @@ class Simulation:
     (``default_params()`` lists them, e.g. ``method="distance"`` (default ``"volume"``),
     ``dt=1e-3``, ``iterations=10``, ``solver="gauss-seidel"``, ``youngs_modulus=1e5``,
     ``poisson_ratio=0.45``, ``contact="split"`` (no rebound, at twice the solve)), plus
-    ``density`` [kg/m^3] or ``node_mass`` [kg] (a ``youngs_modulus`` needs a ``density``).
+    ``density`` [kg/m^3] or ``node_mass`` [kg] (a ``youngs_modulus`` needs a ``density``)
+    and ``accuracy``: ``"fast"``, ``"balanced"`` or ``"accurate"``, the speed/accuracy dial
+    (solver, groups, iterations, substeps and dt; any of them given beside it wins).
     ``device`` (``backend="vulkan"`` only): the GPU, by a part of its name or its index in
     ``tetrasim info``'s list, as ``tetrasim run --device`` takes it (default: the best).
 

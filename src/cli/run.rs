@@ -497,6 +497,9 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
         params.iterations,
         solver_label(params)
     );
+    if let Some(accuracy) = scene.solver.accuracy {
+        eprintln!("accuracy {}", accuracy.describe(params));
+    }
     if args.scene.is_none() && args.method.is_none() {
         // The one default that differs between the command line and scenes or Python.
         eprintln!(

@@ -10,7 +10,7 @@
 use serde::Deserialize;
 
 use tetrasim::params::{
-    ConstraintCombine, ContactMode, Gravity, MassMode, SimParams, Solver, SpringKind,
+    Accuracy, ConstraintCombine, ContactMode, Gravity, MassMode, SimParams, Solver, SpringKind,
 };
 
 /// Time stepping and the constraint solver, shared by all objects: a scene's `[solver]`
@@ -19,6 +19,12 @@ use tetrasim::params::{
 #[cfg_attr(feature = "clap", derive(clap::Args))]
 #[serde(deny_unknown_fields)]
 pub struct SolverOverrides {
+    /// The speed/accuracy dial: `fast` (0.35 to 0.86 of the default's time, twice its local
+    /// volume error), `balanced` (the defaults) or `accurate` (twice the time, half the
+    /// error); it sets the solver, groups, iterations, substeps and dt, and any of those
+    /// given as well overrides it (docs/guide/accuracy.md).
+    #[cfg_attr(feature = "clap", arg(long, value_enum))]
+    pub accuracy: Option<Accuracy>,
     /// Time step [s].
     #[cfg_attr(feature = "clap", arg(long))]
     pub dt: Option<f64>,
@@ -123,6 +129,7 @@ impl SolverOverrides {
     /// These values where given, `base`'s elsewhere: flags over a scene's `[solver]`.
     pub fn over(&self, base: &SolverOverrides) -> SolverOverrides {
         SolverOverrides {
+            accuracy: self.accuracy.or(base.accuracy),
             dt: self.dt.or(base.dt),
             substeps: self.substeps.or(base.substeps),
             iterations: self.iterations.or(base.iterations),
@@ -150,6 +157,10 @@ impl SolverOverrides {
 
     /// Writes every given value onto `params` (`frames` is the caller's).
     pub fn apply(&self, params: &mut SimParams) {
+        // The dial first: every setting given overrides it.
+        if let Some(accuracy) = self.accuracy {
+            accuracy.apply(params);
+        }
         set(&mut params.dt, self.dt);
         set(&mut params.substeps, self.substeps);
         set(&mut params.iterations, self.iterations);
@@ -174,7 +185,8 @@ impl SolverOverrides {
     }
 
     /// Every key (a `[solver]` key, a flag's id).
-    pub const KEYS: [&'static str; 22] = [
+    pub const KEYS: [&'static str; 23] = [
+        "accuracy",
         "dt",
         "substeps",
         "iterations",

@@ -9,6 +9,9 @@
 //!
 //! ```toml
 //! [solver]
+//! accuracy = "balanced" # the speed/accuracy dial: "fast", "balanced" (the defaults) or
+//!                     # "accurate"; sets solver, groups, iterations, substeps and dt, and
+//!                     # any of them given here overrides it (docs/guide/accuracy.md)
 //! dt = 0.001          # s
 //! substeps = 1
 //! iterations = 10

@@ -5,6 +5,8 @@
 
 use serde::{Deserialize, Serialize};
 
+mod accuracy;
+pub use accuracy::Accuracy;
 mod blocks;
 pub use blocks::{default_block_sweeps, MAX_BLOCK_SIZE, MAX_BLOCK_SWEEPS, MAX_WORKGROUP_BLOCK};
 mod contact;
