@@ -76,7 +76,10 @@ fn every_command_in_the_guide_runs() {
         for scene in scenes(&std::fs::read_to_string(page).unwrap()) {
             let dir = tempfile::tempdir().unwrap();
             let text = scene
-                .replace("mesh = \"meshes/", &format!("mesh = \"{}/meshes/", root.display()))
+                .replace(
+                    "mesh = \"meshes/",
+                    &format!("mesh = \"{}/meshes/", root.display()),
+                )
                 .replace("= \"out/", &format!("= \"{}/", dir.path().display()));
             let file = dir.path().join("scene.toml");
             std::fs::write(&file, text).unwrap();
@@ -94,5 +97,8 @@ fn every_command_in_the_guide_runs() {
             scenes_ran += 1;
         }
     }
-    assert!(ran >= 1 && scenes_ran >= 1, "no command or scene found in {pages:?}");
+    assert!(
+        ran >= 1 && scenes_ran >= 1,
+        "no command or scene found in {pages:?}"
+    );
 }
