@@ -116,3 +116,22 @@ fn a_soak_refuses_outputs() {
     assert!(stderr.contains("invalid parameter `json`"), "{stderr}");
     assert!(!json.exists());
 }
+
+#[test]
+fn a_soak_that_diverges_ends_and_fails_naming_the_divergence() {
+    // Explicit springs at a step 50 times their stable one.
+    let args = [
+        "--method",
+        "mss",
+        "--dt",
+        "0.05",
+        "--frames",
+        "400",
+        "--samples",
+        "20",
+    ];
+    let output = soak(&args);
+    let line = last_line(&output);
+    assert_eq!(output.status.code(), Some(1), "{line}");
+    assert!(line.contains("FAIL (diverged: diverged at frame"), "{line}");
+}

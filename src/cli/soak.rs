@@ -92,7 +92,7 @@ pub fn execute(args: SoakArgs) -> anyhow::Result<()> {
         let problem = Problem::new(&staged.model, &params)?;
         let mut engine = BackendFactory::new(gpu.clone()).create(backend, &problem)?;
         let started = Instant::now();
-        let samples = soak(&args, &problem, engine.as_mut(), frames)?;
+        let (samples, diverged) = soak(&args, &problem, engine.as_mut(), frames)?;
         let mass: f64 = problem.model.mass.iter().sum();
         let bounds = Bounds {
             warm_up: args.warm_up,
@@ -100,7 +100,10 @@ pub fn execute(args: SoakArgs) -> anyhow::Result<()> {
             volume_band: args.volume_band,
             energy_slack: 0.01 * mass * problem.params.gravity.length() * 0.01,
         };
-        let verdict = judge(&bounds, &samples);
+        let verdict = match diverged {
+            Some(divergence) => Err(format!("diverged: {divergence}")),
+            None => judge(&bounds, &samples),
+        };
         let line = summary(&samples, args.warm_up, started.elapsed().as_secs_f64());
         let name = format!("{} {} {}", staged.label, engine.name(), method.name());
         match &verdict {
@@ -117,13 +120,14 @@ pub fn execute(args: SoakArgs) -> anyhow::Result<()> {
     }
 }
 
-/// The run's samples, the first before any frame.
+/// The run's samples, the first before any frame, and its divergence if it diverged (the
+/// run stops there).
 fn soak(
     args: &SoakArgs,
     problem: &Problem,
     backend: &mut dyn Backend,
     frames: u32,
-) -> anyhow::Result<Vec<Sample>> {
+) -> anyhow::Result<(Vec<Sample>, Option<String>)> {
     let (model, params) = (&problem.model, &problem.params);
     let mut sim = Simulation::new(model, params);
     let every = (frames / args.samples).max(1);
@@ -133,13 +137,16 @@ fn soak(
     while sim.frames() < frames {
         let n = every.min(frames - sim.frames());
         sim.advance_frames(backend, n, &|_| false, &mut |_| {})?;
+        if sim.stopped() {
+            return Ok((samples, sim.divergence.clone()));
+        }
         samples.push(measure(problem, backend, elastic, sim.frames())?);
         let last = samples[samples.len() - 1];
         if !last.energy.is_finite() || !last.volume_pct.is_finite() {
             break;
         }
     }
-    Ok(samples)
+    Ok((samples, None))
 }
 
 /// One sample at `frame`.
