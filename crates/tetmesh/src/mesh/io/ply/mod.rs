@@ -185,3 +185,28 @@ fn write_to(
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A binary element without properties takes no bytes, so however many the header
+    /// declares it is read at once (the surface fuzzer's input declared 35 trillion and ran
+    /// for minutes; fuzz/regressions/surface/).
+    #[test]
+    fn binary_elements_without_properties_cost_nothing() {
+        let mut bytes = b"ply\nformat binary_little_endian 1.0\nelement junk 35084971874737\n\
+            element vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+            element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+            .to_vec();
+        for v in [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]] {
+            v.iter().for_each(|c| bytes.extend(c.to_le_bytes()));
+        }
+        bytes.push(3);
+        [0i32, 1, 2].iter().for_each(|i| bytes.extend(i.to_le_bytes()));
+        let start = std::time::Instant::now();
+        let mesh = parse(&bytes, Path::new("junk.ply")).unwrap();
+        assert_eq!(mesh.triangles, vec![[0, 1, 2]]);
+        assert!(start.elapsed().as_secs() < 1);
+    }
+}
