@@ -203,7 +203,9 @@ mod tests {
             v.iter().for_each(|c| bytes.extend(c.to_le_bytes()));
         }
         bytes.push(3);
-        [0i32, 1, 2].iter().for_each(|i| bytes.extend(i.to_le_bytes()));
+        [0i32, 1, 2]
+            .iter()
+            .for_each(|i| bytes.extend(i.to_le_bytes()));
         let start = std::time::Instant::now();
         let mesh = parse(&bytes, Path::new("junk.ply")).unwrap();
         assert_eq!(mesh.triangles, vec![[0, 1, 2]]);
