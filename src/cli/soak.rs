@@ -101,7 +101,8 @@ pub fn execute(args: SoakArgs) -> anyhow::Result<()> {
             energy_slack: 0.01 * mass * problem.params.gravity.length() * 0.01,
         };
         let verdict = match diverged {
-            Some(divergence) => Err(format!("diverged: {divergence}")),
+            // "diverged at frame F, substep S ...: why".
+            Some(divergence) => Err(divergence),
             None => judge(&bounds, &samples),
         };
         let line = summary(&samples, args.warm_up, started.elapsed().as_secs_f64());
