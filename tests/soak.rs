@@ -30,6 +30,16 @@ fn figure(line: &str, label: &str) -> f64 {
         .unwrap_or_else(|_| panic!("`{number}` after `{label}` in {line}"))
 }
 
+/// The last line of a soak that must pass.
+fn passed_line(args: &[&str]) -> String {
+    let output = soak(args);
+    let line = last_line(&output);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{line}\n{stderr}");
+    assert!(line.ends_with("PASS"), "{line}");
+    line
+}
+
 /// The last line of a soak that must fail (exit 1).
 fn failed_line(args: &[&str]) -> String {
     let output = soak(args);
@@ -45,14 +55,7 @@ fn last_line(output: &Output) -> String {
 
 #[test]
 fn a_short_soak_on_cpu_passes_with_its_figures() {
-    let output = soak(&["--method", "volume", "--frames", "2000", "--samples", "20"]);
-    let line = last_line(&output);
-    assert!(
-        output.status.success(),
-        "{line}\n{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    assert!(line.ends_with("PASS"), "{line}");
+    let line = passed_line(&["--method", "volume", "--frames", "2000", "--samples", "20"]);
     assert_eq!(figure(&line, "cpu volume:"), 2000.0, "{line}");
     assert!(figure(&line, "(+") < 1.0, "{line}");
     assert!(line.contains("no device memory"), "{line}");
@@ -76,14 +79,7 @@ fn a_short_soak_on_vulkan_watches_the_device_memory() {
         "--samples",
         "10",
     ];
-    let output = soak(&args);
-    let line = last_line(&output);
-    assert!(
-        output.status.success(),
-        "{line}\n{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    assert!(line.ends_with("PASS"), "{line}");
+    let line = passed_line(&args);
     let device = figure(&line, "device memory");
     assert!(
         device > 0.0,
