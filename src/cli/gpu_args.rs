@@ -4,9 +4,10 @@
 
 use tetrasim::backend::vulkan::{AtomicsMode, EngineOptions};
 
-/// Device, validation, workgroup size, frames in flight, float atomics and memory limit of
-/// the `vulkan` backend. Each acts only there: [`GpuArgs::first_given`] names the first one
-/// given, so a command can refuse it on another backend.
+/// Device, validation, workgroup size, frames in flight and float atomics of the `vulkan`
+/// backend, and the memory limit of every backend. Each but the last acts only on
+/// `vulkan`: [`GpuArgs::first_given`] names the first one given, so a command can refuse
+/// it on another backend.
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct GpuArgs {
     /// GPU for the `vulkan` backend: an index or a name fragment from `tetrasim info`
@@ -26,8 +27,9 @@ pub struct GpuArgs {
     /// Float atomics of the GPU scatter passes: auto, ext (atomicAdd on float) or cas.
     #[arg(long, value_enum)]
     pub atomics: Option<AtomicsMode>,
-    /// The most device memory the GPU backend may take, in MiB (default: all the device
-    /// offers); a scene that needs more is refused before anything is allocated.
+    /// The most memory the backend may take, in MiB (default: all the device offers: the
+    /// GPU's memory on `vulkan`, the machine's available memory on `cpu` and `cpu-ref`); a
+    /// scene that needs more is refused before anything is allocated.
     #[arg(long, value_name = "MIB", value_parser = positive_mib)]
     pub device_memory: Option<f64>,
 }
@@ -64,7 +66,8 @@ impl GpuArgs {
         }
     }
 
-    /// The first flag given, by its name on the command line (`None`: all defaults).
+    /// The first `vulkan`-only flag given, by its name on the command line (`None`: all
+    /// defaults; `--device-memory` acts on every backend).
     pub fn first_given(&self) -> Option<&'static str> {
         [
             ("device", self.device.is_some()),
@@ -72,7 +75,6 @@ impl GpuArgs {
             ("validation", self.validation),
             ("frames-in-flight", self.frames_in_flight.is_some()),
             ("atomics", self.atomics.is_some()),
-            ("device-memory", self.device_memory.is_some()),
         ]
         .into_iter()
         .find_map(|(flag, given)| given.then_some(flag))

@@ -1,16 +1,18 @@
 //! Checks a run makes before it writes anything: on `vulkan`, that each method's plan fits
-//! the device's memory ([`VulkanBackend::preflight`]), so a scene too large for the device
-//! is refused with both sizes and leaves no output folder or record behind.
+//! the device's memory ([`VulkanBackend::preflight`]); on `cpu` and `cpu-ref`, that the
+//! machine has the memory the problem needs ([`tetrasim::backend::cpu::memory`]). A scene
+//! too large is refused with both sizes and leaves no output folder or record behind.
 
+use tetrasim::backend::cpu::memory;
 use tetrasim::backend::vulkan::{EngineOptions, VulkanBackend};
 use tetrasim::gpu::{device, list_devices};
 use tetrasim::params::{Method, SimParams};
 use tetrasim::problem::Problem;
 use tetrasim::{Model, Result};
 
-/// Refuses what the `vulkan` backend would refuse before allocating: a method it does not
-/// run, or a plan larger than the device's memory (or `gpu.memory_limit`). Does nothing
-/// for the other backends.
+/// Refuses what the backend would refuse before allocating: on `vulkan` a method it does
+/// not run or a plan larger than the device's memory, on the CPU backends a problem larger
+/// than the machine's available memory (either at most `gpu.memory_limit`).
 pub fn preflight(
     backend: &str,
     model: &Model,
@@ -19,6 +21,13 @@ pub fn preflight(
     gpu: &EngineOptions,
 ) -> Result<()> {
     if backend != "vulkan" {
+        for &method in methods {
+            let params = SimParams {
+                method,
+                ..params.clone()
+            };
+            memory::check(backend, &Problem::new(model, &params)?, gpu.memory_limit)?;
+        }
         return Ok(());
     }
     let devices = list_devices()?;

@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use crate::backend::cpu::{ParallelBackend, ReferenceBackend};
+use crate::backend::cpu::{memory, ParallelBackend, ReferenceBackend};
 use crate::backend::vulkan::{EngineOptions, VulkanBackend};
 use crate::backend::Backend;
 use crate::error::{Error, Result};
@@ -67,8 +67,14 @@ impl BackendFactory {
     ) -> Result<Box<dyn Backend>> {
         match name {
             "vulkan" => Ok(Box::new(self.vulkan(problem, gpu)?)),
-            "cpu-ref" => Ok(Box::new(ReferenceBackend::from_problem(problem))),
-            "cpu" => Ok(Box::new(ParallelBackend::from_problem(problem))),
+            "cpu-ref" => {
+                memory::check(name, problem, gpu.memory_limit)?;
+                Ok(Box::new(ReferenceBackend::from_problem(problem)))
+            }
+            "cpu" => {
+                memory::check(name, problem, gpu.memory_limit)?;
+                Ok(Box::new(ParallelBackend::from_problem(problem)))
+            }
             other => Err(Error::param(
                 "backend",
                 format!(

@@ -3,6 +3,7 @@
 //! competitor of the Vulkan engine). Both call the same math in [`crate::physics`].
 
 mod barrier;
+pub mod memory;
 mod minres;
 mod parallel;
 mod reference;

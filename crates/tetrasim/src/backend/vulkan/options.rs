@@ -34,9 +34,10 @@ pub struct EngineOptions {
     /// Float atomics of the scatter passes (`--atomics`): `auto` takes
     /// `VK_EXT_shader_atomic_float` where the device has it.
     pub atomics: AtomicsMode,
-    /// The most device memory the engine may take [bytes] (`--device-memory MIB`), below
-    /// what the device offers; `None`: all it offers. A problem that needs more is refused
-    /// before anything is allocated.
+    /// The most memory the backend may take [bytes] (`--device-memory MIB`), below what the
+    /// device offers: the GPU's heaps on `vulkan`, the machine's memory on `cpu` and
+    /// `cpu-ref` ([`crate::backend::cpu::memory`]); `None`: all it offers. A problem that
+    /// needs more is refused before anything is allocated.
     pub memory_limit: Option<u64>,
 }
 
