@@ -3,7 +3,8 @@
 //! ([`tetrasim::backend::cpu::memory::needs`]) exceeds what the machine offers (or the
 //! `--device-memory` limit) before it writes anything, and that need is an upper bound on
 //! what a run really takes: each run's peak resident memory, read from the kernel
-//! (`getrusage(RUSAGE_CHILDREN)`), stays below it and above a third of it.
+//! (`getrusage(RUSAGE_CHILDREN)`), stays below it and above a third of it. A run whose
+//! record would outgrow the machine is refused too, on any backend.
 #![cfg(target_os = "linux")]
 
 use std::path::Path;
@@ -142,4 +143,33 @@ fn the_need_bounds_the_peak_memory_of_every_method_on_both_backends() {
         3 * peak >= need,
         "the need ({need} bytes) is over three times the largest peak ({peak} bytes)"
     );
+}
+
+#[test]
+fn a_record_larger_than_the_machine_is_refused_not_aborted() {
+    // Four billion frames: each frame's entries in the record's series (28 bytes of
+    // volume figures and more) outgrow any machine. Before the check the record reserved
+    // them all at once and the process aborted on the allocation (status 134).
+    let sphere = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/sphere");
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("run.json");
+    let out = run(
+        &sphere,
+        &[
+            "--method",
+            "volume",
+            "--frames",
+            "4000000000",
+            "--json",
+            json.to_str().unwrap(),
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("the records of a run of 4000000000 frames (1 method) need up to")
+            && stderr.contains("run fewer frames"),
+        "{stderr}"
+    );
+    assert!(!json.exists());
 }

@@ -148,7 +148,8 @@ pub fn simulate(
         return Err(Error::param("frames", "must be at least 1"));
     }
     let sample_frames = options.sample_frames();
-    let mut frame_ms = Vec::with_capacity(options.frames as usize);
+    // Grown as frames run: a reservation of every frame asks for all of it at once.
+    let mut frame_ms = Vec::with_capacity(options.frames.min(1 << 16) as usize);
     let mut samples = Vec::with_capacity(sample_frames.len());
     let mut run = Simulation::new(model, params);
     for frame in 0..total {

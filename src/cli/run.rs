@@ -477,8 +477,8 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
         ..args.gpu.engine_options()
     };
     let (model, params) = (&staged.model, &staged.params);
-    crate::runner::preflight(backend, model, params, &methods, &gpu)?;
     crate::runner::check_disk_space(&scene.output, model, methods.len(), staged.frames)?;
+    crate::runner::preflight(backend, model, params, &methods, staged.frames, &gpu)?;
     crate::runner::prepare_outputs(&scene.output)?;
     let checkpointing = args.checkpointing(&methods)?;
     for note in &staged.notes {

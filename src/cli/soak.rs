@@ -82,7 +82,7 @@ pub fn execute(args: SoakArgs) -> anyhow::Result<()> {
         false => staged.frames,
     };
     let gpu = args.run.gpu.engine_options();
-    crate::runner::preflight(backend, &staged.model, &staged.params, &methods, &gpu)?;
+    crate::runner::preflight(backend, &staged.model, &staged.params, &methods, 0, &gpu)?;
     let mut failed = Vec::new();
     for method in methods {
         let params = SimParams {

@@ -5,21 +5,37 @@
 
 use tetrasim::backend::cpu::memory;
 use tetrasim::backend::vulkan::{EngineOptions, VulkanBackend};
+use tetrasim::gpu::memory::mib;
 use tetrasim::gpu::{device, list_devices};
+use tetrasim::metrics::RunRecord;
 use tetrasim::params::{Method, SimParams};
 use tetrasim::problem::Problem;
-use tetrasim::{Model, Result};
+use tetrasim::{Error, Model, Result};
 
 /// Refuses what the backend would refuse before allocating: on `vulkan` a method it does
 /// not run or a plan larger than the device's memory, on the CPU backends a problem larger
-/// than the machine's available memory (either at most `gpu.memory_limit`).
+/// than the machine's available memory (either at most `gpu.memory_limit`); and, on any
+/// backend, records of `frames` frames (one per method, held until the run ends) larger
+/// than the machine's available memory.
 pub fn preflight(
     backend: &str,
     model: &Model,
     params: &SimParams,
     methods: &[Method],
+    frames: u32,
     gpu: &EngineOptions,
 ) -> Result<()> {
+    let record = RunRecord::memory_needs(model, frames) * methods.len() as u64;
+    if let Some(offers) = memory::machine_offers().filter(|&o| record > o) {
+        return Err(Error::Memory(format!(
+            "the records of a run of {frames} frames ({} method{}) need up to {} of memory, \
+             the machine offers {} (available now): run fewer frames",
+            methods.len(),
+            if methods.len() == 1 { "" } else { "s" },
+            mib(record),
+            mib(offers)
+        )));
+    }
     if backend != "vulkan" {
         for &method in methods {
             let params = SimParams {

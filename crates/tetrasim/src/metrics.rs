@@ -108,7 +108,7 @@ fn params_as_acted<S: serde::Serializer>(params: &SimParams, to: S) -> Result<S:
 /// NaN: a run that goes non-finite stops, keeps the frames before, and sets `diverged`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunRecord {
-    /// Method name (`mss`, `mss-node`, `distance`, `volume`).
+    /// Method name (`mss`, `mss-node`, `distance`, `volume`, `neo-hookean`).
     pub method: String,
     /// Backend name (`cpu-ref`, `cpu`, `vulkan`).
     pub backend: String,
@@ -214,11 +214,28 @@ pub struct RunRecord {
     pub passes: Option<Vec<PassTime>>,
 }
 
+/// Frames whose series a new record reserves at most: a longer run grows them as it goes
+/// (a reservation for `--frames 4000000000` would ask for 32 GB at once).
+const RESERVED_FRAMES: u32 = 1 << 16;
+
 impl RunRecord {
+    /// The memory a record of `frames` frames of `model` may take at most [bytes]: each
+    /// frame's entry in every per-frame series (time, volume, inverted tets, local error;
+    /// contact counts and depth; pin, floor, collider and clamp forces, the last two a
+    /// vector each with its header and allocation), twice over for a vector's growth by
+    /// doubling.
+    pub fn memory_needs(model: &crate::model::Model, frames: u32) -> u64 {
+        let series = 8 + 8 + 4 + 8;
+        let contact = 4 + 4 + 8;
+        let forces = 2 * 24 + 2 * (24 + 16) + 24 * (model.colliders.len() + model.clamps.len());
+        2 * (series + contact + forces) as u64 * u64::from(frames)
+    }
+
     /// A record of `frames` frames of a prepared problem on `backend`, before any frame ran
     /// (also what `bench` fills in).
     pub fn new(problem: &Problem, mesh_label: &str, frames: u32, backend: &str) -> Self {
         let (model, params) = (&problem.model, &problem.params);
+        let reserve = frames.min(RESERVED_FRAMES) as usize;
         RunRecord {
             method: params.method.name().to_string(),
             backend: backend.to_string(),
@@ -230,14 +247,14 @@ impl RunRecord {
             frames_run: 0,
             params: params.clone(),
             derived: RecordFacts::of(problem),
-            time_s: Vec::with_capacity(frames as usize),
+            time_s: Vec::with_capacity(reserve),
             // A held body does not fall freely: no free fall's contact time for it.
             contact_time_s: (model.free_node_count() == model.node_count())
                 .then(|| model.contact_time(params.gravity, params.floor))
                 .flatten(),
-            volume_pct: Vec::with_capacity(frames as usize),
-            inverted_tets: Vec::with_capacity(frames as usize),
-            local_error_pct: Vec::with_capacity(frames as usize),
+            volume_pct: Vec::with_capacity(reserve),
+            inverted_tets: Vec::with_capacity(reserve),
+            local_error_pct: Vec::with_capacity(reserve),
             collider_nodes: Vec::new(),
             body_contacts: Vec::new(),
             deepest_m: Vec::new(),
