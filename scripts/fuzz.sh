@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Fuzzes every mesh reader, the scene parser (with its staging) and the checkpoint reader:
+# Fuzzes every mesh reader, the scene parser (with its staging), the checkpoint reader and
+# the Python layer's array checks:
 # builds the cargo-fuzz targets in fuzz/ (nightly, libFuzzer) and runs each in turn for
 # SECONDS (default 60) with its seed corpus (fuzz/corpus/TARGET, made here from tests/data,
 # meshes/, examples/scenes and a checkpoint of the bundled box) and its dictionary
@@ -10,14 +11,14 @@
 # goes on with the other targets and exits non-zero at the end, naming them.
 #
 #   scripts/fuzz.sh [SECONDS] [TARGET...]
-#       targets: surface tet_mesh sniffed tetgen scene checkpoint
+#       targets: surface tet_mesh sniffed tetgen scene checkpoint arrays
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(surface tet_mesh sniffed tetgen scene checkpoint)
+[ ${#targets[@]} -gt 0 ] || targets=(surface tet_mesh sniffed tetgen scene checkpoint arrays)
 
 if ! rustup toolchain list | grep -q '^nightly'; then
     echo "fuzz: cargo-fuzz needs a nightly toolchain: rustup toolchain install nightly" >&2
@@ -70,13 +71,27 @@ cargo build --release --bin tetrasim
 target/release/tetrasim run --scene "$tmp/box.toml" --frames 3 --quiet \
     --checkpoint "$tmp/box.checkpoint" > /dev/null
 seed checkpoint box - "$tmp/box.checkpoint"
+# Arrays: the bundled box's nodes (3 columns, float64) and tets (4 columns, int64) as
+# tetmesh::mesh::io::fuzzing::arrays_input writes them.
+python3 - "$tmp/box.arrays" meshes/box << 'PY'
+import struct, sys
+def rows(path):  # the data lines of a TetGen file, after its count line
+    lines = [l.split() for l in open(path) if l.strip() and not l.startswith("#")]
+    return [l[1:] for l in lines[1:]]
+nodes = [float(v) for r in rows(sys.argv[2] + ".node") for v in r[:3]]
+tets = [int(v) for r in rows(sys.argv[2] + ".ele") for v in r[:4]]  # numbered from 0
+head = bytes([3, 4]) + struct.pack("<H", len(nodes) // 3)
+body = struct.pack(f"<{len(nodes)}d", *nodes) + struct.pack(f"<{len(tets)}q", *tets)
+open(sys.argv[1], "wb").write(head + body)
+PY
+seed arrays box - "$tmp/box.arrays"
 
 failed=()
 for target in "${targets[@]}"; do
     echo "== fuzz: $target for $seconds s"
     case $target in
         scene) dict=(-dict=fuzz/dict/scene.dict) ;;
-        checkpoint) dict=() ;;
+        checkpoint | arrays) dict=() ;;
         *) dict=(-dict=fuzz/dict/mesh.dict) ;;
     esac
     log="fuzz/artifacts/$target.log"

@@ -1,8 +1,9 @@
 //! The fuzz targets' inputs replayed on stable (`fuzz/`, `scripts/fuzz.sh`): every input a
 //! target once failed on (`fuzz/regressions/TARGET/`) and the fixtures the corpora are seeded
-//! from, through the same entry points (`tetmesh::mesh::io::fuzzing` for the mesh readers,
-//! `tetrascene::fuzzing` for scenes and checkpoints). Each must come back (read or refused)
-//! without a panic and within the fuzzers' 10 s per input.
+//! from, through the same entry points (`tetmesh::mesh::io::fuzzing` for the mesh readers
+//! and the Python layer's array checks, `tetrascene::fuzzing` for scenes and checkpoints).
+//! Each must come back (read or refused) without a panic and within the fuzzers' 10 s per
+//! input.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::{Path, PathBuf};
@@ -192,5 +193,23 @@ fn a_checkpoint_goes_through_the_checkpoint_target() {
             &flipped,
             "a flipped checkpoint",
         );
+    }
+}
+
+/// The bundled box as the `arrays` target reads arrays: whole, it must come back as the
+/// box (a harness that refused it would pass vacuously); cut short at every 101st byte or
+/// with a byte flipped there, it must be read or refused without a panic.
+#[test]
+fn the_box_goes_through_the_arrays_target() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mesh = tetrasim::mesh::io::read_tet_mesh(&root.join("meshes/box")).unwrap();
+    let data = fuzzing::arrays_input(&mesh);
+    let read = fuzzing::arrays_mesh(&data).expect("the box's arrays pass the checks");
+    assert_eq!((read.nodes, read.tets), (mesh.nodes, mesh.tets));
+    for at in (0..data.len()).step_by(101) {
+        replay("arrays", fuzzing::arrays, &data[..at], "cut arrays");
+        let mut flipped = data.clone();
+        flipped[at] ^= 0xA5;
+        replay("arrays", fuzzing::arrays, &flipped, "flipped arrays");
     }
 }

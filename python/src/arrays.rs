@@ -1,11 +1,15 @@
 //! numpy arrays to and from the engine's vectors and index lists, with the checks that
-//! turn a wrong shape or index into a `ValueError` naming the array.
+//! turn a wrong shape or index into a `ValueError` naming the array (`tetrasim::mesh::arrays`,
+//! which the fuzz target `arrays` runs as well).
+
+use std::borrow::Cow;
 
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use tetrasim::glam::DVec3;
+use tetrasim::mesh::arrays;
 
 /// `points` as an `(n, 3)` float64 array.
 pub fn points_to_numpy<'py>(py: Python<'py>, points: &[DVec3]) -> Bound<'py, PyArray2<f64>> {
@@ -26,61 +30,40 @@ pub fn indices_to_numpy<'py, const K: usize>(
         .into_pyarray(py)
 }
 
-/// An `(n, 3)` float64 array `what` as points; `rows` demands that many.
+/// The values of `array` in row-major order (borrowed where its memory already is) and
+/// its shape.
+fn row_major<'a, T: numpy::Element + Copy>(
+    array: &'a PyReadonlyArray2<'_, T>,
+) -> ([usize; 2], Cow<'a, [T]>) {
+    let view = array.as_array();
+    let shape = [view.shape()[0], view.shape()[1]];
+    // ndarray's `to_slice` is `Some` only for memory in standard (row-major) order; a
+    // transposed or strided array is copied in that order.
+    let values = match view.to_slice() {
+        Some(slice) => Cow::Borrowed(slice),
+        None => Cow::Owned(view.iter().copied().collect()),
+    };
+    (shape, values)
+}
+
+/// An `(n, 3)` float64 array `what` as points, each finite; `rows` demands that many
+/// ([`arrays::points`]).
 pub fn points_from_numpy(
     array: &PyReadonlyArray2<'_, f64>,
     what: &str,
     rows: Option<usize>,
 ) -> PyResult<Vec<DVec3>> {
-    let view = array.as_array();
-    let shape = view.shape();
-    if shape[1] != 3 || rows.is_some_and(|n| n != shape[0]) {
-        let want = rows.map_or("n".to_string(), |n| n.to_string());
-        return Err(PyValueError::new_err(format!(
-            "`{what}` must have shape ({want}, 3), not {shape:?}"
-        )));
-    }
-    let points: Vec<DVec3> = view
-        .rows()
-        .into_iter()
-        .map(|r| DVec3::new(r[0], r[1], r[2]))
-        .collect();
-    if let Some(i) = points.iter().position(|p| !p.is_finite()) {
-        return Err(PyValueError::new_err(format!(
-            "`{what}` row {i} is not finite: {:?}",
-            points[i]
-        )));
-    }
-    Ok(points)
+    let (shape, values) = row_major(array);
+    arrays::points(shape, &values, what, rows).map_err(|e| PyValueError::new_err(e.0))
 }
 
-/// An `(n, K)` integer array `what` as index rows, each below `bound`.
+/// An `(n, K)` integer array `what` as index rows, each below `bound`
+/// ([`arrays::index_rows`]).
 pub fn indices_from_numpy<const K: usize>(
     array: &PyReadonlyArray2<'_, i64>,
     what: &str,
     bound: usize,
 ) -> PyResult<Vec<[u32; K]>> {
-    let view = array.as_array();
-    let shape = view.shape();
-    if shape[1] != K {
-        return Err(PyValueError::new_err(format!(
-            "`{what}` must have shape (n, {K}), not {shape:?}"
-        )));
-    }
-    let mut out = Vec::with_capacity(shape[0]);
-    for (row, values) in view.rows().into_iter().enumerate() {
-        let mut item = [0u32; K];
-        for (k, &v) in values.iter().enumerate() {
-            item[k] = u32::try_from(v)
-                .ok()
-                .filter(|&i| (i as usize) < bound)
-                .ok_or_else(|| {
-                    PyValueError::new_err(format!(
-                        "`{what}` row {row} holds node {v}, outside 0..{bound}"
-                    ))
-                })?;
-        }
-        out.push(item);
-    }
-    Ok(out)
+    let (shape, values) = row_major(array);
+    arrays::index_rows::<K>(shape, &values, what, bound).map_err(|e| PyValueError::new_err(e.0))
 }

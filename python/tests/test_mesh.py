@@ -73,3 +73,15 @@ def test_bad_meshes_raise_the_right_exceptions(tmp_path):
         tetrasim.read_mesh("meshes/box").write(tmp_path / "box.xyz")
     with pytest.raises(ValueError, match="mesher"):
         tetrasim.prep("meshes/sphere_surface.off", mesher="magic")
+
+
+def test_arrays_in_any_memory_order_make_the_same_mesh():
+    box = tetrasim.read_mesh("meshes/box")
+    nodes, tets = box.nodes, box.tets
+    fortran = tetrasim.Mesh(np.asfortranarray(nodes), np.asfortranarray(tets))
+    strided = tetrasim.Mesh(np.repeat(nodes, 2, axis=0)[::2], tets[:, [0, 1, 2, 3]])
+    for mesh in (fortran, strided):
+        np.testing.assert_array_equal(mesh.nodes, nodes)
+        np.testing.assert_array_equal(mesh.tets, tets)
+    with pytest.raises(ValueError, match=r"`tets` must have shape \(n, 4\), not \[4, 1980\]"):
+        tetrasim.Mesh(nodes, tets.T)

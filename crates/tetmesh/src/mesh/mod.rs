@@ -1,6 +1,7 @@
 //! Meshes as the rest of the system sees them: triangle surfaces (input to the preprocessor)
 //! and tetrahedral meshes (input to the simulation), plus their readers and writers.
 
+pub mod arrays;
 pub mod grid;
 pub mod io;
 pub mod order;
