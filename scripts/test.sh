@@ -11,5 +11,8 @@ scripts/setup.sh
 # Release mode shares the build of shaderc with the tests below.
 cargo clippy --workspace --release -- -D warnings
 cargo test --workspace --release "$@"
+# The documentation site (mdBook, docs/SUMMARY.md); the tests above ran the guide's commands
+# and checked the generated reference pages, and the Python suite below runs its blocks.
+scripts/docs.sh --site
 # The Python package: built into a fresh venv with the README's command, then its pytest suite.
 scripts/test-python.sh
