@@ -10,40 +10,9 @@ use std::collections::BTreeSet;
 use std::path::Path;
 use std::process::Command;
 
-/// One field of a struct as its source declares it.
-struct Field {
-    name: String,
-    ty: String,
-    doc: String,
-    attributes: String,
-}
-
-/// The fields of `pub struct NAME` in `source`, in order.
-fn fields(source: &str, name: &str) -> Vec<Field> {
-    let start = source
-        .find(&format!("pub struct {name} {{"))
-        .unwrap_or_else(|| panic!("no struct {name}"));
-    let body = &source[start..];
-    let body = &body[body.find('{').unwrap() + 1..body.find("\n}").unwrap()];
-    let (mut out, mut doc, mut attributes) = (Vec::new(), Vec::new(), String::new());
-    for line in body.lines().map(str::trim) {
-        if let Some(text) = line.strip_prefix("///") {
-            doc.push(text.trim().to_string());
-        } else if line.starts_with("#[") {
-            attributes.push_str(line);
-        } else if let Some(decl) = line.strip_prefix("pub ") {
-            let (field, ty) = decl.split_once(':').unwrap();
-            out.push(Field {
-                name: field.trim().to_string(),
-                ty: ty.trim().trim_end_matches(',').to_string(),
-                doc: doc.join(" "),
-                attributes: std::mem::take(&mut attributes),
-            });
-            doc.clear();
-        }
-    }
-    out
-}
+#[path = "common/source.rs"]
+mod source;
+use source::{cell, check_page, fields, source, Field};
 
 /// A Rust type as JSON names it.
 fn json_type(ty: &str) -> String {
@@ -62,13 +31,6 @@ fn json_type(ty: &str) -> String {
     }
 }
 
-/// A doc comment as a table cell: intra-doc links as code, pipes escaped.
-fn cell(doc: &str) -> String {
-    doc.replace("[`", "`")
-        .replace("`]", "`")
-        .replace('|', "\\|")
-}
-
 /// When a field is written: serde's `skip_serializing_if` leaves it out when empty.
 fn presence(attributes: &str) -> &'static str {
     match attributes {
@@ -77,11 +39,6 @@ fn presence(attributes: &str) -> &'static str {
         a if a.contains("Not::not") => "when true",
         _ => "always",
     }
-}
-
-/// The source of a file of the workspace.
-fn source(path: &str) -> String {
-    std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(path)).unwrap()
 }
 
 /// The record's keys in the order serde writes them, with their fields.
@@ -141,17 +98,7 @@ fn page() -> String {
 
 #[test]
 fn the_record_reference_is_the_records_fields() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/docs/reference/records.md");
-    let generated = page();
-    if std::env::var("TETRASIM_BLESS").is_ok_and(|v| v == "1") {
-        std::fs::write(path, &generated).unwrap();
-    }
-    let committed = std::fs::read_to_string(path).unwrap_or_default();
-    assert!(
-        generated == committed,
-        "docs/reference/records.md differs from RunRecord's fields: rewrite it with \
-         `TETRASIM_BLESS=1 cargo test --release --test record_reference`"
-    );
+    check_page("docs/reference/records.md", &page(), "record_reference");
 }
 
 #[test]

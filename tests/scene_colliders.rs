@@ -91,11 +91,11 @@ fn a_bad_collider_exits_with_2_naming_its_key_and_writes_nothing() {
         ),
         (
             "type = \"mesh\"\npath = \"open.off\"",
-            &["`collider[1].path`", "not closed", "one triangle only"][..],
+            &["`collider[1].mesh`", "not closed", "one triangle only"][..],
         ),
         (
             "type = \"mesh\"\npath = \"absent.off\"",
-            &["`collider[1].path`", "absent.off"][..],
+            &["`collider[1].mesh`", "absent.off"][..],
         ),
         (
             "type = \"capsule\"\na = [0, 1.2, 0]\nb = [1, 1.2, 0]\nradius = 0.1\n\

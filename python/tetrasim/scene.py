@@ -1,6 +1,5 @@
 """``tetrasim.Scene``: a whole scene built in code, one to one with the scene file format
-(``tetrasim run --scene``; every table and key is documented in docs/STABILITY.md and
-crates/tetrascene/src/scene.rs): the ``[solver]`` keys as the constructor's keywords,
+(``tetrasim run --scene``; every table and key is in docs/reference/scene.md): the ``[solver]`` keys as the constructor's keywords,
 ``add_body`` for an ``[[object]]``, ``add_collider`` for a ``[[collider]]``, ``add_grab``
 for a ``[[grab]]`` (a handle holding nodes), ``output`` for ``[output]``. Keywords are named as the scene keys are. ``to_toml()`` writes the scene file
 and ``Scene.from_toml`` reads one (text or a path); ``tetrasim.Simulation(scene)`` runs it

@@ -55,7 +55,7 @@ impl MethodChoice {
 /// Arguments of `tetrasim run`. Every physics value defaults to the preset's.
 #[derive(Debug, clap::Args)]
 pub struct RunArgs {
-    /// A scene file (TOML, documented in crates/tetrascene/src/scene.rs): objects, colliders, solver and outputs.
+    /// A scene file (TOML, every key in docs/reference/scene.md): objects, colliders, solver and outputs.
     /// Every flag below overrides its values: the solver's, the preset's, every object's
     /// material, method, placement (--fit-size, --no-fit, --drop-height, --rotation) and
     /// --target-tets, the floor and the outputs; --mesh a one-object scene's mesh.

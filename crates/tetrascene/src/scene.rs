@@ -23,8 +23,9 @@
 //! block_size = 0      # block gauss-seidel: constraints per block (0 off; >1024: cpu only)
 //! block_sweeps = 1    # sweeps of each block per iteration (1 to 8)
 //! spring_block_sweeps = 0  # the same for implicit springs' blocks (0: as block_sweeps)
-//! rho = 0.95          # spectral radius estimate of chebyshev (lowered below 6
-//!                     # iterations: 0.934 at 5, 0.899 at 4)
+//! # rho = 0.95        # with solver = "chebyshev" only (refused with the others): its
+//!                     # spectral radius estimate (lowered below 6 iterations: 0.934 at
+//!                     # 5, 0.899 at 4)
 //! anderson = 0        # anderson acceleration's memory (0 off, up to 8; 5 for stiff bodies)
 //! minres = 0          # MINRES iterations after the sweeps (0 off, up to 200)
 //! inversion_sweeps = 0 # sweeps of the inversion floor after the iterations (method volume)

@@ -15,7 +15,7 @@ pub enum Collider {
         #[serde(default)]
         friction: f64,
     },
-    /// The half-space `normal . x <= offset`.
+    /// The half-space `normal . x <= distance`.
     Plane {
         /// Outward normal (need not be unit, must not be zero).
         normal: [f64; 3],
@@ -124,7 +124,7 @@ pub(super) fn default_cells() -> u32 {
 }
 
 /// `motion`: `{ velocity = [..], angular_velocity = [..] }` (constant, about the collider's
-/// centre) or `{ keyframes = [{ t, position, rotation }, ...] }`.
+/// centre) or `{ keyframes = [{ t, translation, rotation }, ...] }`.
 #[derive(Debug, Clone, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MotionSpec {
@@ -243,7 +243,7 @@ impl Collider {
                 motion,
             } => {
                 finite(&at("normal"), normal)?;
-                finite(&at("offset"), &[*offset])?;
+                finite(&at("distance"), &[*offset])?;
                 let plane =
                     EngineCollider::plane(DVec3::from(*normal), *offset).map_err(|e| match e {
                         Error::Param { key: k, message } => Error::param(at(&k), message),
@@ -339,18 +339,17 @@ impl Collider {
 }
 
 /// The sampled surface of the `mesh` collider `key` (`collider[2]`): errors name
-/// `collider[2].path` (an unreadable or open surface) or `collider[2].cells`.
+/// `collider[2].mesh` (an unreadable or open surface) or `collider[2].cells`.
 pub(super) fn mesh_grid(key: &str, path: &Path, cells: u32) -> Result<DistanceGrid> {
     let surface = tetrasim::mesh::io::read_surface(path)
-        .map_err(|e| Error::param(format!("{key}.path"), Error::from(e).to_string()))?;
+        .map_err(|e| Error::param(format!("{key}.mesh"), Error::from(e).to_string()))?;
     DistanceGrid::from_surface(&surface.vertices, &surface.triangles, cells).map_err(|e| match e {
-        Error::Param { key: k, message } => Error::param(
-            format!("{key}.{k}"),
-            match k.as_str() {
-                "path" => format!("{message} ({})", path.display()),
-                _ => message,
-            },
+        // The engine names the surface `path`; the scene's key for it is `mesh`.
+        Error::Param { key: k, message } if k == "path" => Error::param(
+            format!("{key}.mesh"),
+            format!("{message} ({})", path.display()),
         ),
+        Error::Param { key: k, message } => Error::param(format!("{key}.{k}"), message),
         other => other,
     })
 }

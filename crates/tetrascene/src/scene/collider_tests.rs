@@ -135,7 +135,7 @@ fn scene_text_with_path(path: &Path, extra: &str) -> String {
 }
 
 #[test]
-fn bad_mesh_colliders_name_their_path() {
+fn bad_mesh_colliders_name_their_mesh_key() {
     let dir = tempfile::tempdir().unwrap();
     let open = write_box(dir.path(), "open.off", DVec3::ONE, 1);
     let colliders = |text: String| {
@@ -147,14 +147,14 @@ fn bad_mesh_colliders_name_their_path() {
     };
     let err = colliders(scene_text_with_path(&open, ""));
     assert!(
-        err.contains("`collider[0].path`")
+        err.contains("`collider[0].mesh`")
             && err.contains("not closed: 3 edges belong to one triangle only")
             && err.contains("open.off"),
         "{err}"
     );
     let err = colliders(scene_text_with_path(&dir.path().join("missing.off"), ""));
     assert!(
-        err.contains("`collider[0].path`") && err.contains("missing.off"),
+        err.contains("`collider[0].mesh`") && err.contains("missing.off"),
         "{err}"
     );
     let err = refused(&["type = \"mesh\"\npath = \"a.off\"\ncells = 2"]);
@@ -216,6 +216,11 @@ fn bad_colliders_name_their_key() {
         (
             &["type = \"sphere\"\ncenter = [0, nan, 0]\nradius = 1.0"],
             &["`collider[0].center`", "finite"],
+        ),
+        (
+            // The key the file gives, not the field behind it (`offset` before 2026-12-06).
+            &["type = \"plane\"\nnormal = [0, 1, 0]\ndistance = inf"],
+            &["`collider[0].distance`", "finite"],
         ),
         (
             &["type = \"capsule\"\na = [0, 0, 0]\nb = [1, 0, 0]\nradius = 0.1\nfriction = 1.5"],
