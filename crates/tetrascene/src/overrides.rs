@@ -288,13 +288,13 @@ pub struct MaterialOverrides {
 impl MaterialOverrides {
     /// These values over `base`'s: flags over a scene object's `material`. A value given
     /// here replaces what excludes it there: a Young's modulus the spring constants (and
-    /// `base`'s Poisson's ratio and damping, which belong to its modulus), a spring constant
-    /// the modulus, one mass the other.
+    /// only the modulus of a material: its Poisson's ratio and damping stay unless given
+    /// too), a spring constant the material (modulus, Poisson's ratio and damping), one
+    /// mass the other.
     pub fn over(&self, base: &MaterialOverrides) -> MaterialOverrides {
         let mut out = base.clone();
         if self.youngs_modulus.is_some() {
             (out.ks, out.kd) = (None, None);
-            (out.poisson_ratio, out.damping) = (None, None);
         }
         if self.ks.is_some() || self.kd.is_some() {
             out.youngs_modulus = None;
@@ -418,6 +418,54 @@ mod tests {
         assert_eq!(solver.misplaced(Solver::Chebyshev), None);
         assert!(SolverOverrides::has("global_volume") && !SolverOverrides::has("ks"));
         assert!(MaterialOverrides::has("node_mass") && !MaterialOverrides::has("dt"));
+    }
+
+    #[test]
+    fn a_modulus_over_a_material_keeps_its_ratio_and_damping_and_springs_replace_it() {
+        let material = MaterialOverrides {
+            youngs_modulus: Some(1e5),
+            poisson_ratio: Some(0.45),
+            damping: Some(0.01),
+            density: Some(1000.0),
+            ..MaterialOverrides::default()
+        };
+        let stiffer = MaterialOverrides {
+            youngs_modulus: Some(2e5),
+            ..MaterialOverrides::default()
+        }
+        .over(&material);
+        assert_eq!(
+            (
+                stiffer.youngs_modulus,
+                stiffer.poisson_ratio,
+                stiffer.damping
+            ),
+            (Some(2e5), Some(0.45), Some(0.01))
+        );
+        let springs = MaterialOverrides {
+            youngs_modulus: Some(2e5),
+            ..MaterialOverrides::default()
+        }
+        .over(&MaterialOverrides {
+            ks: Some(100.0),
+            kd: Some(1.0),
+            ..MaterialOverrides::default()
+        });
+        assert_eq!((springs.ks, springs.kd), (None, None));
+        let replaced = MaterialOverrides {
+            ks: Some(100.0),
+            ..MaterialOverrides::default()
+        }
+        .over(&material);
+        assert_eq!(
+            (
+                replaced.youngs_modulus,
+                replaced.poisson_ratio,
+                replaced.damping
+            ),
+            (None, None, None)
+        );
+        assert_eq!(replaced.density, Some(1000.0));
     }
 
     /// The key lists are the structs' fields: every key a scene table accepts, and (with
