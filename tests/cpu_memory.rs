@@ -39,21 +39,26 @@ fn a_problem_larger_than_the_memory_limit_is_refused_before_any_output() {
     let dir = tempfile::tempdir().unwrap();
     let (json, frames) = (dir.path().join("run.json"), dir.path().join("frames"));
     for backend in ["cpu", "cpu-ref"] {
-        let out = run(
-            &sphere,
-            &[
+        // Two frames on `backend` with at most `limit` MiB, then `more`.
+        let limited = |limit: &str, more: &[&str]| {
+            let mut args = vec![
                 "--backend",
                 backend,
                 "--frames",
                 "2",
                 "--device-memory",
-                "1",
-                "--json",
-                json.to_str().unwrap(),
-                "--out-dir",
-                frames.to_str().unwrap(),
-            ],
-        );
+                limit,
+            ];
+            args.extend(more);
+            run(&sphere, &args)
+        };
+        let outputs = [
+            "--json",
+            json.to_str().unwrap(),
+            "--out-dir",
+            frames.to_str().unwrap(),
+        ];
+        let out = limited("1", &outputs);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(1), "{stderr}");
         // 16 MiB + 1 KiB for each of the sphere's 2857 tets.
@@ -64,17 +69,7 @@ fn a_problem_larger_than_the_memory_limit_is_refused_before_any_output() {
         assert!(stderr.contains(&expected), "{stderr}");
         assert!(!json.exists() && !frames.exists(), "{backend} wrote output");
         // The limit the need names lets the run go.
-        let out = run(
-            &sphere,
-            &[
-                "--backend",
-                backend,
-                "--frames",
-                "2",
-                "--device-memory",
-                "18.8",
-            ],
-        );
+        let out = limited("18.8", &[]);
         assert!(
             out.status.success(),
             "{}",
