@@ -63,6 +63,6 @@ pub use integrate::{
 pub use minres::{
     compliant_residual, Held, Mobility, NodeRows, StepRows, HELD_SHARE, MINRES_MAX_ITERATIONS,
 };
-pub use rigid::RigidPart;
+pub use rigid::{correction_length, RigidPart};
 pub use spring::spring_force;
 pub use tetmesh::geometry::{tet_volume, Real, Vector};

@@ -58,6 +58,19 @@ impl RigidPart {
     }
 }
 
+/// The length of the rigid-part correction on a body a contact holds, from its moves `d`:
+/// `gain = r . d` (`r` the Newton step's residual) and `curvature = d . A d`, the length
+/// that minimises the step's quadratic model along `d`, kept within [0, 1]; zero where
+/// the model has no positive curvature along it (docs/PHYSICS.md, "The correction's
+/// length"). A body nothing holds keeps the whole correction, its momentum's balance.
+pub fn correction_length(gain: f64, curvature: f64) -> f64 {
+    if gain > 0.0 && curvature > 0.0 {
+        (gain / curvature).min(1.0)
+    } else {
+        0.0
+    }
+}
+
 /// `a b^T`.
 fn outer(a: DVec3, b: DVec3) -> DMat3 {
     DMat3::from_cols(a * b.x, a * b.y, a * b.z)
@@ -97,5 +110,16 @@ mod tests {
         for i in 0..5 {
             assert!(part.force(x_pair[i], m[i]).length() < 1e-12);
         }
+    }
+
+    #[test]
+    fn the_correction_is_taken_as_far_as_it_lowers_the_model() {
+        // The model `-g s + c s^2 / 2` is least at `s = g / c`, kept within [0, 1].
+        assert_eq!(correction_length(0.25, 1.0), 0.25);
+        assert_eq!(correction_length(3.0, 1.0), 1.0);
+        // Uphill, flat, or not a number: none of it.
+        assert_eq!(correction_length(-0.5, 1.0), 0.0);
+        assert_eq!(correction_length(0.5, 0.0), 0.0);
+        assert_eq!(correction_length(f64::NAN, 1.0), 0.0);
     }
 }

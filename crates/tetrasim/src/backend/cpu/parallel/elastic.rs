@@ -7,14 +7,14 @@
 //! the same bits on a team of any size.
 
 use super::coarse::{coarse_level, precondition};
+use super::correction::remove_rigid_parts;
 use super::iterations::{Inputs, Outputs};
 use super::newton::CHUNK;
 use super::*;
 use crate::backend::cpu::team::Member;
 use crate::collider;
 use crate::physics::{
-    elastic_energy, elastic_linearise, elastic_product, held_increment, held_mass, touching,
-    ElasticTet, RigidPart,
+    elastic_energy, elastic_linearise, elastic_product, held_increment, touching, ElasticTet,
 };
 use crate::schedule::family::{backtrack, ElasticNodes};
 
@@ -45,7 +45,8 @@ impl NewtonScalars {
 /// iteration that linearises the step adds five, the step's first three more for the
 /// preconditioner's coarse level); the caller's wait ends the last.
 /// The last iteration of the step also removes the rigid part of each free object's
-/// elastic forces, as `cpu-ref` does (two more phases).
+/// elastic forces, as `cpu-ref` does (three more phases, more where a contact holds one;
+/// [`remove_rigid_parts`]).
 ///
 /// # Safety
 /// Every member must call it with the same arguments; nobody else may touch the forces,
@@ -67,40 +68,8 @@ pub(super) unsafe fn iteration(
         return;
     }
     member.wait();
-    let (x, k) = (inputs.x, inputs.k);
-    // Every member finds the same rigid parts (the same sums in the same order).
-    // SAFETY: nobody writes the forces or the node results until the next wait.
-    let parts: Vec<RigidPart> = unsafe {
-        let (f, out) = (outputs.f.whole(), outputs.node_out.whole());
-        let (floor, contact) = (outputs.floor_force.whole(), outputs.contact.whole());
-        let held = outputs.newton.held.whole();
-        (family.free_objects.iter())
-            .map(|object| {
-                RigidPart::of(object.clone().map(|i| {
-                    let pushed = contact.get(i).copied().unwrap_or(Vec3A::ZERO);
-                    let phi = f[i] - k.gravity * family.mass[i] - Vec3A::Y * floor[i] - pushed;
-                    let m = held_mass(f64::from(family.mass[i]), held[i]);
-                    (x[i].as_dvec3(), m, (phi + out[i]).as_dvec3())
-                }))
-            })
-            .collect()
-    };
-    member.wait();
-    let own = member.block(inputs.x.len());
-    // SAFETY: these nodes' results are this member's; nobody writes `held`.
-    let (out, held) = unsafe {
-        (
-            outputs.node_out.part(own.clone()),
-            outputs.newton.held.whole(),
-        )
-    };
-    for (object, part) in family.free_objects.iter().zip(&parts) {
-        let nodes = object.start.max(own.start)..object.end.min(own.end);
-        for i in nodes {
-            let m = held_mass(f64::from(family.mass[i]), held[i]);
-            out[i - own.start] -= part.force(x[i].as_dvec3(), m).as_vec3a();
-        }
-    }
+    // SAFETY: the caller's promise; the wait ended the writes of the results and `r`.
+    unsafe { remove_rigid_parts(member, inputs, outputs, family) };
 }
 
 /// The conjugate gradients' force increments of one iteration (see [`iteration`]).

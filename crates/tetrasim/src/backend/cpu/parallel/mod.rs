@@ -36,6 +36,7 @@ mod anderson;
 mod backend;
 mod blocks;
 mod coarse;
+mod correction;
 mod elastic;
 mod inversion;
 mod iterations;

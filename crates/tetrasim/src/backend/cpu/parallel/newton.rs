@@ -31,6 +31,8 @@ pub(super) struct NewtonVectors {
     linear: Vec<ElasticLinear<Vec3A>>,
     corners: Vec<[Vec3A; 4]>,
     sums: Vec<f64>,
+    /// Per chunk: two partial sums (the rigid-part correction's length).
+    pair_sums: Vec<f64>,
     /// Per chunk of tets: a partial sum of their energies.
     tet_sums: Vec<f64>,
     /// The preconditioner's coarse level at the linearisation (one, the leader's) and
@@ -60,6 +62,7 @@ impl NewtonVectors {
             linear: vec![ElasticLinear::default(); tets],
             corners: vec![[Vec3A::ZERO; 4]; tets],
             sums: vec![0.0; nodes.div_ceil(CHUNK)],
+            pair_sums: vec![0.0; 2 * nodes.div_ceil(CHUNK)],
             tet_sums: vec![0.0; tets.div_ceil(CHUNK)],
             coarse: vec![CoarseSpace::default()],
             restricted: vec![0.0; 6 * aggregates],
@@ -84,6 +87,7 @@ impl NewtonVectors {
             linear: SharedSlice::new(&mut self.linear),
             corners: SharedSlice::new(&mut self.corners),
             sums: SharedSlice::new(&mut self.sums),
+            pair_sums: SharedSlice::new(&mut self.pair_sums),
             tet_sums: SharedSlice::new(&mut self.tet_sums),
             coarse: SharedSlice::new(&mut self.coarse),
             restricted: SharedSlice::new(&mut self.restricted),
@@ -108,6 +112,7 @@ pub(super) struct NewtonShared<'a> {
     pub(super) linear: SharedSlice<'a, ElasticLinear<Vec3A>>,
     pub(super) corners: SharedSlice<'a, [Vec3A; 4]>,
     pub(super) sums: SharedSlice<'a, f64>,
+    pub(super) pair_sums: SharedSlice<'a, f64>,
     pub(super) tet_sums: SharedSlice<'a, f64>,
     pub(super) coarse: SharedSlice<'a, CoarseSpace>,
     pub(super) restricted: SharedSlice<'a, f64>,

@@ -1,10 +1,10 @@
 //! The team's result does not depend on its size: states after a drop onto the floor are
-//! bit-identical for teams of 1, 2, 3 and 4 threads (every solver, MINRES, implicit and
-//! explicit springs), and the 4-thread run follows the `cpu-ref` backend within the tolerance of
-//! `tests/cpu_matches_reference.rs`. The teams are built with their size given, past the
-//! cap on small meshes ([`crate::backend::cpu::team::Team::for_work`]). So is a backend that
-//! changes teams from frame to frame while it times them
-//! ([`crate::backend::cpu::team_choice::TeamChoice`]).
+//! bit-identical for teams of 1, 2, 3 and 4 threads (every solver, MINRES, the finite
+//! elements, implicit and explicit springs), and the 4-thread run follows the `cpu-ref`
+//! backend within the tolerance of `tests/cpu_matches_reference.rs`. The teams are built
+//! with their size given, past the cap on small meshes
+//! ([`crate::backend::cpu::team::Team::for_work`]). So is a backend that changes teams from
+//! frame to frame while it times them ([`crate::backend::cpu::team_choice::TeamChoice`]).
 
 use super::*;
 use crate::backend::cpu::ReferenceBackend;
@@ -119,23 +119,56 @@ fn teams_of_any_size_give_the_same_bits() {
         ),
     ];
     for (name, params) in cases {
-        let problem = Problem::new(&model, &params).expect("a problem");
-        let one = run(&problem, 1);
+        same_bits_on_any_team(name, &Problem::new(&model, &params).expect("a problem"));
+    }
+}
+
+/// Asserts that `problem` lands on the floor and ends with the same bits on teams of 1 to
+/// 4 threads, and on teams of 4, 2 and 1 in turn.
+fn same_bits_on_any_team(name: &str, problem: &Problem) {
+    let one = run(problem, 1);
+    assert!(
+        one.positions.iter().any(|p| p.y.abs() < 1e-6),
+        "{name}: never touched the floor"
+    );
+    for threads in 2..=4 {
         assert!(
-            one.positions.iter().any(|p| p.y.abs() < 1e-6),
-            "{name}: never touched the floor"
-        );
-        for threads in 2..=4 {
-            assert!(
-                bits(&run(&problem, threads)) == bits(&one),
-                "{name}: {threads} threads differ from 1"
-            );
-        }
-        assert!(
-            bits(&run_choosing(&problem, &[4, 2, 1])) == bits(&one),
-            "{name}: teams of 4, 2 and 1 in turn differ from 1"
+            bits(&run(problem, threads)) == bits(&one),
+            "{name}: {threads} threads differ from 1"
         );
     }
+    assert!(
+        bits(&run_choosing(problem, &[4, 2, 1])) == bits(&one),
+        "{name}: teams of 4, 2 and 1 in turn differ from 1"
+    );
+}
+
+/// The finite elements too (their conjugate gradients' sums, the coarse level, and the
+/// rigid-part correction sized on the floor: the box lands after about 45 frames).
+#[test]
+fn teams_of_any_size_give_the_same_bits_on_the_finite_elements() {
+    let params = SimParams {
+        method: Method::NeoHookean,
+        youngs_modulus: Some(1e6),
+        poisson_ratio: Some(0.3),
+        mass: crate::params::MassMode::Density { density: 1000.0 },
+        ..SimParams::default()
+    };
+    // The box of `model`, its masses from the material, moving as there.
+    let mesh = crate::mesh::grid::box_tets(glam::DVec3::ZERO, 0.1, [9, 7, 8]);
+    let placement = Placement {
+        fit_size: Some(1.0),
+        drop_height: Some(0.01),
+    };
+    let model = Model {
+        velocities: model().velocities,
+        ..(ModelBuilder::new(&mesh).placement(placement))
+            .material(&params)
+            .build()
+            .expect("a model of the box")
+    };
+    let problem = Problem::new(&model, &params).expect("a problem");
+    same_bits_on_any_team("neo-hookean", &problem);
 }
 
 #[test]

@@ -9,8 +9,9 @@ use super::step_forces::StepForces;
 use super::ReferenceBackend;
 use crate::collider;
 use crate::physics::{
-    elastic_energy, elastic_linearise, elastic_product, end_position, held_increment, held_mass,
-    sym3_apply, touching, CoarseSpace, ElasticLinear, RigidPart, Sym3, NO_AGGREGATE,
+    correction_length, elastic_energy, elastic_linearise, elastic_product, end_position,
+    held_increment, held_mass, sym3_apply, touching, CoarseSpace, ElasticLinear, RigidPart, Sym3,
+    NO_AGGREGATE,
 };
 use crate::schedule::family::{backtrack, ElasticNodes, Family};
 use crate::schedule::GroupAt;
@@ -56,7 +57,9 @@ impl ReferenceBackend {
     /// The first iteration linearises the step's equation where the nodes end so far
     /// ([`crate::schedule::family::ElasticNodes::newton_row`]). The last iteration also
     /// removes the rigid part of each free object's elastic forces (what the unconverged
-    /// residual leaves; [`RigidPart`]), so that they conserve momentum.
+    /// residual leaves; [`RigidPart`]), so that they conserve momentum: whole on a body
+    /// nothing holds, as far as it lowers the step's model on one a contact holds
+    /// ([`ReferenceBackend::correction_length`]).
     pub(super) fn elastic_group(
         &self,
         at: GroupAt,
@@ -71,13 +74,50 @@ impl ReferenceBackend {
                     let elastic = |i: usize| step.elastic(i) + sum[i];
                     let part =
                         RigidPart::of(object.clone().map(|i| (self.x[i], moved(i), elastic(i))));
+                    let held = object.clone().any(|i| step.newton.held[i] != DVec3::ZERO);
+                    let length = if held {
+                        self.correction_length(nodes, step, object.clone(), &part)
+                    } else {
+                        1.0
+                    };
                     for i in object.clone() {
-                        sum[i] -= part.force(self.x[i], moved(i));
+                        sum[i] -= part.force(self.x[i], moved(i)) * length;
                     }
                 }
             }
         }
         sum
+    }
+
+    /// The length of the rigid-part correction `part` on `object`, a body a contact holds:
+    /// the correction's moves taken as one more direction of the step's Newton system, at
+    /// the length that minimises its quadratic model, `r . d / d . A d`, in [0, 1].
+    fn correction_length(
+        &self,
+        nodes: &ElasticNodes<f64>,
+        step: &StepForces,
+        object: std::ops::Range<usize>,
+        part: &RigidPart,
+    ) -> f64 {
+        let (model, dt) = (&self.problem.model, self.problem.params.dt);
+        let (w, tets, cg) = (&model.inv_mass, &model.tets, &step.newton);
+        let n = model.node_count();
+        let mut d = vec![DVec3::ZERO; n];
+        for i in object.clone() {
+            let m = held_mass(nodes.mass[i], cg.held[i]);
+            d[i] = -part.force(self.x[i], m) * (w[i] * dt * dt);
+        }
+        let corners: Vec<[DVec3; 4]> = (tets.iter().zip(&nodes.tets).zip(&cg.linear))
+            .map(|((tet, t), linear)| elastic_product(t, linear, tet.map(|k| d[k as usize])))
+            .collect();
+        let (mut gain, mut curvature) = (0.0, 0.0);
+        for i in object {
+            let corner = |item: usize| corners[item / 4][item % 4];
+            let q = nodes.product(i, w[i], dt, d[i], cg.held[i], corner);
+            gain += cg.r[i].dot(d[i]);
+            curvature += d[i].dot(q);
+        }
+        correction_length(gain, curvature)
     }
 
     /// One iteration of the conjugate gradients: the force increments.
