@@ -406,6 +406,16 @@ fn resting_on(colliders: &[ColliderAt<'_>], x: DVec3, gap: f64) -> Option<DVec3>
     })
 }
 
+/// Whether the world point `x` lies inside the floor (`floor`: the run has one) or within
+/// one of `colliders`' contact thickness at the step's end: a node there is one a contact
+/// will push.
+pub fn inside(floor: bool, colliders: &[ColliderAt<'_>], x: DVec3) -> bool {
+    (floor && x.y < 0.0)
+        || colliders
+            .iter()
+            .any(|c| c.may_touch(x) && c.distance(x).0 < c.collider.thickness)
+}
+
 /// `colliders` over time step `step` (counted from 0) of length `dt` [s]: from
 /// `t = step dt` to `t + dt` (the product taken in f64 on every backend).
 pub fn at_step(colliders: &[Collider], step: u64, dt: f64) -> Vec<ColliderAt<'_>> {

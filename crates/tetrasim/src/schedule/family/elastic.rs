@@ -25,6 +25,12 @@ use crate::problem::Problem;
 /// quadratic model's error is of third order in it, far below the step's gain.
 pub const TRUSTED_STRAIN: f64 = 0.01;
 
+/// The least share of the quadratic model's predicted fall of the incremental potential
+/// that a step beyond [`TRUSTED_STRAIN`] must achieve for the conjugate gradients to go on
+/// with the step's linearisation (the trust region's ratio test; Nocedal and Wright,
+/// "Numerical Optimization", ch. 4); below it, the next iteration begins a new Newton step.
+pub const TRUSTED_RATIO: f64 = 0.5;
+
 /// Halvings of a conjugate-gradient step before the solve gives up on its direction.
 pub const MOST_HALVINGS: u32 = 8;
 
@@ -35,51 +41,61 @@ pub struct Backtracked {
     pub alpha: Option<f64>,
     /// The incremental potential where the step ends, when it was evaluated.
     pub potential: Option<f64>,
-    /// The step went beyond the linearisation's trust: the next iteration begins a new
-    /// Newton step where the nodes then end.
+    /// The step went beyond [`TRUSTED_STRAIN`]: it was checked against the potential.
+    pub checked: bool,
+    /// The step went beyond the linearisation's trust (beyond [`TRUSTED_STRAIN`], and it
+    /// lowered the potential by less than [`TRUSTED_RATIO`] of the model's prediction):
+    /// the next iteration begins a new Newton step where the nodes then end.
     pub relinearise: bool,
 }
 
 /// The backtracking both CPU backends share (docs/PHYSICS.md, "Finite elements"): the step
 /// `alpha` along a direction whose largest strain change per unit step is `strain` is taken
 /// as it is when within [`TRUSTED_STRAIN`]; beyond it, it is halved (up to
-/// [`MOST_HALVINGS`] times) until it lowers the incremental potential or is trusted.
+/// [`MOST_HALVINGS`] times) until it lowers the incremental potential or is trusted, and
+/// the linearisation is kept if the fall is at least [`TRUSTED_RATIO`] of what the
+/// quadratic model predicts, `curvature a (alpha - a / 2)` for a step `a` (`curvature`:
+/// the direction's `p . A p`; `alpha` the conjugate gradients' step, the model's least).
 /// `potential_at(a)` is the potential with the nodes moved `a` along the direction from
 /// where they end so far, whose value is `known` when the last step evaluated it.
 pub fn backtrack(
-    mut alpha: f64,
+    alpha: f64,
     strain: f64,
+    curvature: f64,
     known: Option<f64>,
     mut potential_at: impl FnMut(f64) -> f64,
 ) -> Backtracked {
-    let relinearise = alpha * strain > TRUSTED_STRAIN;
+    let checked = alpha * strain > TRUSTED_STRAIN;
     let mut now = known;
+    let mut step = alpha;
     for _ in 0..=MOST_HALVINGS {
-        if alpha * strain <= TRUSTED_STRAIN {
+        if step * strain <= TRUSTED_STRAIN {
             // Taken unchecked: the potential is no longer known.
-            let potential = None;
             return Backtracked {
-                alpha: Some(alpha),
-                potential,
-                relinearise,
+                alpha: Some(step),
+                potential: None,
+                checked,
+                relinearise: checked,
             };
         }
         let here = *now.get_or_insert_with(|| potential_at(0.0));
-        let trial = potential_at(alpha);
+        let trial = potential_at(step);
         if trial <= here {
-            let potential = Some(trial);
+            let predicted = curvature * step * (alpha - 0.5 * step);
             return Backtracked {
-                alpha: Some(alpha),
-                potential,
-                relinearise,
+                alpha: Some(step),
+                potential: Some(trial),
+                checked,
+                relinearise: here - trial < TRUSTED_RATIO * predicted,
             };
         }
-        alpha *= 0.5;
+        step *= 0.5;
     }
     Backtracked {
         alpha: None,
         potential: now,
-        relinearise,
+        checked,
+        relinearise: checked,
     }
 }
 
@@ -382,5 +398,51 @@ impl<R: Real> ElasticNodes<R> {
             }
         }
         (grad, hessian)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A direction with `p . A p = 1` and the conjugate gradients' step 1 (the model
+    /// `-a + a^2 / 2`, least at 1, predicting a fall of 1/2), its strain change 1 per unit
+    /// step: beyond the trust, so checked against `potential`.
+    fn stepped(potential: impl Fn(f64) -> f64) -> Backtracked {
+        backtrack(1.0, 1.0, 1.0, None, potential)
+    }
+
+    #[test]
+    fn a_step_the_model_predicts_keeps_the_linearisation() {
+        // The potential is the model: the fall is the predicted one.
+        let exact = stepped(|a| -a + a * a / 2.0);
+        assert_eq!(exact.alpha, Some(1.0));
+        assert!(exact.checked && !exact.relinearise, "{exact:?}");
+        // A fall of 0.3 of the predicted 0.5 is 0.6 of it: kept.
+        assert!(!stepped(|a| -0.6 * (a - a * a / 2.0)).relinearise);
+        // A fall of 0.2 (0.4 of it): a new Newton step.
+        let short = stepped(|a| -0.4 * (a - a * a / 2.0));
+        assert!(short.checked && short.relinearise, "{short:?}");
+    }
+
+    #[test]
+    fn a_step_that_raises_the_potential_is_halved_and_relinearised() {
+        // Rises at 1, falls at 1/2 by 0.3 against the model's 3/8: kept at 0.8 of it.
+        let halved = stepped(|a| {
+            if a > 0.75 {
+                1.0
+            } else {
+                -0.8 * (a - a * a / 2.0)
+            }
+        });
+        assert_eq!(halved.alpha, Some(0.5));
+        assert!(!halved.relinearise, "{halved:?}");
+        // Rises until halved within the trust: taken unchecked, then a new Newton step.
+        let trusted = backtrack(1.0, 0.015, 1.0, None, |a| a);
+        assert_eq!(trusted.alpha, Some(0.5));
+        assert!(trusted.checked && trusted.relinearise && trusted.potential.is_none());
+        // Within the trust from the start: neither checked nor relinearised.
+        let small = backtrack(1.0, 0.005, 1.0, None, |_| panic!("not evaluated"));
+        assert!(!small.checked && !small.relinearise);
     }
 }

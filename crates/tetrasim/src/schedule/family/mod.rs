@@ -11,7 +11,9 @@ mod spring;
 mod volume;
 
 pub use distance::Distances;
-pub use elastic::{backtrack, node_elements, Backtracked, ElasticNodes, TRUSTED_STRAIN};
+pub use elastic::{
+    backtrack, node_elements, Backtracked, ElasticNodes, TRUSTED_RATIO, TRUSTED_STRAIN,
+};
 pub use spring::ImplicitSprings;
 pub use volume::Volumes;
 

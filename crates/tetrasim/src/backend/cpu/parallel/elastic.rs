@@ -235,10 +235,16 @@ unsafe fn increments(
         .fold(0.0, f64::max);
     member.wait();
     // Backtracking as `cpu-ref`'s: an untrusted step that raises the potential is halved.
-    let stepped = backtrack(scalars.rz / curvature, strain, scalars.potential, |a| {
-        // SAFETY: the caller's promise (every member evaluates the same steps).
-        unsafe { potential(member, inputs, outputs, family, a as f32) }
-    });
+    let stepped = backtrack(
+        scalars.rz / curvature,
+        strain,
+        curvature,
+        scalars.potential,
+        |a| {
+            // SAFETY: the caller's promise (every member evaluates the same steps).
+            unsafe { potential(member, inputs, outputs, family, a as f32) }
+        },
+    );
     (scalars.potential, scalars.relinearise) = (stepped.potential, stepped.relinearise);
     let Some(alpha) = stepped.alpha else {
         scalars.done = true;
@@ -246,7 +252,11 @@ unsafe fn increments(
         return;
     };
     let alpha = alpha as f32;
-    // SAFETY: these nodes' vectors are this member's; nobody writes the contacts' forces.
+    // A checked step the model predicted keeps the linearisation unless a node the
+    // contacts left free ends inside one (`cpu-ref`'s check): each chunk's flag in the sums.
+    let check_contacts = stepped.checked && !scalars.relinearise;
+    // SAFETY: these nodes' vectors and chunks' sums are this member's; nobody writes the
+    // contacts' forces or `at`.
     unsafe {
         let r = cg.r.part(nodes.clone());
         let (p, q) = (cg.p.part(nodes.clone()), cg.q.part(nodes.clone()));
@@ -260,8 +270,25 @@ unsafe fn increments(
             dx[j] += p[j] * alpha;
             r[j] -= q[j] * alpha;
         }
+        if check_contacts {
+            let (at, sums) = (cg.at.whole(), cg.sums.part(chunks.clone()));
+            let colliders = inputs.colliders.as_ref().map_or(&[][..], |c| c.at);
+            for (c, sum) in chunks.clone().zip(sums) {
+                let inside = (c * CHUNK..((c + 1) * CHUNK).min(n)).any(|i| {
+                    let (j, end) = (i - nodes.start, (at[i] + dx[i - nodes.start]).as_dvec3());
+                    w[i] > 0.0
+                        && held[j] == Vec3A::ZERO
+                        && collider::inside(inputs.floor, colliders, end)
+                });
+                *sum = if inside { 1.0 } else { 0.0 };
+            }
+        }
     }
     member.wait();
+    if check_contacts {
+        // Read before `precondition`'s wait, after which the sums are written again.
+        scalars.relinearise = total() > 0.0;
+    }
     // SAFETY: the caller's promise.
     unsafe { precondition(member, cg, family, nodes.clone()) };
     // SAFETY: these nodes' vectors are this member's.

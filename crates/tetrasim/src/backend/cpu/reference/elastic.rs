@@ -211,13 +211,14 @@ impl ReferenceBackend {
         }
         // Backtracking: a step that changes some strain beyond the linearisation's trust
         // and raises the incremental potential (a large deformation the linearisation
-        // misjudges) is halved until it lowers it or is trusted; an untrusted step is followed by
-        // a new Newton step, linearised where the nodes then end.
+        // misjudges) is halved until it lowers it or is trusted; such a step is followed by
+        // a new Newton step, linearised where the nodes then end, unless the potential fell
+        // as the model said and no node the contacts left free ends inside one.
         let strain = (0..tets.len())
             .map(|t| nodes.strain(t, tets[t].map(|k| cg.p[k as usize])))
             .fold(0.0, f64::max);
         let (at, dx, p) = (&cg.at, &cg.dx, &cg.p);
-        let stepped = backtrack(cg.rz / curvature, strain, cg.potential, |a| {
+        let stepped = backtrack(cg.rz / curvature, strain, curvature, cg.potential, |a| {
             let moves: Vec<DVec3> = (0..n).map(|k| dx[k] + p[k] * a).collect();
             self.potential(nodes, at, &moves, &cg.y, &cg.held)
         });
@@ -226,6 +227,14 @@ impl ReferenceBackend {
             cg.done = true;
             return sum;
         };
+        if stepped.checked && !cg.relinearise {
+            let colliders = collider::at_step(&model.colliders, self.steps, dt);
+            let floor = self.problem.params.floor;
+            cg.relinearise = (0..n).any(|k| {
+                let end = cg.at[k] + cg.dx[k] + cg.p[k] * alpha;
+                w[k] > 0.0 && cg.held[k] == DVec3::ZERO && collider::inside(floor, &colliders, end)
+            });
+        }
         for &i in members {
             let i = i as usize;
             cg.dx[i] += cg.p[i] * alpha;
