@@ -15,7 +15,9 @@ use tetrasim_cli::launch::{stage, Staged};
 use tetrasim_cli::scene::Scene;
 
 const FRAMES: u32 = 60;
-const SAVED_AT: u32 = 30;
+/// Not a multiple of `tetrasim::physics::COARSE_REBUILD_STEPS`: the finite elements'
+/// coarse level the resumed run starts with is the one the checkpoint carried.
+const SAVED_AT: u32 = 35;
 
 fn mesh(name: &str) -> String {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))

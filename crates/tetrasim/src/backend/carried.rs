@@ -4,6 +4,7 @@
 //! a run resumed from one continues bit for bit ([`crate::sim::Checkpoint`]).
 
 use crate::error::{Error, Result};
+use crate::physics::CoarseSpace;
 
 /// A backend's carried state ([module docs](self)).
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -42,6 +43,29 @@ impl Carried {
     }
 }
 
+/// The name of the finite elements' coarse level among the carried arrays (both CPU
+/// backends; [`crate::physics::CoarseSpace::to_values`]).
+pub const COARSE_KEY: &str = "coarse_level";
+
+/// The coarse level `carried` holds, for a run of `aggregates` aggregates: none (built at
+/// the next step) when it holds none, as a checkpoint written before the level was kept
+/// from step to step; an error naming the array when its numbers do not fit the run.
+pub fn restore_coarse(carried: &Carried, aggregates: usize) -> Result<CoarseSpace> {
+    let Some((_, values)) = carried.arrays.iter().find(|(n, _)| n == COARSE_KEY) else {
+        return Ok(CoarseSpace::default());
+    };
+    CoarseSpace::from_values(values, aggregates).ok_or_else(|| {
+        Error::param(
+            "checkpoint",
+            format!(
+                "its `{COARSE_KEY}` ({} values) is not the coarse level of this run's \
+                 {aggregates} aggregates",
+                values.len()
+            ),
+        )
+    })
+}
+
 /// `vectors` as `x y z` triples of f64.
 pub fn flatten<V: Into<glam::DVec3> + Copy>(vectors: &[V]) -> Vec<f64> {
     vectors.iter().flat_map(|&v| v.into().to_array()).collect()
@@ -53,4 +77,40 @@ pub fn unflatten(values: &[f64]) -> Vec<glam::DVec3> {
         .chunks_exact(3)
         .map(|c| glam::DVec3::new(c[0], c[1], c[2]))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::Aggregates;
+    use glam::DVec3;
+
+    #[test]
+    fn the_coarse_level_comes_back_or_is_refused_naming_it() {
+        // Two aggregates of a row of nodes, factored with a diagonal A_c.
+        let positions: Vec<DVec3> = (0..128).map(|i| DVec3::X * i as f64).collect();
+        let aggregates = Aggregates::group(&positions, &[1.0; 128], &[0, 128], &[]);
+        assert_eq!(aggregates.len(), 2);
+        let mut coarse = CoarseSpace::new(&aggregates, |k| positions[k]);
+        let n = coarse.unknowns();
+        let columns: Vec<f64> = (0..n * n)
+            .map(|k| if k % (n + 1) == 0 { 2.0 } else { 0.0 })
+            .collect();
+        coarse.assemble(&columns);
+        let carried = |values: Vec<f64>| Carried {
+            arrays: vec![(COARSE_KEY.to_string(), values)],
+            ..Carried::default()
+        };
+        let back = restore_coarse(&carried(coarse.to_values()), 2).unwrap();
+        assert_eq!(back.to_values(), coarse.to_values());
+        // None carried (an older checkpoint): built at the next step.
+        assert!(!restore_coarse(&Carried::default(), 2).unwrap().is_built());
+        // Cut short, or of another run's aggregates: refused, naming the array.
+        let mut short = coarse.to_values();
+        short.pop();
+        for (values, aggregates) in [(short, 2), (coarse.to_values(), 3)] {
+            let error = restore_coarse(&carried(values), aggregates).unwrap_err();
+            assert!(error.to_string().contains(COARSE_KEY), "{error}");
+        }
+    }
 }

@@ -192,7 +192,7 @@ pub trait Backend: Send {
 }
 
 mod carried;
-pub use carried::{flatten, unflatten, Carried};
+pub use carried::{flatten, restore_coarse, unflatten, Carried, COARSE_KEY};
 
 pub mod cpu;
 pub mod vulkan;

@@ -5,12 +5,12 @@
 //! free nodes along a Morton curve) as a rigid body, six modes per aggregate, and solves the
 //! step's system restricted to those modes exactly: `P A_c^-1 P^T r` is added to the
 //! block-Jacobi term (an additive two-level preconditioner, symmetric positive definite as
-//! the conjugate gradients need). `A_c = P^T A P` is assembled once per linearisation from
+//! the conjugate gradients need). `A_c = P^T A P` is assembled at a linearisation from
 //! the nodes' blocks and each tet's stiffness times the modes at its corners, and factored
-//! by a dense Cholesky factorisation (at most [`MOST_AGGREGATES`] x 6 unknowns), once per
-//! step (a later linearisation within the step keeps it: a preconditioner need not be
-//! exact, only symmetric positive definite). Nodes in contact are left out of the
-//! correction ([`touching`]).
+//! by a dense Cholesky factorisation (at most [`MOST_AGGREGATES`] x 6 unknowns), once every
+//! [`COARSE_REBUILD_STEPS`] steps (the steps between and a later linearisation within a
+//! step keep it: a preconditioner need not be exact, only symmetric positive definite).
+//! Nodes in contact are left out of the correction ([`touching`]).
 
 use glam::DVec3;
 use tetmesh::mesh::order::morton_code;
@@ -18,12 +18,27 @@ use tetmesh::mesh::order::morton_code;
 use super::{Sym3, Vector};
 
 /// The most aggregates: the coarse system has six unknowns per aggregate and is factored
-/// densely once per linearisation.
+/// densely when built.
 pub const MOST_AGGREGATES: usize = 64;
 
 /// The fewest free nodes per aggregate (a smaller one is nearly one tet, which block-Jacobi
 /// already handles).
 pub const FEWEST_AGGREGATE_NODES: usize = 64;
+
+/// Time steps between builds of the coarse level: a step whose index (counted from the
+/// backend's start) is a multiple of it assembles and factors `A_c` anew at its first
+/// linearisation, the others keep the last one ([`rebuilds`]; docs/PHYSICS.md, "The coarse
+/// level kept for ten steps"). A preconditioner need only be symmetric positive definite;
+/// on the horse drop one kept for 10 steps measured better than one built every step, at
+/// three quarters of the cost.
+pub const COARSE_REBUILD_STEPS: u64 = 10;
+
+/// Whether step `step` (its index from the backend's start) builds the coarse level anew:
+/// every [`COARSE_REBUILD_STEPS`], and whenever there is none yet (`built` false).
+#[inline]
+pub fn rebuilds(step: u64, built: bool) -> bool {
+    !built || step % COARSE_REBUILD_STEPS == 0
+}
 
 /// No aggregate: a pinned node's entry in [`Aggregates::of`].
 pub const NO_AGGREGATE: u32 = u32::MAX;
@@ -148,6 +163,44 @@ impl CoarseSpace {
     /// The number of unknowns (six per aggregate).
     pub fn unknowns(&self) -> usize {
         self.kept.len()
+    }
+
+    /// Whether it has been built (a space of no aggregate never is).
+    pub fn is_built(&self) -> bool {
+        !self.kept.is_empty()
+    }
+
+    /// Its state as numbers, for a checkpoint: the number of aggregates, their centres and
+    /// sizes, the kept pivots (1 or 0) and the factored matrix.
+    pub fn to_values(&self) -> Vec<f64> {
+        let mut values = vec![self.centre.len() as f64];
+        values.extend(self.centre.iter().flat_map(|c| c.to_array()));
+        values.extend(&self.size);
+        values.extend(self.kept.iter().map(|&k| if k { 1.0 } else { 0.0 }));
+        values.extend(&self.matrix);
+        values
+    }
+
+    /// The space [`CoarseSpace::to_values`] wrote, of `aggregates` aggregates; `None` when
+    /// the numbers do not describe one of that many.
+    pub fn from_values(values: &[f64], aggregates: usize) -> Option<Self> {
+        let n = 6 * aggregates;
+        let expected = 1 + 4 * aggregates + n + n * n;
+        if values.len() != expected || values[0] != aggregates as f64 {
+            return None;
+        }
+        let (centre, rest) = values[1..].split_at(3 * aggregates);
+        let (size, rest) = rest.split_at(aggregates);
+        let (kept, matrix) = rest.split_at(n);
+        if kept.iter().any(|&k| k != 0.0 && k != 1.0) {
+            return None;
+        }
+        Some(CoarseSpace {
+            centre: centre.chunks_exact(3).map(DVec3::from_slice).collect(),
+            size: size.to_vec(),
+            matrix: matrix.to_vec(),
+            kept: kept.iter().map(|&k| k == 1.0).collect(),
+        })
     }
 
     /// Aggregate `a`'s six modes at `x`: the three translations, then the rotations about

@@ -17,7 +17,8 @@
 //! a rank-one direction `delta g_a^T` (J is linear in each column), so the per-node Newton
 //! step needs no eigenvalue projection.
 
-use super::{definite_volume_term, Real, Vector};
+use super::stiffness::volume_term;
+use super::{Real, Vector};
 
 /// Lame's parameters `(mu, lambda)` [Pa] of Young's modulus `e` [Pa] and Poisson's ratio
 /// `nu` (`nu < 0.5`).
@@ -113,7 +114,7 @@ pub fn vector<V: Vector>(c: [V::Real; 3]) -> V {
 /// The columns of `sum_a p_a g_a^T` for corner values `p` of tet `t`: `F` of positions,
 /// `dF` of displacements or velocities.
 #[inline]
-fn columns<V: Vector>(t: &ElasticTet<V::Real>, p: [V; 4]) -> [V; 3] {
+pub(super) fn columns<V: Vector>(t: &ElasticTet<V::Real>, p: [V; 4]) -> [V; 3] {
     let e = [p[1] - p[0], p[2] - p[0], p[3] - p[0]];
     [0, 1, 2].map(|k| e[0] * t.shape[0][k] + e[1] * t.shape[1][k] + e[2] * t.shape[2][k])
 }
@@ -178,113 +179,6 @@ pub fn elastic_rate<V: Vector>(t: &ElasticTet<V::Real>, p: [V; 4], u: [V; 4], a:
         + apply(&cof) * (t.lambda * cof_df)
         + apply(&dcof) * volume_term(t, &f, j, s))
         * t.volume
-}
-
-/// The factor `lambda_s (J - alpha)` of the determinant's Hessian in the tet's stiffness at
-/// `F` (columns `f`, `J`, `s = 1 / (I_C + 1)`), scaled back where it would make the Hessian
-/// indefinite ([`definite_volume_term`]): the stiffness the solve and the damping use is
-/// positive semi-definite (projected Newton).
-#[inline]
-fn volume_term<V: Vector>(t: &ElasticTet<V::Real>, f: &[V; 3], j: V::Real, s: V::Real) -> V::Real {
-    let one = V::Real::ONE;
-    let d = t.lambda * (j - t.alpha);
-    let a = t.mu * (one - s);
-    let b = (one + one) * t.mu * s * s;
-    let columns = f.map(|c| c.to_dvec3());
-    let kept = definite_volume_term(
-        a.to_f64(),
-        b.to_f64(),
-        t.lambda.to_f64(),
-        d.to_f64(),
-        columns,
-    );
-    if kept == d.to_f64() {
-        d
-    } else {
-        V::Real::from_f64(kept)
-    }
-}
-
-/// A tet's stiffness at one configuration, kept for products with it ([`elastic_product`]):
-/// the columns of `F` and of its cofactor matrix, and the factors of `V0 dP[dF]`, the last
-/// scaled back where the energy's Hessian is indefinite (`volume_term`), so that the Newton
-/// step's matrix stays positive definite.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ElasticLinear<V: Vector> {
-    f: [V; 3],
-    cof: [V; 3],
-    /// `V0 mu_s (1 - s)`, `V0 2 mu_s s^2`, `V0 lambda_s`, `V0 lambda_s (J - alpha)` (the
-    /// last as `volume_term` keeps it), with `s = 1 / (I_C + 1)`.
-    k: [V::Real; 4],
-}
-
-impl<V: Vector> Default for ElasticLinear<V> {
-    fn default() -> Self {
-        ElasticLinear {
-            f: [V::ZERO; 3],
-            cof: [V::ZERO; 3],
-            k: [V::Real::ZERO; 4],
-        }
-    }
-}
-
-/// Tet `t`'s stiffness at positions `p`.
-#[inline]
-pub fn elastic_linearise<V: Vector>(t: &ElasticTet<V::Real>, p: [V; 4]) -> ElasticLinear<V> {
-    let one = V::Real::ONE;
-    let f = columns(t, p);
-    let cof = [f[1].cross(f[2]), f[2].cross(f[0]), f[0].cross(f[1])];
-    let j = f[0].dot(cof[0]);
-    let ic = f[0].dot(f[0]) + f[1].dot(f[1]) + f[2].dot(f[2]);
-    let s = one / (ic + one);
-    let v = t.volume;
-    ElasticLinear {
-        f,
-        cof,
-        k: [
-            v * t.mu * (one - s),
-            v * (one + one) * t.mu * s * s,
-            v * t.lambda,
-            v * volume_term(t, &f, j, s),
-        ],
-    }
-}
-
-/// The tet's stiffness `lin` ([`elastic_linearise`]) times the corner displacements `d`:
-/// `V0 dP(F)[dF] g_a` at each corner `a` (the four [`elastic_rate`]s at once, `dF` formed
-/// once).
-#[inline]
-pub fn elastic_product<V: Vector>(
-    t: &ElasticTet<V::Real>,
-    lin: &ElasticLinear<V>,
-    d: [V; 4],
-) -> [V; 4] {
-    let df = columns(t, d);
-    let (f, cof) = (&lin.f, &lin.cof);
-    let dcof = [
-        df[1].cross(f[2]) + f[1].cross(df[2]),
-        df[2].cross(f[0]) + f[2].cross(df[0]),
-        df[0].cross(f[1]) + f[0].cross(df[1]),
-    ];
-    let f_df = f[0].dot(df[0]) + f[1].dot(df[1]) + f[2].dot(df[2]);
-    let cof_df = cof[0].dot(df[0]) + cof[1].dot(df[1]) + cof[2].dot(df[2]);
-    let [shear, outer, lambda, j_term] = lin.k;
-    // Columns of V0 dP[dF].
-    let dp: [V; 3] = [0, 1, 2].map(|k| {
-        df[k] * shear + f[k] * (outer * f_df) + cof[k] * (lambda * cof_df) + dcof[k] * j_term
-    });
-    let corner = |g: [V::Real; 3]| dp[0] * g[0] + dp[1] * g[1] + dp[2] * g[2];
-    let (a, b, c) = (corner(t.shape[0]), corner(t.shape[1]), corner(t.shape[2]));
-    [-(a + b + c), a, b, c]
-}
-
-/// How much the corner displacements `d` change tet `t`'s deformation gradient: the
-/// Frobenius norm of `dF = sum_a d_a g_a^T`, the strain a step makes in the tet (a rigid
-/// translation makes none).
-#[inline]
-pub fn strain_change<V: Vector>(t: &ElasticTet<V::Real>, d: [V; 4]) -> V::Real {
-    let df = columns(t, d);
-    (df[0].dot(df[0]) + df[1].dot(df[1]) + df[2].dot(df[2])).sqrt()
 }
 
 /// The tet's energy `V0 Psi(F)` [J] at positions `p`.
@@ -389,6 +283,9 @@ pub fn elastic_start<V: Vector>(total: V, mass: V::Real, gravity: V) -> V {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::physics::stiffness::{
+        elastic_linearise, elastic_product, elastic_product_strain, elastic_relinearise,
+    };
     use glam::DVec3;
 
     fn rest() -> [DVec3; 4] {
@@ -418,6 +315,36 @@ mod tests {
         p[2] += DVec3::new(-0.2, 0.25, 0.05) * scale;
         p[3] += DVec3::new(0.1, 0.1, -0.4) * scale;
         p
+    }
+
+    #[test]
+    fn a_later_linearisation_keeps_the_stiffness_of_a_tet_that_barely_moved() {
+        let t = tet(1e5, 4e5);
+        let kept = elastic_linearise(&t, deformed(0.5));
+        // F changes by 1e-4 of the rest shape's: kept as it was.
+        let mut near = deformed(0.5);
+        near[1] += DVec3::X * 1e-4;
+        assert_eq!(elastic_relinearise(&t, near, &kept), kept);
+        // By a tenth: taken anew.
+        let far = deformed(0.6);
+        assert_eq!(
+            elastic_relinearise(&t, far, &kept),
+            elastic_linearise(&t, far)
+        );
+        assert_ne!(elastic_linearise(&t, far), kept);
+    }
+
+    #[test]
+    fn the_product_and_its_strain_share_one_df() {
+        let t = tet(1e5, 4e5);
+        let linear = elastic_linearise(&t, deformed(0.5));
+        // A uniform stretch by 1e-3 of the rest tet: dF = 1e-3 I, its norm 1e-3 sqrt(3).
+        let d = rest().map(|x| x * 1e-3);
+        let (product, strain) = elastic_product_strain(&t, &linear, d);
+        assert_eq!(product, elastic_product(&t, &linear, d));
+        assert!((strain - 1e-3 * 3f64.sqrt()).abs() < 1e-15, "{strain}");
+        // A translation changes no strain.
+        assert_eq!(elastic_product_strain(&t, &linear, [DVec3::Y; 4]).1, 0.0);
     }
 
     #[test]

@@ -35,6 +35,7 @@ mod integrate;
 mod minres;
 mod rigid;
 mod spring;
+mod stiffness;
 
 pub use anderson::{
     anderson_weights, gram_index, gram_terms, AndersonIteration, ANDERSON_MAX_MEMORY,
@@ -43,7 +44,10 @@ pub use anderson::{
 pub use chebyshev::{
     chebyshev_rho, chebyshev_rho_limit, chebyshev_weights, CHEBYSHEV_MAX_REVERSAL,
 };
-pub use coarse::{touching, Aggregates, CoarseSpace, MOST_AGGREGATES, NO_AGGREGATE};
+pub use coarse::{
+    rebuilds, touching, Aggregates, CoarseSpace, COARSE_REBUILD_STEPS, MOST_AGGREGATES,
+    NO_AGGREGATE,
+};
 pub use constraint::{
     compliant_multiplier, contact_held, distance_constraint, face_volume, global_multiplier,
     held_direction, implicit_accumulate, implicit_lambda, implicit_multiplier, inversion_floor,
@@ -52,9 +56,8 @@ pub use constraint::{
 pub use contact::{contact_push, end_position, surface_friction, Solve};
 pub use definite::{definite_volume_term, singular_values};
 pub use elastic::{
-    elastic_corner, elastic_energy, elastic_linearise, elastic_product, elastic_rate,
-    elastic_start, elastic_step, lame, node_block, shape_gradients, stable_neo_hookean,
-    strain_change, sym3_apply, sym3_inverse, ElasticLinear, ElasticTet, Sym3,
+    elastic_corner, elastic_energy, elastic_rate, elastic_start, elastic_step, lame, node_block,
+    shape_gradients, stable_neo_hookean, sym3_apply, sym3_inverse, ElasticTet, Sym3,
 };
 pub use held::{floor_holds, held_block, held_increment, held_mass, HELD_GAP, HELD_STIFFNESS};
 pub use integrate::{
@@ -65,4 +68,8 @@ pub use minres::{
 };
 pub use rigid::{correction_length, RigidPart};
 pub use spring::spring_force;
+pub use stiffness::{
+    elastic_linearise, elastic_product, elastic_product_strain, elastic_relinearise, ElasticLinear,
+    KEPT_STIFFNESS_STRAIN,
+};
 pub use tetmesh::geometry::{tet_volume, Real, Vector};

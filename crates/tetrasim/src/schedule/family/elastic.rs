@@ -15,8 +15,8 @@ use glam::DVec3;
 
 use crate::physics::{
     elastic_corner, elastic_product, held_block, node_block, shape_gradients, stable_neo_hookean,
-    strain_change, sym3_inverse, Aggregates, CoarseSpace, ElasticLinear, ElasticTet, Real, Sym3,
-    Vector, NO_AGGREGATE,
+    sym3_inverse, Aggregates, CoarseSpace, ElasticLinear, ElasticTet, Real, Sym3, Vector,
+    NO_AGGREGATE,
 };
 use crate::problem::Problem;
 
@@ -131,7 +131,7 @@ pub struct ElasticNodes<R> {
     pub damping: Vec<R>,
     /// Per node: the largest strain per unit displacement of its tets' corners at the node,
     /// `|g_a|` [1/m] (one over the tet's height above the face opposite the node;
-    /// [`ElasticNodes::strain`]).
+    /// [`crate::physics::elastic_product_strain`]).
     pub reach: Vec<R>,
     /// The node ranges of the objects with no pinned node: the elastic forces on each sum to
     /// no force and no torque ([`crate::physics::RigidPart`]).
@@ -216,15 +216,6 @@ impl<R: Real> ElasticNodes<R> {
                 &model.tets,
             ),
         }
-    }
-
-    /// The strain change of moving tet `t`'s corners by `step` (the norm of its `dF`;
-    /// [`crate::physics::strain_change`]). A conjugate-gradient step whose largest strain
-    /// change over the tets is at most [`TRUSTED_STRAIN`] is taken as it is; a longer one
-    /// is checked against the step's incremental potential and halved until it lowers it.
-    #[inline]
-    pub fn strain<V: Vector<Real = R>>(&self, t: usize, step: [V; 4]) -> R {
-        strain_change(&self.tets[t], step)
     }
 
     /// Node `i`'s row of the step's Newton system, linearised where each node `k` ends

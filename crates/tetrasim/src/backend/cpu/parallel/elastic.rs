@@ -13,8 +13,10 @@ use super::newton::CHUNK;
 use super::*;
 use crate::backend::cpu::team::Member;
 use crate::collider;
+use crate::physics::rebuilds;
 use crate::physics::{
-    elastic_energy, elastic_linearise, elastic_product, held_increment, touching, ElasticTet,
+    elastic_energy, elastic_linearise, elastic_product_strain, elastic_relinearise, held_increment,
+    touching, ElasticTet,
 };
 use crate::schedule::family::{backtrack, ElasticNodes};
 
@@ -123,7 +125,13 @@ unsafe fn increments(
             let linear = cg.linear.part(own_tets.clone());
             let rates = cg.corners.part(own_tets.clone());
             for ((linear, rate), t) in linear.iter_mut().zip(rates).zip(own_tets.clone()) {
-                *linear = elastic_linearise(&family.tets[t], tets[t].map(|k| at[k as usize]));
+                // The step's first linearisation takes every tet's stiffness; a later one
+                // keeps those of the tets that barely moved since (`cpu-ref`'s rule).
+                let p = tets[t].map(|k| at[k as usize]);
+                *linear = match iteration {
+                    0 => elastic_linearise(&family.tets[t], p),
+                    _ => elastic_relinearise(&family.tets[t], p, linear),
+                };
                 let (start, end) = (|k| x[k], |k| at[k]);
                 *rate = family.rate_corners(t, tets[t], linear, dt, start, end);
             }
@@ -159,7 +167,9 @@ unsafe fn increments(
             }
         }
         member.wait();
-        if iteration == 0 {
+        // SAFETY: nobody writes the coarse level until `coarse_level` (after this read).
+        let built = unsafe { cg.coarse.whole()[0].is_built() };
+        if iteration == 0 && rebuilds(inputs.step, built) {
             // SAFETY: the caller's promise.
             unsafe { coarse_level(member, inputs, cg, family) };
         }
@@ -188,13 +198,25 @@ unsafe fn increments(
         out.fill(Vec3A::ZERO);
         return;
     }
-    // SAFETY: nobody writes `p` or the stiffnesses; these tets' corners are this member's.
+    // The product's corners and, per chunk of tets, the largest strain change per unit
+    // step (the step's trust measure, of the same `dF`).
+    let tet_chunks = member.block(tets.len().div_ceil(CHUNK));
+    let chunk_tets = tet_chunks.start * CHUNK..(tet_chunks.end * CHUNK).min(tets.len());
+    // SAFETY: nobody writes `p` or the stiffnesses; these tets' corners and chunks' sums
+    // are this member's.
     unsafe {
         let (p, linear) = (cg.p.whole(), cg.linear.whole());
-        let corners = cg.corners.part(own_tets.clone());
-        for (corners, t) in corners.iter_mut().zip(own_tets.clone()) {
-            let d = tets[t].map(|k| p[k as usize]);
-            *corners = elastic_product(&family.tets[t], &linear[t], d);
+        let corners = cg.corners.part(chunk_tets.clone());
+        let sums = cg.tet_sums.part(tet_chunks.clone());
+        for (c, sum) in tet_chunks.zip(sums) {
+            let mut most = 0.0f32;
+            for t in c * CHUNK..((c + 1) * CHUNK).min(tets.len()) {
+                let d = tets[t].map(|k| p[k as usize]);
+                let (product, strain) = elastic_product_strain(&family.tets[t], &linear[t], d);
+                corners[t - chunk_tets.start] = product;
+                most = most.max(strain);
+            }
+            *sum = f64::from(most);
         }
     }
     member.wait();
@@ -210,30 +232,17 @@ unsafe fn increments(
     }
     member.wait();
     let curvature = total();
+    // SAFETY: after a wait nobody writes the tets' sums until the next phase.
+    let strain = unsafe { cg.tet_sums.whole() }
+        .iter()
+        .copied()
+        .fold(0.0, f64::max);
     member.wait();
     if !positive(curvature) {
         scalars.done = true;
         out.fill(Vec3A::ZERO);
         return;
     }
-    // The largest strain change per unit step, each chunk of tets' maximum then theirs.
-    let tet_chunks = member.block(tets.len().div_ceil(CHUNK));
-    // SAFETY: nobody writes `p`; these chunks' sums are this member's.
-    unsafe {
-        let (p, sums) = (cg.p.whole(), cg.tet_sums.part(tet_chunks.clone()));
-        for (c, sum) in tet_chunks.zip(sums) {
-            let strains = (c * CHUNK..((c + 1) * CHUNK).min(tets.len()))
-                .map(|t| family.strain(t, tets[t].map(|k| p[k as usize])));
-            *sum = f64::from(strains.fold(0.0, f32::max));
-        }
-    }
-    member.wait();
-    // SAFETY: after a wait nobody writes the sums until the next phase.
-    let strain = unsafe { cg.tet_sums.whole() }
-        .iter()
-        .copied()
-        .fold(0.0, f64::max);
-    member.wait();
     // Backtracking as `cpu-ref`'s: an untrusted step that raises the potential is halved.
     let stepped = backtrack(
         scalars.rz / curvature,

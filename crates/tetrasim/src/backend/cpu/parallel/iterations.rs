@@ -22,6 +22,8 @@ pub(super) struct Inputs<'a> {
     pub tets: &'a [[u32; 4]],
     pub k: Coefficients,
     pub floor: bool,
+    /// The step's index, counted from the backend's start (its clock).
+    pub step: u64,
     /// The colliders of the step, when there are any.
     pub colliders: Option<Colliders<'a>>,
     /// Body contact and the problem it belongs to, when two surfaces can meet.

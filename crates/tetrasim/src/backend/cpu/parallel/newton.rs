@@ -71,6 +71,24 @@ impl NewtonVectors {
         }
     }
 
+    /// The coarse level kept from step to step, once built (none without finite
+    /// elements).
+    pub(super) fn coarse(&self) -> Option<&CoarseSpace> {
+        self.coarse.first().filter(|c| c.is_built())
+    }
+
+    /// Puts back the coarse level a checkpoint carried.
+    pub(super) fn set_coarse(&mut self, coarse: CoarseSpace) {
+        if let Some(slot) = self.coarse.first_mut() {
+            *slot = coarse;
+        }
+    }
+
+    /// The number of the coarse level's aggregates.
+    pub(super) fn aggregates(&self) -> usize {
+        self.restricted.len() / 6
+    }
+
     /// The vectors shared with the team.
     pub(super) fn share(&mut self) -> NewtonShared<'_> {
         NewtonShared {

@@ -9,9 +9,9 @@ use super::step_forces::StepForces;
 use super::ReferenceBackend;
 use crate::collider;
 use crate::physics::{
-    correction_length, elastic_energy, elastic_linearise, elastic_product, end_position,
-    held_increment, held_mass, sym3_apply, touching, CoarseSpace, ElasticLinear, RigidPart, Sym3,
-    NO_AGGREGATE,
+    correction_length, elastic_energy, elastic_linearise, elastic_product, elastic_product_strain,
+    elastic_relinearise, end_position, held_increment, held_mass, rebuilds, sym3_apply, touching,
+    CoarseSpace, ElasticLinear, RigidPart, Sym3, NO_AGGREGATE,
 };
 use crate::schedule::family::{backtrack, ElasticNodes, Family};
 use crate::schedule::GroupAt;
@@ -39,8 +39,6 @@ pub(super) struct NewtonCg {
     /// Per node: the stiffening of the contact that holds it at the linearisation (zero:
     /// none; [`ElasticNodes::newton_row`]).
     held: Vec<DVec3>,
-    /// The coarse level of the preconditioner at this linearisation.
-    coarse: CoarseSpace,
     /// Per node: in contact at the latest linearisation (left out of the coarse correction).
     touching: Vec<bool>,
     rz: f64,
@@ -148,8 +146,16 @@ impl ReferenceBackend {
                 .collect();
             cg.dx = vec![DVec3::ZERO; n];
             cg.potential = None;
-            cg.linear = (tets.iter().zip(&nodes.tets))
-                .map(|(tet, t)| elastic_linearise(t, tet.map(|k| cg.at[k as usize])))
+            // The step's first linearisation takes every tet's stiffness; a later one keeps
+            // those of the tets that barely moved since.
+            cg.linear = (tets.iter().zip(&nodes.tets).enumerate())
+                .map(|(k, (tet, t))| {
+                    let p = tet.map(|k| cg.at[k as usize]);
+                    match iteration {
+                        0 => elastic_linearise(t, p),
+                        _ => elastic_relinearise(t, p, &cg.linear[k]),
+                    }
+                })
                 .collect();
             let rates: Vec<[DVec3; 4]> = (0..tets.len())
                 .map(|t| {
@@ -173,8 +179,8 @@ impl ReferenceBackend {
                     nodes.newton_row(i, w[i], dt, phi[i], normal, tets, end, rate);
                 cg.touching[i] = touching(floor, pushed, cg.held[i]);
             }
-            if iteration == 0 {
-                // The coarse level, once per step.
+            if iteration == 0 && rebuilds(self.steps, self.coarse.borrow().is_built()) {
+                // The coarse level, every `COARSE_REBUILD_STEPS` steps.
                 let mut coarse = nodes.coarse_space(&cg.at);
                 let n = coarse.unknowns();
                 let mut columns = vec![0.0; n * n];
@@ -183,9 +189,9 @@ impl ReferenceBackend {
                     nodes.coarse_columns(&coarse, a, tets, at, linear, held, dt, columns);
                 }
                 coarse.assemble(&columns);
-                cg.coarse = coarse;
+                *self.coarse.borrow_mut() = coarse;
             }
-            cg.z = precondition(nodes, cg);
+            cg.z = precondition(nodes, cg, &self.coarse.borrow());
             cg.p.clone_from(&cg.z);
             cg.rz = dot(&cg.r, &cg.z);
             cg.done = !positive(cg.rz);
@@ -195,9 +201,12 @@ impl ReferenceBackend {
         if cg.done {
             return sum;
         }
-        let corners: Vec<[DVec3; 4]> = (tets.iter().zip(&nodes.tets).zip(&cg.linear))
-            .map(|((tet, t), linear)| elastic_product(t, linear, tet.map(|k| cg.p[k as usize])))
-            .collect();
+        let (corners, strains): (Vec<[DVec3; 4]>, Vec<f64>) = (tets
+            .iter()
+            .zip(&nodes.tets)
+            .zip(&cg.linear))
+        .map(|((tet, t), linear)| elastic_product_strain(t, linear, tet.map(|k| cg.p[k as usize])))
+        .unzip();
         let mut q = vec![DVec3::ZERO; n];
         for &i in members {
             let i = i as usize;
@@ -214,9 +223,7 @@ impl ReferenceBackend {
         // misjudges) is halved until it lowers it or is trusted; such a step is followed by
         // a new Newton step, linearised where the nodes then end, unless the potential fell
         // as the model said and no node the contacts left free ends inside one.
-        let strain = (0..tets.len())
-            .map(|t| nodes.strain(t, tets[t].map(|k| cg.p[k as usize])))
-            .fold(0.0, f64::max);
+        let strain = strains.into_iter().fold(0.0, f64::max);
         let (at, dx, p) = (&cg.at, &cg.dx, &cg.p);
         let stepped = backtrack(cg.rz / curvature, strain, curvature, cg.potential, |a| {
             let moves: Vec<DVec3> = (0..n).map(|k| dx[k] + p[k] * a).collect();
@@ -243,7 +250,7 @@ impl ReferenceBackend {
             sum[i] = held_increment(nodes.increment(i, dt, h, cg.p[i], alpha), h, d, pushed);
             cg.r[i] -= q[i] * alpha;
         }
-        cg.z = precondition(nodes, cg);
+        cg.z = precondition(nodes, cg, &self.coarse.borrow());
         let rz = dot(&cg.r, &cg.z);
         let beta = rz / cg.rz;
         for (p, z) in cg.p.iter_mut().zip(&cg.z) {
@@ -284,26 +291,26 @@ impl ReferenceBackend {
 
 /// The two-level preconditioner: each node's inverse block times its residual plus the
 /// coarse correction `P A_c^-1 P^T r`.
-fn precondition(nodes: &ElasticNodes<f64>, cg: &NewtonCg) -> Vec<DVec3> {
+fn precondition(nodes: &ElasticNodes<f64>, cg: &NewtonCg, coarse: &CoarseSpace) -> Vec<DVec3> {
     let aggregates = &nodes.aggregates;
-    let mut u = vec![0.0; cg.coarse.unknowns()];
+    let mut u = vec![0.0; coarse.unknowns()];
     for (a, nodes) in aggregates.members.iter().enumerate() {
         for &i in nodes {
             if cg.touching[i as usize] {
                 continue;
             }
-            let share = cg.coarse.restrict(a, cg.at[i as usize], cg.r[i as usize]);
+            let share = coarse.restrict(a, cg.at[i as usize], cg.r[i as usize]);
             (u[6 * a..6 * a + 6].iter_mut().zip(share)).for_each(|(u, s)| *u += s);
         }
     }
-    cg.coarse.solve(&mut u);
+    coarse.solve(&mut u);
     (0..cg.r.len())
         .map(|i| {
             let z = sym3_apply(cg.inverse[i], cg.r[i]);
             match aggregates.of[i] {
                 NO_AGGREGATE => z,
                 _ if cg.touching[i] => z,
-                a => z + cg.coarse.prolong(a as usize, cg.at[i], &u),
+                a => z + coarse.prolong(a as usize, cg.at[i], &u),
             }
         })
         .collect()

@@ -5,9 +5,10 @@ use glam::DVec3;
 
 use super::{check_state, diverged, Bad};
 use crate::backend::{
-    flatten, unflatten, Backend, Carried, ContactSample, Reactions, State, VolumeSample,
+    flatten, restore_coarse, unflatten, Backend, Carried, ContactSample, Reactions, State,
+    VolumeSample, COARSE_KEY,
 };
-use crate::collider::{self, NodeContact};
+use crate::collider;
 use crate::contact::{deepest, Contact};
 use crate::error::Result;
 use crate::model::Model;
@@ -29,47 +30,8 @@ mod springs;
 mod step_forces;
 mod surfaces;
 
+pub use step_forces::Forces;
 use step_forces::StepForces;
-
-/// The forces of steps 1 and 2 of one time step, per node [N]; their sum is the `F` that is
-/// integrated.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Forces {
-    /// `m g` along -Y.
-    pub gravity: Vec<DVec3>,
-    /// Spring forces (zero for methods without springs).
-    pub springs: Vec<DVec3>,
-    /// Constraint forces of all iterations, combined and relaxed.
-    pub constraints: Vec<DVec3>,
-    /// The floor's normal force (along +Y, `>= 0`; zero without a floor).
-    pub floor: Vec<f64>,
-    /// The kinematic colliders' force and contact ([`collider::solve_node`]; none without
-    /// colliders).
-    pub contacts: Vec<NodeContact>,
-    /// The step's contacts between bodies with their multipliers.
-    pub bodies: Vec<(Contact, f64)>,
-    /// Per spring, the multiplier of its implicit spring after the step's iterations (the
-    /// force is `-lambda grad C`); zeros with explicit springs.
-    pub spring_multipliers: Vec<f64>,
-    /// Per tet, the multiplier of its compliant volume constraint after the iterations
-    /// (zero for hard ones).
-    pub volume_multipliers: Vec<f64>,
-}
-
-impl Forces {
-    /// The total force on each node.
-    pub fn total(&self) -> Vec<DVec3> {
-        (0..self.gravity.len())
-            .map(|i| {
-                self.gravity[i]
-                    + self.springs[i]
-                    + self.constraints[i]
-                    + DVec3::Y * self.floor[i]
-                    + self.contacts[i].force
-            })
-            .collect()
-    }
-}
 
 /// The reference solver (`cpu-ref`).
 #[derive(Debug, Clone)]
@@ -92,6 +54,10 @@ pub struct ReferenceBackend {
     /// Per node, the elastic force at the end of the last step (finite elements: the next
     /// step's start; zeros otherwise, and after [`Self::set_state`]).
     elastic_warm: Vec<DVec3>,
+    /// The finite elements' coarse level, kept from step to step (built every
+    /// [`crate::physics::COARSE_REBUILD_STEPS`]; `RefCell`: the step's solve builds it
+    /// through `&self`).
+    coarse: std::cell::RefCell<crate::physics::CoarseSpace>,
     /// The step it runs.
     schedule: Schedule,
     /// One time step's dispatches ([`Schedule::step`]).
@@ -145,6 +111,7 @@ impl ReferenceBackend {
                 Method::NeoHookean => vec![DVec3::ZERO; n],
                 _ => Vec::new(),
             },
+            coarse: Default::default(),
             schedule,
             dispatches,
             families: Family::of_sweeps(problem),
@@ -560,7 +527,7 @@ impl Backend for ReferenceBackend {
     }
 
     /// The frame and step counters, the warm-started springs' multipliers and the finite
-    /// elements' forces (each where the run has them).
+    /// elements' forces and coarse level (each where the run has them).
     fn carried(&mut self) -> Result<Carried> {
         let mut arrays = Vec::new();
         if !self.spring_warm.is_empty() {
@@ -568,6 +535,10 @@ impl Backend for ReferenceBackend {
         }
         if !self.elastic_warm.is_empty() {
             arrays.push(("elastic_forces".to_string(), flatten(&self.elastic_warm)));
+        }
+        let coarse = self.coarse.borrow();
+        if coarse.is_built() {
+            arrays.push((COARSE_KEY.to_string(), coarse.to_values()));
         }
         Ok(Carried {
             frames: self.frame,
@@ -586,6 +557,13 @@ impl Backend for ReferenceBackend {
             let values = carried.array("elastic_forces", 3 * self.elastic_warm.len())?;
             self.elastic_warm = unflatten(values);
         }
+        let aggregates = (self.families.iter())
+            .find_map(|f| match f {
+                Family::Elastic(nodes) => Some(nodes.aggregates.len()),
+                _ => None,
+            })
+            .unwrap_or(0);
+        *self.coarse.borrow_mut() = restore_coarse(carried, aggregates)?;
         (self.frame, self.steps) = (carried.frames, carried.steps);
         Ok(())
     }

@@ -1,4 +1,5 @@
-//! The forces of one time step of `cpu-ref` while its dispatches run.
+//! The forces of one time step of `cpu-ref` while its dispatches run, and what the step's
+//! forces come to ([`Forces`]).
 
 use glam::DVec3;
 
@@ -99,5 +100,45 @@ impl StepForces {
         self.springs = springs;
         self.before_total.clone_from(&self.total);
         self.before_floor.clone_from(&self.floor);
+    }
+}
+
+/// The forces of steps 1 and 2 of one time step, per node [N]; their sum is the `F` that is
+/// integrated.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Forces {
+    /// `m g` along -Y.
+    pub gravity: Vec<DVec3>,
+    /// Spring forces (zero for methods without springs).
+    pub springs: Vec<DVec3>,
+    /// Constraint forces of all iterations, combined and relaxed.
+    pub constraints: Vec<DVec3>,
+    /// The floor's normal force (along +Y, `>= 0`; zero without a floor).
+    pub floor: Vec<f64>,
+    /// The kinematic colliders' force and contact ([`collider::solve_node`]; none without
+    /// colliders).
+    pub contacts: Vec<NodeContact>,
+    /// The step's contacts between bodies with their multipliers.
+    pub bodies: Vec<(Contact, f64)>,
+    /// Per spring, the multiplier of its implicit spring after the step's iterations (the
+    /// force is `-lambda grad C`); zeros with explicit springs.
+    pub spring_multipliers: Vec<f64>,
+    /// Per tet, the multiplier of its compliant volume constraint after the iterations
+    /// (zero for hard ones).
+    pub volume_multipliers: Vec<f64>,
+}
+
+impl Forces {
+    /// The total force on each node.
+    pub fn total(&self) -> Vec<DVec3> {
+        (0..self.gravity.len())
+            .map(|i| {
+                self.gravity[i]
+                    + self.springs[i]
+                    + self.constraints[i]
+                    + DVec3::Y * self.floor[i]
+                    + self.contacts[i].force
+            })
+            .collect()
     }
 }

@@ -95,6 +95,7 @@ impl ParallelBackend {
             tet_out,
             node_out,
             newton,
+            steps,
             ..
         } = self;
         let (chebyshev_weights, chebyshev) = match chebyshev {
@@ -116,6 +117,8 @@ impl ParallelBackend {
             tets,
             k: *k,
             floor: *floor,
+            // The clock was advanced at the step's start.
+            step: *steps - 1,
             colliders: (!at.is_empty() || !attached.is_empty()).then_some(Colliders {
                 at,
                 x,

@@ -13,7 +13,7 @@ use super::*;
 use crate::backend::cpu::shared::SharedSlice;
 use crate::backend::cpu::team::Team;
 use crate::backend::cpu::team_choice::TeamChoice;
-use crate::backend::{flatten, unflatten, Carried, ContactSample};
+use crate::backend::{flatten, restore_coarse, unflatten, Carried, ContactSample, COARSE_KEY};
 use crate::collider::{Clamp, Collider, Grab};
 use crate::contact::{deepest, Contact};
 use glam::DVec3;
@@ -554,13 +554,17 @@ impl Backend for ParallelBackend {
     }
 
     /// The frame and step counters, the step's forces (the finite elements start the next
-    /// step from them) and the warm-started springs' multipliers.
+    /// step from them), the warm-started springs' multipliers and the finite elements'
+    /// coarse level.
     fn carried(&mut self) -> Result<Carried> {
         let forces: Vec<DVec3> = self.f.iter().map(|f| f.as_dvec3()).collect();
         let mut arrays = vec![("forces".to_string(), flatten(&forces))];
         if !self.spring_warm.is_empty() {
             let values = self.spring_warm.iter().map(|&l| f64::from(l)).collect();
             arrays.push(("spring_multipliers".to_string(), values));
+        }
+        if let Some(coarse) = self.newton.coarse() {
+            arrays.push((COARSE_KEY.to_string(), coarse.to_values()));
         }
         Ok(Carried {
             frames: self.frame,
@@ -577,6 +581,8 @@ impl Backend for ParallelBackend {
             let values = carried.array("spring_multipliers", self.spring_warm.len())?;
             self.spring_warm = values.iter().map(|&l| l as f32).collect();
         }
+        let coarse = restore_coarse(carried, self.newton.aggregates())?;
+        self.newton.set_coarse(coarse);
         (self.frame, self.steps) = (carried.frames, carried.steps);
         Ok(())
     }
