@@ -406,14 +406,22 @@ fn resting_on(colliders: &[ColliderAt<'_>], x: DVec3, gap: f64) -> Option<DVec3>
     })
 }
 
-/// Whether the world point `x` lies inside the floor (`floor`: the run has one) or within
-/// one of `colliders`' contact thickness at the step's end: a node there is one a contact
-/// will push.
-pub fn inside(floor: bool, colliders: &[ColliderAt<'_>], x: DVec3) -> bool {
-    (floor && x.y < 0.0)
-        || colliders
-            .iter()
-            .any(|c| c.may_touch(x) && c.distance(x).0 < c.collider.thickness)
+/// Whether a node the finite elements' Newton step left to itself (`free`: not pinned;
+/// `held`: its contact's stiffening, zero where no contact holds it) ends at `x` inside the
+/// floor (`floor`: the run has one) or within one of `colliders`' contact thickness at the
+/// step's end: a contact the linearisation did not see will push it, so the conjugate
+/// gradients begin a new Newton step (docs/PHYSICS.md, "Keeping the linearisation where
+/// the model holds").
+pub fn enters_unheld<V: Vector>(
+    free: bool,
+    held: V,
+    floor: bool,
+    colliders: &[ColliderAt<'_>],
+    x: DVec3,
+) -> bool {
+    free && held == V::ZERO
+        && ((floor && x.y < 0.0)
+            || (colliders.iter()).any(|c| c.may_touch(x) && c.distance(x).0 < c.collider.thickness))
 }
 
 /// `colliders` over time step `step` (counted from 0) of length `dt` [s]: from

@@ -13,10 +13,9 @@ use super::newton::CHUNK;
 use super::*;
 use crate::backend::cpu::team::Member;
 use crate::collider;
-use crate::physics::rebuilds;
 use crate::physics::{
     elastic_energy, elastic_linearise, elastic_product_strain, elastic_relinearise, held_increment,
-    touching, ElasticTet,
+    rebuilds, touching, ElasticTet,
 };
 use crate::schedule::family::{backtrack, ElasticNodes};
 
@@ -285,9 +284,7 @@ unsafe fn increments(
             for (c, sum) in chunks.clone().zip(sums) {
                 let inside = (c * CHUNK..((c + 1) * CHUNK).min(n)).any(|i| {
                     let (j, end) = (i - nodes.start, (at[i] + dx[i - nodes.start]).as_dvec3());
-                    w[i] > 0.0
-                        && held[j] == Vec3A::ZERO
-                        && collider::inside(inputs.floor, colliders, end)
+                    collider::enters_unheld(w[i] > 0.0, held[j], inputs.floor, colliders, end)
                 });
                 *sum = if inside { 1.0 } else { 0.0 };
             }

@@ -239,7 +239,7 @@ impl ReferenceBackend {
             let floor = self.problem.params.floor;
             cg.relinearise = (0..n).any(|k| {
                 let end = cg.at[k] + cg.dx[k] + cg.p[k] * alpha;
-                w[k] > 0.0 && cg.held[k] == DVec3::ZERO && collider::inside(floor, &colliders, end)
+                collider::enters_unheld(w[k] > 0.0, cg.held[k], floor, &colliders, end)
             });
         }
         for &i in members {
