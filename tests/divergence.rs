@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{box_mesh, seed_model};
+use common::{bare_params, box_mesh, model_in_place, seed_model, single_tet};
 use tetrasim::backend::cpu::ReferenceBackend;
 use tetrasim::backend::Backend;
 use tetrasim::params::{ConstraintCombine, Method, Solver};
@@ -72,4 +72,38 @@ fn backend_names_the_frame_of_the_blow_up() {
     assert_eq!(d.frame, frames_ok);
     assert_eq!(d.method, "distance");
     assert!(d.node.is_some_and(|n| (n as usize) < model.node_count()));
+}
+
+/// A tet whose apex flies through its base at 2 m/s, nothing holding it: no node is fast
+/// or non-finite, but the body is inside out from about frame 550; the run stops there,
+/// named, on every CPU backend (the frame driver checks each sampled frame's volume).
+#[test]
+fn a_body_turned_inside_out_stops_the_run() {
+    let mut model = model_in_place(&single_tet());
+    model.velocities[3] = glam::DVec3::new(0.0, 0.0, -2.0);
+    let params = SimParams {
+        method: Method::Mss,
+        ..bare_params()
+    };
+    for backend in ["cpu-ref", "cpu"] {
+        let options = RunOptions {
+            backend: backend.into(),
+            frames: 1000,
+            mesh_label: "tet".into(),
+            progress: false,
+            output: None,
+            gpu: Default::default(),
+            checkpoint: Default::default(),
+        };
+        let record = run(&model, &params, &options).unwrap();
+        assert!(record.diverged, "{backend}: an inside-out body is flagged");
+        let cause = record.divergence.as_deref().unwrap_or_default();
+        assert!(cause.contains("inside out"), "{backend}: {cause}");
+        assert!(
+            (500..600).contains(&record.frames_run),
+            "{backend}: stopped after {} frames",
+            record.frames_run
+        );
+        assert!(record.volume_pct.iter().all(|&v| v > 0.0));
+    }
 }

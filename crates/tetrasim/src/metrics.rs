@@ -195,7 +195,8 @@ pub struct RunRecord {
     pub ms_per_frame: f64,
     /// Wall time of the whole run, sampling and output included [s].
     pub wall_s: f64,
-    /// The run went non-finite and stopped.
+    /// The run diverged and stopped: a position or velocity non-finite or past the speed
+    /// limit, or a sampled frame's volumes inside out or blown up (docs/STABILITY.md).
     pub diverged: bool,
     /// Where and why it diverged.
     pub divergence: Option<String>,

@@ -129,6 +129,9 @@ pub trait Backend: Send {
     fn volume(&mut self) -> Result<VolumeSample>;
     /// Copies the current state out (a full readback on the GPU: not for every frame).
     fn state(&mut self) -> Result<State>;
+    /// The likely cause a divergence report names, with advice
+    /// ([`crate::stability::likely_cause`] of its model and parameters).
+    fn likely_cause(&self) -> &str;
     /// Replaces every node's position and velocity between frames (a full upload on the
     /// GPU). Inverse masses stay the model's, so a pinned node (inverse mass 0) stays where
     /// it is put and then moves at the velocity it is given: this is how a program drags

@@ -17,6 +17,7 @@ use std::time::Instant;
 
 use crate::backend::{Backend, ContactSample, Divergence, Reactions, VolumeSample};
 use crate::error::{Error, Result};
+use crate::geometry::tet_volume;
 use crate::metrics::{local_error_pct, volume_pct, RunRecord};
 use crate::model::Model;
 use crate::params::SimParams;
@@ -54,6 +55,9 @@ pub struct Progress {
 pub struct Simulation {
     method: String,
     rest_volume: f64,
+    /// The sum of the signed tet volumes at the model's initial positions [m^3] (negative
+    /// for a mesh given inside out).
+    initial_volume: f64,
     frame_time: f64,
     frames: u32,
     /// The sampled frames' measures.
@@ -82,6 +86,9 @@ impl Simulation {
         Simulation {
             method: params.method.name().to_string(),
             rest_volume: model.total_rest_volume(),
+            initial_volume: (model.tets.iter())
+                .map(|tet| tet_volume(tet.map(|k| model.positions[k as usize])))
+                .sum(),
             frame_time: params.frame_time(),
             frames: 0,
             series: Series::default(),
@@ -194,7 +201,7 @@ impl Simulation {
         self.frames += 1;
         if sample {
             let measured = backend.volume()?;
-            if !self.record_sample(measured) {
+            if !self.record_sample(measured, backend) {
                 return Ok(Advance::Stopped);
             }
             self.series.reactions.extend(backend.reactions()?);
@@ -254,7 +261,7 @@ impl Simulation {
                 Ok(measured) => {
                     self.frames += 1;
                     if let Some(measured) = measured {
-                        if self.record_sample(measured) {
+                        if self.record_sample(measured, backend) {
                             self.series.reactions.extend(backend.reactions()?);
                         }
                     }
@@ -271,17 +278,34 @@ impl Simulation {
         Ok(self.frames - first)
     }
 
-    /// Appends the measures of the frame just finished to the series; a non-finite volume
-    /// stops the run instead (returns `false`).
-    fn record_sample(&mut self, measured: VolumeSample) -> bool {
+    /// Appends the measures of the frame just finished to the series; volumes that mean the
+    /// run diverged stop the run instead (returns `false`): not finite, inside out where the
+    /// last sample (or the initial state) was not, or blown up
+    /// ([`crate::stability::volume_divergence`]), while a node may still be slower than
+    /// the speed limit. The report names the fastest node and `backend`'s likely cause.
+    fn record_sample(&mut self, measured: VolumeSample, backend: &mut dyn Backend) -> bool {
         let pct = volume_pct(measured, self.rest_volume);
-        if !pct.is_finite() {
+        let local = local_error_pct(measured, self.rest_volume);
+        let was_positive = match self.series.volume_pct.last() {
+            Some(&last) => last > 0.0,
+            None => self.initial_volume > 0.0,
+        };
+        if let Some(cause) = crate::stability::volume_divergence(pct, local, was_positive) {
+            // The node to look at: the fastest (a readback, once, as the run stops).
+            let fastest = backend.state().ok().and_then(|state| {
+                (state.velocities.iter().enumerate())
+                    .map(|(i, v)| (i, v.length()))
+                    .max_by(|a, b| a.1.total_cmp(&b.1))
+            });
+            let speed = fastest.map_or(String::new(), |(_, v)| {
+                format!(" (the node named moves at {v:.3e} m/s, the fastest)")
+            });
             let divergence = Divergence {
                 frame: self.frames.saturating_sub(1),
                 substep: None,
                 method: self.method.clone(),
-                node: None,
-                cause: "the total volume became non-finite (positions unbounded)".to_string(),
+                node: fastest.map(|(i, _)| i as u32),
+                cause: format!("{cause}{speed}; {}", backend.likely_cause()),
             };
             self.divergence = Some(divergence.to_string());
             return false;
@@ -291,9 +315,7 @@ impl Simulation {
         series.time_s.push(time);
         series.volume_pct.push(pct);
         series.inverted.push(measured.inverted);
-        series
-            .local_error_pct
-            .push(local_error_pct(measured, self.rest_volume));
+        series.local_error_pct.push(local);
         series.contact.extend(measured.contact);
         true
     }

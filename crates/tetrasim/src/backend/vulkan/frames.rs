@@ -90,6 +90,10 @@ impl Backend for VulkanBackend {
         self.read_partials(&self.measure_readback, None)
     }
 
+    fn likely_cause(&self) -> &str {
+        &self.likely
+    }
+
     fn state(&mut self) -> Result<State> {
         self.settle()?;
         let size = u64::from(self.counts.nodes) * 16;

@@ -515,6 +515,10 @@ impl Backend for ReferenceBackend {
         })
     }
 
+    fn likely_cause(&self) -> &str {
+        &self.problem.likely_cause
+    }
+
     fn state(&mut self) -> Result<State> {
         Ok(State {
             positions: self.x.clone(),

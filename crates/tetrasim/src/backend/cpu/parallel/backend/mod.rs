@@ -542,6 +542,10 @@ impl Backend for ParallelBackend {
         Ok(Some(self.reactions_now()))
     }
 
+    fn likely_cause(&self) -> &str {
+        &self.likely
+    }
+
     fn state(&mut self) -> Result<State> {
         Ok(State {
             positions: self.x.iter().map(|p| p.to_dvec3()).collect(),
