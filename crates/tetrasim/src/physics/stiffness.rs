@@ -85,6 +85,14 @@ impl<V: Vector> Default for ElasticLinear<V> {
     }
 }
 
+impl<V: Vector> ElasticLinear<V> {
+    /// `V0 lambda_s (J - alpha)` as the Newton step uses it: scaled back where the Hessian
+    /// would be indefinite ([`definite_volume_term`]).
+    pub fn volume_factor(&self) -> V::Real {
+        self.k[3]
+    }
+}
+
 /// Tet `t`'s stiffness at positions `p`.
 #[inline]
 pub fn elastic_linearise<V: Vector>(t: &ElasticTet<V::Real>, p: [V; 4]) -> ElasticLinear<V> {
