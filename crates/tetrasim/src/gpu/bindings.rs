@@ -177,4 +177,12 @@ bindings! {
     NODE_TET_OFFSETS = 54,
     /// Node -> tet corners CSR items (`4 tet + corner`; finite elements).
     NODE_TET_ITEMS = 55,
+    /// float per coarse unknown squared, then one per unknown (finite elements' coarse
+    /// level): `P^T A P`'s columns (column-major), factored in place into `L` (the lower
+    /// triangle, column-major), then 1.0 per unknown kept in the factor, 0.0 per one left
+    /// out (`elastic_coarse_factor`).
+    COARSE_MATRIX = 56,
+    /// float per coarse unknown: a restricted residual, solved in place into the coarse
+    /// correction (`elastic_coarse_solve`).
+    COARSE_VECTOR = 57,
 }

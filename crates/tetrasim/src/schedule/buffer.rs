@@ -133,6 +133,11 @@ pub enum BufferId {
     NodeTetOffsets,
     /// 4 T u32: node -> tet corners items, `4 tet + corner` (`neo-hookean`).
     NodeTetItems,
+    /// `n^2 + n` floats, `n` coarse unknowns: the coarse matrix and its factor
+    /// (`neo-hookean`).
+    CoarseMatrix,
+    /// `n` floats: a coarse right-hand side and its solution (`neo-hookean`).
+    CoarseVector,
 }
 
 impl BufferId {
@@ -195,6 +200,8 @@ impl BufferId {
             BufferId::ElasticTets => "elastic tets",
             BufferId::NodeTetOffsets => "node-tet offsets",
             BufferId::NodeTetItems => "node-tet items",
+            BufferId::CoarseMatrix => "coarse matrix",
+            BufferId::CoarseVector => "coarse vector",
         }
     }
 
@@ -257,6 +264,8 @@ impl BufferId {
             BufferId::ElasticTets => binding::ELASTIC_TETS,
             BufferId::NodeTetOffsets => binding::NODE_TET_OFFSETS,
             BufferId::NodeTetItems => binding::NODE_TET_ITEMS,
+            BufferId::CoarseMatrix => binding::COARSE_MATRIX,
+            BufferId::CoarseVector => binding::COARSE_VECTOR,
         }
     }
 }

@@ -1,0 +1,212 @@
+//! The finite elements' coarse level on the GPU (passes `elastic_coarse_factor` and
+//! `elastic_coarse_solve`, one workgroup each, f32) equals its definition,
+//! `CoarseSpace::assemble` and `CoarseSpace::solve` in f64, on the coarse matrix of a bent
+//! block of 2541 nodes (40 aggregates, 240 unknowns): within 1e-4 of the correction's size at
+//! the default step on rubber (measured 9.4e-7), within 1e-2 for a material of 1 GPa at
+//! ten times the step, where the stiffness shapes the matrix (measured 1.4e-3: what an f32
+//! factor of it allows). The second brick of `vulkan`'s finite elements (docs/GPU.md,
+//! "Finite elements on the GPU").
+
+mod common;
+mod gpu_support;
+
+use std::sync::Arc;
+
+use ash::vk;
+use bytemuck::Zeroable;
+use common::{material_params, unplaced};
+use glam::DVec3;
+use tetrasim::gpu::commands::{barrier, one_shot, Access, BufferHandle};
+use tetrasim::gpu::layout::{binding, PushConstants};
+use tetrasim::gpu::{Buffer, Context, ContextOptions, Kernel};
+use tetrasim::mesh::grid::box_tets;
+use tetrasim::params::Method;
+use tetrasim::physics::elastic_linearise;
+use tetrasim::problem::Problem;
+use tetrasim::schedule::family::ElasticNodes;
+use tetrasim::shaders::file;
+use tetrasim::{ModelBuilder, SimParams};
+
+/// The coarse matrix's columns (column-major, `n` x `n`) of a 1 m x 0.5 m x 0.5 m block of
+/// rubber (E 1 MPa, nu 0.45) bent to a sag, and the reference's solutions of `rhs`.
+fn reference(e: f64, dt: f64, rhs: &[Vec<f64>]) -> (usize, Vec<f64>, Vec<Vec<f64>>) {
+    let mesh = box_tets(DVec3::ZERO, 0.05, [20, 10, 10]);
+    let model = ModelBuilder::new(&mesh)
+        .placement(unplaced())
+        .build()
+        .unwrap();
+    let params = SimParams {
+        dt,
+        ..material_params(Method::NeoHookean, e, 0.45, 1100.0)
+    };
+    let problem = Problem::new(&model, &params).unwrap();
+    let nodes = ElasticNodes::<f64>::prepare(&problem);
+    let at: Vec<DVec3> = (model.positions.iter())
+        .map(|p| *p - DVec3::Y * (0.05 * p.x * p.x))
+        .collect();
+    let linear: Vec<_> = (model.tets.iter().zip(&nodes.tets))
+        .map(|(tet, t)| elastic_linearise(t, tet.map(|k| at[k as usize])))
+        .collect();
+    let held = vec![DVec3::ZERO; at.len()];
+    let mut coarse = nodes.coarse_space(&at);
+    let n = coarse.unknowns();
+    let mut columns = vec![0.0; n * n];
+    for (a, block) in columns.chunks_mut(6 * n).enumerate() {
+        let dt = params.dt;
+        nodes.coarse_columns(&coarse, a, &model.tets, &at, &linear, &held, dt, block);
+    }
+    coarse.assemble(&columns);
+    let solved = (rhs.iter())
+        .map(|b| {
+            let mut u = b[..n].to_vec();
+            coarse.solve(&mut u);
+            u
+        })
+        .collect();
+    (n, columns, solved)
+}
+
+/// The GPU's solutions of `rhs` with the matrix `columns` factored there, validation on.
+fn on_gpu(n: usize, columns: &[f64], rhs: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    let ctx = Arc::new(
+        Context::new(&ContextOptions {
+            validation: true,
+            ..Default::default()
+        })
+        .expect("a Vulkan device"),
+    );
+    let mut matrix: Vec<f32> = columns.iter().map(|&x| x as f32).collect();
+    matrix.extend(std::iter::repeat_n(0.0f32, n));
+    let vectors: Vec<f32> = rhs
+        .iter()
+        .flat_map(|b| b[..n].iter().map(|&x| x as f32))
+        .collect();
+    let coarse = Buffer::with_data(&ctx, "coarse matrix", bytemuck::cast_slice(&matrix)).unwrap();
+    let bytes = 4 * n as u64;
+    let vector = Buffer::device(&ctx, "coarse vector", bytes).unwrap();
+    let staged = Buffer::with_data(&ctx, "coarse rhs", bytemuck::cast_slice(&vectors)).unwrap();
+    let total = bytes * rhs.len() as u64;
+    let readback = Buffer::readback(&ctx, "coarse readback", total).unwrap();
+    let numbers = [binding::COARSE_MATRIX, binding::COARSE_VECTOR];
+    let layout = Kernel::binding_layout(&ctx, "coarse twin", &numbers).unwrap();
+    layout.write(&[(numbers[0], &coarse), (numbers[1], &vector)]);
+    let constants = [n as u32];
+    let (factor, solve) = (
+        file::PASSES_ELASTIC_COARSE_FACTOR_COMP,
+        file::PASSES_ELASTIC_COARSE_SOLVE_COMP,
+    );
+    let factor = Kernel::with_constants(
+        &ctx,
+        "elastic_coarse_factor",
+        factor,
+        &layout,
+        256,
+        &constants,
+    )
+    .unwrap();
+    let solve = Kernel::with_constants(
+        &ctx,
+        "elastic_coarse_solve",
+        solve,
+        &layout,
+        256,
+        &constants,
+    )
+    .unwrap();
+    let push = PushConstants::zeroed();
+    let device = ctx.device();
+    one_shot(&ctx, |cmd| {
+        factor.record(cmd, &push, 1);
+        barrier(&ctx, cmd, &[&coarse], Access::COMPUTE, Access::COMPUTE);
+        for k in 0..rhs.len() as u64 {
+            let copy = |from: &Buffer, to: &Buffer, src: u64, dst: u64| {
+                let region = [vk::BufferCopy::default()
+                    .src_offset(src)
+                    .dst_offset(dst)
+                    .size(bytes)];
+                // SAFETY: `cmd` is recording; both buffers are alive and hold the region.
+                unsafe { device.cmd_copy_buffer(cmd, from.handle(), to.handle(), &region) };
+            };
+            copy(&staged, &vector, k * bytes, 0);
+            barrier(
+                &ctx,
+                cmd,
+                &[&vector],
+                Access::TRANSFER_WRITE,
+                Access::COMPUTE,
+            );
+            solve.record(cmd, &push, 1);
+            barrier(
+                &ctx,
+                cmd,
+                &[&vector],
+                Access::COMPUTE,
+                Access::TRANSFER_READ,
+            );
+            copy(&vector, &readback, 0, k * bytes);
+            barrier(
+                &ctx,
+                cmd,
+                &[&vector],
+                Access::TRANSFER_READ,
+                Access::TRANSFER_WRITE,
+            );
+        }
+        barrier(
+            &ctx,
+            cmd,
+            &[&readback],
+            Access::TRANSFER_WRITE,
+            Access::HOST_READ,
+        );
+    })
+    .unwrap();
+    let out: &[f32] = bytemuck::cast_slice(readback.mapped().unwrap());
+    let messages = ctx.validation_messages();
+    assert!(messages.is_empty(), "validation: {messages:?}");
+    out.chunks(n)
+        .map(|u| u.iter().map(|&x| x.into()).collect())
+        .collect()
+}
+
+#[test]
+fn the_gpu_coarse_solve_equals_its_definition() {
+    if !gpu_support::vulkan_available() {
+        return;
+    }
+    // Right-hand sides of several scales: a residual's restriction, and single modes.
+    let unknowns = 6 * 64;
+    let mut rhs: Vec<Vec<f64>> = (0..4u64)
+        .map(|s| {
+            (0..unknowns)
+                .map(|i| common::noise(1000 * s + i as u64) * 10f64.powi(s as i32 - 2))
+                .collect()
+        })
+        .collect();
+    rhs.push(
+        (0..unknowns)
+            .map(|i| if i == 3 { 1.0 } else { 0.0 })
+            .collect(),
+    );
+    // The default step on rubber, and a stiff material at ten times the step, where the
+    // stiffness rather than the mass shapes the coarse matrix.
+    for (e, dt, tolerance) in [(1e6, 1e-3, 1e-4), (1e9, 1e-2, 1e-2)] {
+        let (n, columns, want) = reference(e, dt, &rhs);
+        assert!(n >= 200, "{n} coarse unknowns");
+        let got = on_gpu(n, &columns, &rhs);
+        let mut worst = 0.0f64;
+        for (k, (got, want)) in got.iter().zip(&want).enumerate() {
+            let size = want.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let error = (got.iter().zip(want))
+                .map(|(g, w)| (g - w).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            assert!(
+                size > 0.0 && error <= tolerance * size,
+                "E {e:e}, dt {dt:e}, rhs {k}: off by {error:e} of {size:e}"
+            );
+            worst = worst.max(error / size);
+        }
+        println!("E {e:e} Pa, dt {dt:e} s, {n} unknowns: worst relative error {worst:.2e}");
+    }
+}
