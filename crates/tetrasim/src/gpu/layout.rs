@@ -522,6 +522,8 @@ mod tests {
             ("ElasticTets", binding::ELASTIC_TETS),
             ("NodeTetOffsets", binding::NODE_TET_OFFSETS),
             ("NodeTetItems", binding::NODE_TET_ITEMS),
+            ("CoarseMatrix", binding::COARSE_MATRIX),
+            ("CoarseVector", binding::COARSE_VECTOR),
         ]
         .into_iter()
         .collect();
