@@ -10,15 +10,13 @@
 mod common;
 mod gpu_support;
 
-use std::sync::Arc;
-
-use ash::vk;
 use bytemuck::Zeroable;
 use common::{material_params, unplaced};
 use glam::DVec3;
-use tetrasim::gpu::commands::{barrier, one_shot, Access, BufferHandle};
+use gpu_support::twin;
+use tetrasim::gpu::commands::{barrier, one_shot, Access};
 use tetrasim::gpu::layout::{binding, PushConstants};
-use tetrasim::gpu::{Buffer, Context, ContextOptions, Kernel};
+use tetrasim::gpu::{Buffer, Kernel};
 use tetrasim::mesh::grid::box_tets;
 use tetrasim::params::Method;
 use tetrasim::physics::elastic_linearise;
@@ -68,13 +66,7 @@ fn reference(e: f64, dt: f64, rhs: &[Vec<f64>]) -> (usize, Vec<f64>, Vec<Vec<f64
 
 /// The GPU's solutions of `rhs` with the matrix `columns` factored there, validation on.
 fn on_gpu(n: usize, columns: &[f64], rhs: &[Vec<f64>]) -> Vec<Vec<f64>> {
-    let ctx = Arc::new(
-        Context::new(&ContextOptions {
-            validation: true,
-            ..Default::default()
-        })
-        .expect("a Vulkan device"),
-    );
+    let ctx = twin::context();
     let mut matrix: Vec<f32> = columns.iter().map(|&x| x as f32).collect();
     matrix.extend(std::iter::repeat_n(0.0f32, n));
     let vectors: Vec<f32> = rhs
@@ -114,20 +106,11 @@ fn on_gpu(n: usize, columns: &[f64], rhs: &[Vec<f64>]) -> Vec<Vec<f64>> {
     )
     .unwrap();
     let push = PushConstants::zeroed();
-    let device = ctx.device();
     one_shot(&ctx, |cmd| {
         factor.record(cmd, &push, 1);
         barrier(&ctx, cmd, &[&coarse], Access::COMPUTE, Access::COMPUTE);
         for k in 0..rhs.len() as u64 {
-            let copy = |from: &Buffer, to: &Buffer, src: u64, dst: u64| {
-                let region = [vk::BufferCopy::default()
-                    .src_offset(src)
-                    .dst_offset(dst)
-                    .size(bytes)];
-                // SAFETY: `cmd` is recording; both buffers are alive and hold the region.
-                unsafe { device.cmd_copy_buffer(cmd, from.handle(), to.handle(), &region) };
-            };
-            copy(&staged, &vector, k * bytes, 0);
+            twin::copy(&ctx, cmd, &staged, &vector, [k * bytes, 0], bytes);
             barrier(
                 &ctx,
                 cmd,
@@ -143,7 +126,7 @@ fn on_gpu(n: usize, columns: &[f64], rhs: &[Vec<f64>]) -> Vec<Vec<f64>> {
                 Access::COMPUTE,
                 Access::TRANSFER_READ,
             );
-            copy(&vector, &readback, 0, k * bytes);
+            twin::copy(&ctx, cmd, &vector, &readback, [0, k * bytes], bytes);
             barrier(
                 &ctx,
                 cmd,
@@ -152,18 +135,10 @@ fn on_gpu(n: usize, columns: &[f64], rhs: &[Vec<f64>]) -> Vec<Vec<f64>> {
                 Access::TRANSFER_WRITE,
             );
         }
-        barrier(
-            &ctx,
-            cmd,
-            &[&readback],
-            Access::TRANSFER_WRITE,
-            Access::HOST_READ,
-        );
+        twin::to_host(&ctx, cmd, &readback);
     })
     .unwrap();
-    let out: &[f32] = bytemuck::cast_slice(readback.mapped().unwrap());
-    let messages = ctx.validation_messages();
-    assert!(messages.is_empty(), "validation: {messages:?}");
+    let out = twin::floats(&ctx, &readback);
     out.chunks(n)
         .map(|u| u.iter().map(|&x| x.into()).collect())
         .collect()

@@ -7,14 +7,12 @@
 
 mod gpu_support;
 
-use std::sync::Arc;
-
-use ash::vk;
 use bytemuck::Zeroable;
 use glam::{DMat3, DVec3};
-use tetrasim::gpu::commands::{barrier, one_shot, Access, BufferHandle};
+use gpu_support::twin;
+use tetrasim::gpu::commands::{barrier, one_shot, Access};
 use tetrasim::gpu::layout::PushConstants;
-use tetrasim::gpu::{Buffer, Context, ContextOptions, Kernel};
+use tetrasim::gpu::{Buffer, Kernel};
 use tetrasim::physics::{
     elastic_energy, elastic_linearise, elastic_product_strain, elastic_relinearise, lame,
     shape_gradients, singular_values, stable_neo_hookean, ElasticTet, KEPT_STIFFNESS_STRAIN,
@@ -132,13 +130,7 @@ fn pack(case: &Case) -> [[f32; 4]; IN] {
 
 /// Runs the twin check on `cases` with the validation layer on; its results per case.
 fn on_gpu(cases: &[[[f32; 4]; IN]]) -> Vec<[[f32; 4]; OUT]> {
-    let ctx = Arc::new(
-        Context::new(&ContextOptions {
-            validation: true,
-            ..Default::default()
-        })
-        .expect("a Vulkan device"),
-    );
+    let ctx = twin::context();
     let bytes = (cases.len() * OUT * 16) as u64;
     let input = Buffer::with_data(&ctx, "twin cases", bytemuck::cast_slice(cases)).unwrap();
     let results = Buffer::device(&ctx, "twin results", bytes).unwrap();
@@ -160,26 +152,12 @@ fn on_gpu(cases: &[[[f32; 4]; IN]]) -> Vec<[[f32; 4]; OUT]> {
             Access::COMPUTE,
             Access::TRANSFER_READ,
         );
-        let region = [vk::BufferCopy::default().size(bytes)];
-        // SAFETY: `cmd` is recording; both buffers are alive and `bytes` long.
-        unsafe {
-            ctx.device()
-                .cmd_copy_buffer(cmd, results.handle(), readback.handle(), &region)
-        };
-        barrier(
-            &ctx,
-            cmd,
-            &[&readback],
-            Access::TRANSFER_WRITE,
-            Access::HOST_READ,
-        );
+        twin::copy(&ctx, cmd, &results, &readback, [0, 0], bytes);
+        twin::to_host(&ctx, cmd, &readback);
     })
     .unwrap();
-    let out = bytemuck::cast_slice::<u8, [[f32; 4]; OUT]>(readback.mapped().unwrap()).to_vec();
-    let messages = ctx.validation_messages();
-    assert!(messages.is_empty(), "validation: {messages:?}");
-    drop((kernel, binding, input, results, readback));
-    out
+    let floats = twin::floats(&ctx, &readback);
+    bytemuck::cast_slice::<f32, [[f32; 4]; OUT]>(&floats).to_vec()
 }
 
 /// `mu_s (1 - s)` at `F` (columns `f`), `s = 1 / (I_C + 1)`: the twists' bound's numerator.

@@ -7,6 +7,8 @@
 #[path = "../common/skip.rs"]
 mod skip;
 
+pub mod twin;
+
 use glam::DVec3;
 use tetrasim::backend::vulkan::{EngineOptions, VulkanBackend};
 use tetrasim::backend::ContactSample;

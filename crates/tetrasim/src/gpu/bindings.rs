@@ -185,4 +185,15 @@ bindings! {
     /// float per coarse unknown: a restricted residual, solved in place into the coarse
     /// correction (`elastic_coarse_solve`).
     COARSE_VECTOR = 57,
+    /// 6 vec4 per tet (finite elements): its stiffness at the step's linearisation, F's
+    /// columns and its cofactor's with the four factors in w (glsl/physics/newton.glsl,
+    /// `elastic_linear_load`).
+    ELASTIC_LINEAR = 58,
+    /// vec4 per tet corner (`4 tet + corner`; finite elements): a product of each tet's
+    /// stiffness with its corners' moves or velocities, gathered per node.
+    ELASTIC_CORNERS = 59,
+    /// ELASTIC_PLANES vec4 planes of one per node, plane after plane (finite elements'
+    /// Newton step: where each node ends, the residual, the search direction, the inverse
+    /// diagonal block, the contact's stiffening, ...; glsl/physics/newton.glsl).
+    ELASTIC_NODES = 60,
 }

@@ -524,6 +524,9 @@ mod tests {
             ("NodeTetItems", binding::NODE_TET_ITEMS),
             ("CoarseMatrix", binding::COARSE_MATRIX),
             ("CoarseVector", binding::COARSE_VECTOR),
+            ("ElasticLinearBuffer", binding::ELASTIC_LINEAR),
+            ("ElasticCornersBuffer", binding::ELASTIC_CORNERS),
+            ("ElasticNodesBuffer", binding::ELASTIC_NODES),
         ]
         .into_iter()
         .collect();

@@ -217,8 +217,8 @@ mod tests {
         // the shader's own key); integrate: split, colliders_split; split_velocity:
         // colliders; contact_measure: colliders, bodies, colliders_bodies; minres_setup and
         // minres_forces: colliders; minres_rows: one per mix of its four row segments (15);
-        // minres_finish: s, v, sv; elastic: gather.
-        assert_eq!(variants, 58);
+        // minres_finish: s, v, sv; elastic: gather; elastic_linearise: later.
+        assert_eq!(variants, 59);
     }
 
     #[test]

@@ -138,6 +138,12 @@ pub enum BufferId {
     CoarseMatrix,
     /// `n` floats: a coarse right-hand side and its solution (`neo-hookean`).
     CoarseVector,
+    /// 6 vec4 per tet: the stiffness at the step's linearisation (`neo-hookean`).
+    ElasticLinear,
+    /// vec4 per tet corner: products of the tets' stiffness (`neo-hookean`).
+    ElasticCorners,
+    /// `ELASTIC_PLANES` vec4 per node: the Newton step's node vectors (`neo-hookean`).
+    ElasticNodes,
 }
 
 impl BufferId {
@@ -202,6 +208,9 @@ impl BufferId {
             BufferId::NodeTetItems => "node-tet items",
             BufferId::CoarseMatrix => "coarse matrix",
             BufferId::CoarseVector => "coarse vector",
+            BufferId::ElasticLinear => "elastic linear",
+            BufferId::ElasticCorners => "elastic corners",
+            BufferId::ElasticNodes => "elastic nodes",
         }
     }
 
@@ -266,6 +275,9 @@ impl BufferId {
             BufferId::NodeTetItems => binding::NODE_TET_ITEMS,
             BufferId::CoarseMatrix => binding::COARSE_MATRIX,
             BufferId::CoarseVector => binding::COARSE_VECTOR,
+            BufferId::ElasticLinear => binding::ELASTIC_LINEAR,
+            BufferId::ElasticCorners => binding::ELASTIC_CORNERS,
+            BufferId::ElasticNodes => binding::ELASTIC_NODES,
         }
     }
 }
