@@ -25,7 +25,19 @@
 #define ELASTIC_PLANE_HELD 9u      // the contact's stiffening h; w: 1 when touching
 #define ELASTIC_PLANE_PHI 10u      // the elastic force so far at the linearisation
 #define ELASTIC_PLANE_NORMAL 11u   // the direction a contact holds the node along (or 0)
-#define ELASTIC_PLANES 12u
+#define ELASTIC_PLANE_SUM 12u      // the iteration's force increment on the node
+#define ELASTIC_PLANE_PUSHED 13u   // the contacts' force on the node at the linearisation
+#define ELASTIC_PLANES 14u
+
+// Words of ElasticState: the conjugate gradients' scalars (floats unless said), then one
+// partial sum per workgroup of the node passes from ELASTIC_STATE_PARTIALS on.
+#define ELASTIC_STATE_RZ 0u          // r . z
+#define ELASTIC_STATE_CURVATURE 1u   // p . A p
+#define ELASTIC_STATE_ALPHA 2u       // the step along p
+#define ELASTIC_STATE_BETA 3u        // the next direction's share of p
+#define ELASTIC_STATE_STRAIN 4u      // uint: the float bits of the largest strain of p's step
+#define ELASTIC_STATE_DONE 5u        // uint: 1 once converged or at non-positive curvature
+#define ELASTIC_STATE_PARTIALS 16u
 
 // A symmetric 3x3 matrix: xx yy zz in a, xy xz yz in b (Sym3's order).
 struct Sym3 {
@@ -75,6 +87,24 @@ bool sym3_inverse(Sym3 m, out Sym3 inverse) {
     float inv = 1.0 / det;
     inverse = Sym3(vec3(c00, c11, c22) * inv, vec3(c01, c02, c12) * inv);
     return true;
+}
+
+// The elastic force a move alpha p of a node adds (`ElasticNodes::increment`): its inertia's
+// m/dt^2 alpha p and, where a contact holds it (h not zero), the stiffening's h (h . alpha p).
+vec3 node_increment(float mass, float dt, vec3 h, vec3 p, float alpha) {
+    return p * (alpha * mass / (dt * dt)) + h * (dot(h, p) * alpha);
+}
+
+// A held node's increment with the stiffening's share away from the contact cut to what the
+// contacts push it with (`held_increment`).
+vec3 held_increment(vec3 increment, vec3 h, vec3 d, vec3 pushed) {
+    float length_h = length(h);
+    if (h == vec3(0.0)) {
+        return increment;
+    }
+    float away = dot(h, d) * length_h;
+    float push = dot(h, pushed) / length_h;
+    return away > push ? increment - h * ((away - push) / length_h) : increment;
 }
 
 // A tet's stiffness from its 6 stored vec4 (ElasticLinear: F's columns with k.x k.y k.z,

@@ -196,4 +196,7 @@ bindings! {
     /// Newton step: where each node ends, the residual, the search direction, the inverse
     /// diagonal block, the contact's stiffening, ...; glsl/physics/newton.glsl).
     ELASTIC_NODES = 60,
+    /// The finite elements' conjugate-gradient scalars, then a partial sum per workgroup
+    /// of the node passes (floats; glsl/physics/newton.glsl, `ELASTIC_STATE_*`).
+    ELASTIC_STATE = 61,
 }

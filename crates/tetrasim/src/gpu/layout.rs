@@ -527,6 +527,8 @@ mod tests {
             ("ElasticLinearBuffer", binding::ELASTIC_LINEAR),
             ("ElasticCornersBuffer", binding::ELASTIC_CORNERS),
             ("ElasticNodesBuffer", binding::ELASTIC_NODES),
+            ("ElasticStateF", binding::ELASTIC_STATE),
+            ("ElasticStateU", binding::ELASTIC_STATE),
         ]
         .into_iter()
         .collect();

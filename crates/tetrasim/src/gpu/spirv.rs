@@ -217,8 +217,9 @@ mod tests {
         // the shader's own key); integrate: split, colliders_split; split_velocity:
         // colliders; contact_measure: colliders, bodies, colliders_bodies; minres_setup and
         // minres_forces: colliders; minres_rows: one per mix of its four row segments (15);
-        // minres_finish: s, v, sv; elastic: gather; elastic_linearise: later.
-        assert_eq!(variants, 59);
+        // minres_finish: s, v, sv; elastic: gather; elastic_linearise: later; elastic_update:
+        // start; elastic_scalars: start, alpha, beta.
+        assert_eq!(variants, 63);
     }
 
     #[test]

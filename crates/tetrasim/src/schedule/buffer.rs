@@ -144,6 +144,8 @@ pub enum BufferId {
     ElasticCorners,
     /// `ELASTIC_PLANES` vec4 per node: the Newton step's node vectors (`neo-hookean`).
     ElasticNodes,
+    /// The conjugate gradients' scalars and partial sums (`neo-hookean`).
+    ElasticState,
 }
 
 impl BufferId {
@@ -211,6 +213,7 @@ impl BufferId {
             BufferId::ElasticLinear => "elastic linear",
             BufferId::ElasticCorners => "elastic corners",
             BufferId::ElasticNodes => "elastic nodes",
+            BufferId::ElasticState => "elastic state",
         }
     }
 
@@ -278,6 +281,7 @@ impl BufferId {
             BufferId::ElasticLinear => binding::ELASTIC_LINEAR,
             BufferId::ElasticCorners => binding::ELASTIC_CORNERS,
             BufferId::ElasticNodes => binding::ELASTIC_NODES,
+            BufferId::ElasticState => binding::ELASTIC_STATE,
         }
     }
 }

@@ -1,0 +1,60 @@
+#version 460
+// Pass `elastic_update` (finite elements, per node; docs/GPU.md, "Finite elements on the
+// GPU"): a conjugate-gradient step of ALPHA along P (unless the solve is done): the
+// displacement DX grows by alpha p, the residual R loses alpha q, and the node's force
+// increment for the iteration goes to SUM (its inertia's and its contact's, the latter cut
+// to what the contacts push it with: `held_increment`); then the preconditioned residual
+// Z = the inverse diagonal block times R, and its share of r . z as the workgroup's partial.
+// Variant `start`: after `elastic_rows`, no step: Z, P = Z and r . z. The twin of the
+// update in cpu-ref's `conjugate_gradients` (src/backend/cpu/reference/elastic.rs), its
+// preconditioner without the coarse correction so far.
+// @variant plain:
+// @variant start: START
+#include "common/version.glsl"
+#include "common/bindings.glsl"
+#include "physics/newton.glsl"
+#include "common/elastic_state.glsl"
+
+layout(std430, set = 0, binding = B_VELOCITIES) readonly restrict buffer Velocities { vec4 velocities[]; };
+layout(std430, set = 0, binding = B_ELASTIC_NODES) restrict buffer ElasticNodesBuffer { vec4 nodes[]; };
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    uint n = pc.node_count;
+    float share = 0.0;
+#ifndef START
+    bool done = state_u[ELASTIC_STATE_DONE] != 0u;
+#else
+    bool done = false;
+#endif
+    if (i < n) {
+        vec3 r = nodes[ELASTIC_PLANE_R * n + i].xyz;
+#ifndef START
+        vec3 sum = vec3(0.0);
+        if (!done) {
+            float alpha = state[ELASTIC_STATE_ALPHA];
+            vec3 p = nodes[ELASTIC_PLANE_P * n + i].xyz;
+            vec3 h = nodes[ELASTIC_PLANE_HELD * n + i].xyz;
+            vec3 d = p * alpha;
+            nodes[ELASTIC_PLANE_DX * n + i] += vec4(d, 0.0);
+            vec3 pushed = nodes[ELASTIC_PLANE_PUSHED * n + i].xyz;
+            sum = held_increment(node_increment(velocities[i].w, pc.dt, h, p, alpha), h, d, pushed);
+            r -= nodes[ELASTIC_PLANE_Q * n + i].xyz * alpha;
+            nodes[ELASTIC_PLANE_R * n + i] = vec4(r, 0.0);
+        }
+        nodes[ELASTIC_PLANE_SUM * n + i] = vec4(sum, 0.0);
+#endif
+        if (!done) {
+            vec4 a = nodes[ELASTIC_PLANE_INVERSE_A * n + i];
+            vec4 b = nodes[ELASTIC_PLANE_INVERSE_B * n + i];
+            vec3 z = sym3_apply(Sym3(a.xyz, vec3(a.w, b.x, b.y)), r);
+            nodes[ELASTIC_PLANE_Z * n + i] = vec4(z, 0.0);
+#ifdef START
+            nodes[ELASTIC_PLANE_P * n + i] = vec4(z, 0.0);
+            nodes[ELASTIC_PLANE_DX * n + i] = vec4(0.0);
+#endif
+            share = dot(r, z);
+        }
+    }
+    store_partial(share);
+}
