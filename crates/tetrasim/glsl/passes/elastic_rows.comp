@@ -65,5 +65,7 @@ void main() {
     nodes[ELASTIC_PLANE_R * n + i] = vec4(r, 0.0);
     nodes[ELASTIC_PLANE_INVERSE_A * n + i] = vec4(inverse.a, inverse.b.x);
     nodes[ELASTIC_PLANE_INVERSE_B * n + i] = vec4(inverse.b.yz, 0.0, 0.0);
-    nodes[ELASTIC_PLANE_HELD * n + i] = vec4(h, 0.0);
+    // Touching (left out of the coarse correction): a contact pushes it or holds it.
+    bool touching = nodes[ELASTIC_PLANE_NORMAL * n + i].w > 0.0 || h != vec3(0.0);
+    nodes[ELASTIC_PLANE_HELD * n + i] = vec4(h, touching ? 1.0 : 0.0);
 }

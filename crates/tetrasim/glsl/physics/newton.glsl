@@ -9,8 +9,9 @@
 
 #include "physics/stiffness.glsl"
 
-// HELD_STIFFNESS in src/physics/held.rs.
+// HELD_STIFFNESS and HELD_GAP in src/physics/held.rs.
 #define HELD_STIFFNESS 1.0e3
+#define HELD_GAP 1.0e-3
 
 // The planes of ElasticNodes (a vec4 per node each, plane k of node i at k * N + i).
 #define ELASTIC_PLANE_AT 0u        // where the node ends the step so far (the linearisation)
@@ -27,7 +28,8 @@
 #define ELASTIC_PLANE_NORMAL 11u   // the direction a contact holds the node along (or 0)
 #define ELASTIC_PLANE_SUM 12u      // the iteration's force increment on the node
 #define ELASTIC_PLANE_PUSHED 13u   // the contacts' force on the node at the linearisation
-#define ELASTIC_PLANES 14u
+#define ELASTIC_PLANE_NODE 14u     // fixed: x = the node's reach (1 / its thinnest tet's height)
+#define ELASTIC_PLANES 15u
 
 // Words of ElasticState: the conjugate gradients' scalars (floats unless said), then one
 // partial sum per workgroup of the node passes from ELASTIC_STATE_PARTIALS on.
