@@ -7,10 +7,12 @@
 //!   at a step's first linearisation and at a later one that keeps the stiffness of the tets
 //!   that barely moved;
 //! - ten conjugate-gradient iterations (`elastic_update#start`, `elastic_scalars`,
-//!   `elastic_product`, `elastic_curvature`, `elastic_update`, `elastic_direction`) against
-//!   `cpu-ref`'s `conjugate_gradients` written out with the same functions (its product,
-//!   increments and contact cut), block-Jacobi preconditioned and without backtracking,
-//!   which the passes do not have yet: displacements, force increments and steps;
+//!   `elastic_product`, `elastic_curvature`, `elastic_potential`, `elastic_update`,
+//!   `elastic_direction`) against `cpu-ref`'s `conjugate_gradients` written out with the
+//!   same functions (its product, increments, contact cut, backtracking on the f64
+//!   potential and floor check), block-Jacobi preconditioned (the coarse correction is not
+//!   in the passes yet), on the first linearisation throughout: displacements, force
+//!   increments, steps and the checked and relinearise flags;
 //! - the start of a linearisation (`elastic_start`, with a floor) against `end_position`,
 //!   `StepForces::elastic` and `collider::held_normal`.
 //!
@@ -28,9 +30,10 @@ use tetrasim::gpu::commands::{barrier, one_shot, Access};
 use tetrasim::gpu::layout::binding;
 use tetrasim::gpu::Buffer;
 use tetrasim::physics::{
-    elastic_linearise, elastic_product_strain, elastic_relinearise, end_position, held_increment,
-    sym3_apply, ElasticLinear,
+    elastic_energy, elastic_linearise, elastic_product_strain, elastic_relinearise, end_position,
+    held_increment, sym3_apply, ElasticLinear,
 };
+use tetrasim::schedule::family::backtrack;
 use tetrasim::shaders::file;
 
 /// The GPU's rows at the first linearisation, then at the later one.
@@ -161,16 +164,48 @@ fn the_gpu_newton_rows_equal_their_definition() {
 /// Conjugate-gradient iterations compared (the default step's count).
 const ITERATIONS: usize = 10;
 
-/// After each of the reference's conjugate-gradient iterations at the first linearisation
-/// (block-Jacobi preconditioner, no backtracking: the passes so far): the nodes'
-/// displacements, force increments and the step `alpha`.
-fn reference_iterations(s: &Scene) -> Vec<(Vec<DVec3>, Vec<DVec3>, f64)> {
+/// One conjugate-gradient iteration of the reference: the nodes' displacements and force
+/// increments after it, its step, whether it was checked against the potential and whether
+/// the next iteration relinearises.
+struct Iteration {
+    dx: Vec<DVec3>,
+    sum: Vec<DVec3>,
+    alpha: f64,
+    checked: bool,
+    relinearise: bool,
+}
+
+/// The reference's conjugate-gradient iterations at the first linearisation
+/// (block-Jacobi preconditioner; backtracking and the floor check as cpu-ref's
+/// `conjugate_gradients`, its `potential` in f64), each saying whether the next would
+/// relinearise, all kept on the first linearisation (as the passes here are run).
+fn reference_iterations(s: &Scene) -> Vec<Iteration> {
     let (model, nodes, dt) = (&s.model, &s.nodes, s.params.dt);
+    let at = &s.first;
     let linear: Vec<ElasticLinear<DVec3>> = (model.tets.iter().zip(&nodes.tets))
-        .map(|(tet, e)| elastic_linearise(e, tet.map(|k| s.first[k as usize])))
+        .map(|(tet, e)| elastic_linearise(e, tet.map(|k| at[k as usize])))
         .collect();
-    let rows = reference_rows(s, &s.first, &linear);
+    let rows = reference_rows(s, at, &linear);
     let n = model.node_count();
+    let w = &model.inv_mass;
+    let y: Vec<DVec3> = (0..n)
+        .map(|i| at[i] - s.phi[i] * (w[i] * dt * dt))
+        .collect();
+    let potential = |moves: &[DVec3]| -> f64 {
+        let x: Vec<DVec3> = (0..n).map(|i| at[i] + moves[i]).collect();
+        let inertia: f64 = (0..n)
+            .filter(|&i| w[i] > 0.0)
+            .map(|i| {
+                let contact = rows[i].2.dot(moves[i]).powi(2) * dt * dt;
+                nodes.mass[i] * (x[i] - y[i]).length_squared() + contact
+            })
+            .sum::<f64>()
+            / (2.0 * dt * dt);
+        let energy: f64 = (model.tets.iter().zip(&nodes.tets))
+            .map(|(tet, t)| elastic_energy(t, tet.map(|k| x[k as usize])))
+            .sum();
+        inertia + energy
+    };
     let apply = |m: &[f64; 6], v: DVec3| sym3_apply(*m, v);
     let mut r: Vec<DVec3> = rows.iter().map(|row| row.0).collect();
     let mut z: Vec<DVec3> = (0..n).map(|i| apply(&rows[i].1, r[i])).collect();
@@ -178,18 +213,34 @@ fn reference_iterations(s: &Scene) -> Vec<(Vec<DVec3>, Vec<DVec3>, f64)> {
     let mut dx = vec![DVec3::ZERO; n];
     let dot = |a: &[DVec3], b: &[DVec3]| a.iter().zip(b).map(|(a, b)| a.dot(*b)).sum::<f64>();
     let mut rz = dot(&r, &z);
+    let mut known = None;
     let mut out = Vec::new();
     for _ in 0..ITERATIONS {
-        let corners: Vec<[DVec3; 4]> = (model.tets.iter().zip(&nodes.tets).zip(&linear))
-            .map(|((tet, e), lin)| elastic_product_strain(e, lin, tet.map(|k| p[k as usize])).0)
-            .collect();
+        let (corners, strains): (Vec<[DVec3; 4]>, Vec<f64>) =
+            (model.tets.iter().zip(&nodes.tets).zip(&linear))
+                .map(|((tet, e), lin)| elastic_product_strain(e, lin, tet.map(|k| p[k as usize])))
+                .unzip();
         let q: Vec<DVec3> = (0..n)
             .map(|i| {
                 let corner = |item: usize| corners[item / 4][item % 4];
-                nodes.product(i, model.inv_mass[i], dt, p[i], rows[i].2, corner)
+                nodes.product(i, w[i], dt, p[i], rows[i].2, corner)
             })
             .collect();
-        let alpha = rz / dot(&p, &q);
+        let curvature = dot(&p, &q);
+        let strain = strains.into_iter().fold(0.0, f64::max);
+        let stepped = backtrack(rz / curvature, strain, curvature, known, |a| {
+            let moves: Vec<DVec3> = (0..n).map(|k| dx[k] + p[k] * a).collect();
+            potential(&moves)
+        });
+        known = stepped.potential;
+        let mut relinearise = stepped.relinearise;
+        let alpha = stepped.alpha.expect("a step that lowers the potential");
+        if stepped.checked && !relinearise {
+            relinearise = (0..n).any(|k| {
+                let end = at[k] + dx[k] + p[k] * alpha;
+                w[k] > 0.0 && rows[k].2 == DVec3::ZERO && end.y < 0.0
+            });
+        }
         let sum: Vec<DVec3> = (0..n)
             .map(|i| {
                 let (h, d) = (rows[i].2, p[i] * alpha);
@@ -203,7 +254,13 @@ fn reference_iterations(s: &Scene) -> Vec<(Vec<DVec3>, Vec<DVec3>, f64)> {
         let beta = next / rz;
         rz = next;
         p = (0..n).map(|i| z[i] + p[i] * beta).collect();
-        out.push((dx.clone(), sum, alpha));
+        out.push(Iteration {
+            dx: dx.clone(),
+            sum,
+            alpha,
+            checked: stepped.checked,
+            relinearise,
+        });
     }
     out
 }
@@ -213,13 +270,34 @@ fn the_gpu_conjugate_gradients_equal_their_definition() {
     if !gpu_support::vulkan_available() {
         return;
     }
-    let s = scene();
+    // Steps beyond the trust (halved, then relinearised: the jittered block's slivers), and
+    // a smooth load's steps within it. Which checked steps keep the linearisation is
+    // `the_gpu_backtracking_decides_as_its_definition`'s.
+    let mut checked = 0;
+    for (jitter, lift) in [(2e-3, 0.0), (8e-4, 0.01)] {
+        let name = format!("jitter {jitter} m, lift {lift} m");
+        checked += compare_iterations(&name, scene_jittered(jitter, lift));
+    }
+    for load in [1.0, 20.0] {
+        checked += compare_iterations(&format!("load {load} N"), scene_loaded(load));
+    }
+    assert!(
+        checked >= 4,
+        "{checked} steps checked against the potential"
+    );
+}
+
+/// The GPU's conjugate-gradient iterations on scene `s` (`name`) against the
+/// reference's: the steps checked against the potential.
+fn compare_iterations(name: &str, s: Scene) -> usize {
     let want = reference_iterations(&s);
     let gpu = Gpu::new(&s);
     let (n, t) = (s.model.node_count(), s.model.tets.len());
     let partials = n.div_ceil(WORKGROUP as usize) as u32;
+    let widest = n.max(t);
+    let potential_partials = widest.div_ceil(WORKGROUP as usize) as u32;
     let size = gpu.node_bytes + 64;
-    let readback = Buffer::readback(&gpu.ctx, "readback", ITERATIONS as u64 * size).unwrap();
+    let readback = Buffer::readback(&gpu.ctx, "readback", want.len() as u64 * size).unwrap();
     let key = |name: &str, variant: &str| format!("{name}#{variant}");
     let scalars = file::PASSES_ELASTIC_SCALARS_COMP;
     let passes = [
@@ -232,6 +310,11 @@ fn the_gpu_conjugate_gradients_equal_their_definition() {
         (gpu.pass(file::PASSES_ELASTIC_PRODUCT_COMP, &[]), t),
         (gpu.pass(file::PASSES_ELASTIC_CURVATURE_COMP, &[]), n),
         (gpu.pass(&key(scalars, "alpha"), &[partials]), 1),
+        (gpu.pass(file::PASSES_ELASTIC_POTENTIAL_COMP, &[]), widest),
+        (
+            gpu.pass(&key(scalars, "backtrack"), &[potential_partials]),
+            1,
+        ),
         (gpu.pass(file::PASSES_ELASTIC_UPDATE_COMP, &[]), n),
         (gpu.pass(&key(scalars, "beta"), &[partials]), 1),
         (gpu.pass(file::PASSES_ELASTIC_DIRECTION_COMP, &[]), n),
@@ -240,35 +323,56 @@ fn the_gpu_conjugate_gradients_equal_their_definition() {
         for (pass, elements) in passes.iter().zip([t, n, n, 1]) {
             gpu.dispatch(cmd, pass, elements);
         }
-        for k in 0..ITERATIONS {
+        for k in 0..want.len() {
             for (pass, elements) in &iteration {
                 gpu.dispatch(cmd, pass, *elements);
             }
             gpu.snapshot(cmd, &readback, k as u64 * size);
+            // The relinearisation flag read, as the next Newton step's start clears it.
+            gpu.clear_word(cmd, binding::ELASTIC_STATE, 7);
         }
         twin::to_host(&gpu.ctx, cmd, &readback);
     })
     .unwrap();
     let floats = twin::floats(&gpu.ctx, &readback);
     let mut worst = 0.0f64;
-    for (k, (dx, sum, alpha)) in want.iter().enumerate() {
+    for (k, it) in want.iter().enumerate() {
         let (planes, state) = snapshot_of(&floats, n, k);
         let largest = |v: &[DVec3]| v.iter().map(|x| x.length()).fold(0.0, f64::max);
-        let (dx_scale, sum_scale) = (largest(dx), largest(sum));
-        let mut off = (f64::from(state[ALPHA]) - alpha).abs() / alpha.abs();
+        let (dx_scale, sum_scale) = (largest(&it.dx), largest(&it.sum));
+        let alpha = f64::from(state[ALPHA]);
+        let mut off = (alpha - it.alpha).abs() / it.alpha.abs();
         for i in 0..n {
-            off = off.max((xyz(planes[DX * n + i]) - dx[i]).length() / dx_scale);
-            off = off.max((xyz(planes[SUM * n + i]) - sum[i]).length() / sum_scale);
+            off = off.max((xyz(planes[DX * n + i]) - it.dx[i]).length() / dx_scale);
+            off = off.max((xyz(planes[SUM * n + i]) - it.sum[i]).length() / sum_scale);
         }
         assert!(
             off <= 1e-3,
             "iteration {k}: displacements, increments or alpha off by {off:e} of their size \
-             (alpha {} on the GPU, {alpha} by definition)",
-            state[ALPHA]
+             (alpha {alpha} on the GPU, {} by definition)",
+            it.alpha
+        );
+        let flags = state_flags(state);
+        assert_eq!(
+            flags,
+            (it.checked, it.relinearise),
+            "iteration {k}: checked, relinearise"
         );
         worst = worst.max(off);
     }
-    println!("{ITERATIONS} iterations on {n} nodes: within {worst:.2e} of the reference");
+    let checked = want.iter().filter(|it| it.checked).count();
+    println!(
+        "{name}: {} iterations on {n} nodes ({checked} checked against the potential): within \
+         {worst:.2e} of the reference",
+        want.len(),
+    );
+    checked
+}
+
+/// The state's CHECK and RELINEARISE flags.
+fn state_flags(state: &[f32]) -> (bool, bool) {
+    let word = |k: usize| state[k].to_bits() != 0;
+    (word(6), word(7))
 }
 
 #[test]

@@ -68,6 +68,20 @@ pub struct Scene {
 }
 
 pub fn scene() -> Scene {
+    scene_jittered(0.002, 0.0)
+}
+
+/// [`scene_jittered`] with no jitter, lifted off the floor, each node's elastic force so
+/// far `load` [N] downward: a smooth load, whose steps the quadratic model predicts well.
+pub fn scene_loaded(load: f64) -> Scene {
+    let mut s = scene_jittered(0.0, 0.01);
+    s.phi = vec![DVec3::new(0.0, -load, 0.0); s.phi.len()];
+    s
+}
+
+/// [`scene`] with every node off its bent place by up to `jitter` [m], and where the nodes
+/// end lifted by `lift` [m] (at 0 the bent bottom ends below the floor).
+pub fn scene_jittered(jitter: f64, lift: f64) -> Scene {
     let mesh = box_tets(DVec3::ZERO, 0.02, [6, 3, 3]);
     let model = ModelBuilder::new(&mesh)
         .placement(unplaced())
@@ -81,13 +95,13 @@ pub fn scene() -> Scene {
     let problem = Problem::new(&model, &params).unwrap();
     let nodes = ElasticNodes::<f64>::prepare(&problem);
     let n = model.node_count();
-    // Bent and squeezed, every node off by up to 2 mm; the later linearisation moves half
+    // Bent and squeezed, every node off by up to `jitter` (2 mm in [`scene`]); the later linearisation moves half
     // the nodes by 1e-6 m (their tets keep their stiffness) and the rest by 3 mm.
     let first: Vec<DVec3> = (0..n)
         .map(|i| {
             let p = model.positions[i];
             let bent = p + DVec3::new(-0.1 * p.x * p.y, -0.3 * p.x * p.x, 0.05 * p.z * p.x);
-            f32_round(bent + noise3(i as u64) * 0.002)
+            f32_round(bent + noise3(i as u64) * jitter + DVec3::Y * lift)
         })
         .collect();
     let later = (0..n)
@@ -196,8 +210,9 @@ impl Gpu {
             .collect();
         let upload = |name: &str, bytes: &[u8]| Buffer::with_data(&ctx, name, bytes).unwrap();
         let empty = |name: &str, bytes: usize| Buffer::device(&ctx, name, bytes as u64).unwrap();
-        let partials = n.div_ceil(WORKGROUP as usize);
-        let state = vec![0u32; 16 + partials];
+        // The partials: 9 per workgroup of the widest pass (`elastic_potential`).
+        let partials = n.max(t).div_ceil(WORKGROUP as usize);
+        let state = vec![0u32; 16 + 9 * partials];
         let buffers = vec![
             (
                 binding::POSITIONS,
@@ -276,6 +291,32 @@ impl Gpu {
         barrier(&self.ctx, cmd, &all, Access::COMPUTE, Access::COMPUTE);
     }
 
+    /// Records setting word `word` of buffer `number` to 0, between barriers.
+    pub fn clear_word(&self, cmd: vk::CommandBuffer, number: u32, word: u64) {
+        let buffer = self.buffer(number);
+        barrier(
+            &self.ctx,
+            cmd,
+            &[buffer],
+            Access::COMPUTE,
+            Access::TRANSFER_WRITE,
+        );
+        // SAFETY: `cmd` is recording; the buffer is alive and holds the word.
+        unsafe {
+            let handle = tetrasim::gpu::commands::BufferHandle::handle(buffer);
+            self.ctx
+                .device()
+                .cmd_fill_buffer(cmd, handle, 4 * word, 4, 0);
+        }
+        barrier(
+            &self.ctx,
+            cmd,
+            &[buffer],
+            Access::TRANSFER_WRITE,
+            Access::COMPUTE,
+        );
+    }
+
     /// Records copying the node planes (and, with `state`, the state's first 16 words after
     /// them) into `readback` at `at`.
     pub fn snapshot(&self, cmd: vk::CommandBuffer, readback: &Buffer, at: u64) {
@@ -308,6 +349,8 @@ pub fn planes(s: &Scene, at: &[DVec3]) -> Vec<[f32; 4]> {
         out[PHI * n + i] = vec4(s.phi[i], 0.0);
         out[NORMAL * n + i] = vec4(s.normal[i], 0.0);
         out[PUSHED * n + i] = vec4(s.pushed[i], 0.0);
+        let w = s.model.inv_mass[i] * s.params.dt * s.params.dt;
+        out[Y * n + i] = vec4(at[i] - s.phi[i] * w, 0.0);
         out[NODE * n + i] = [s.nodes.reach[i] as f32, 0.0, 0.0, 0.0];
     }
     out

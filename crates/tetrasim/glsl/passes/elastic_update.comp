@@ -5,7 +5,9 @@
 // increment for the iteration goes to SUM (its inertia's and its contact's, the latter cut
 // to what the contacts push it with: `held_increment`); then the preconditioned residual
 // Z = the inverse diagonal block times R, and its share of r . z as the workgroup's partial.
-// Variant `start`: after `elastic_rows`, no step: Z, P = Z and r . z. The twin of the
+// A checked step that kept the linearisation (no RELINEARISE from `elastic_scalars#backtrack`)
+// sets it where a free node no contact holds ends inside the floor. Variant `start`: after
+// `elastic_rows`, no step: Z, P = Z and r . z. The twin of the
 // update in cpu-ref's `conjugate_gradients` (src/backend/cpu/reference/elastic.rs), its
 // preconditioner without the coarse correction so far.
 // @variant plain:
@@ -15,6 +17,7 @@
 #include "physics/newton.glsl"
 #include "common/elastic_state.glsl"
 
+layout(std430, set = 0, binding = B_POSITIONS) readonly restrict buffer Positions { vec4 positions[]; };
 layout(std430, set = 0, binding = B_VELOCITIES) readonly restrict buffer Velocities { vec4 velocities[]; };
 layout(std430, set = 0, binding = B_ELASTIC_NODES) restrict buffer ElasticNodesBuffer { vec4 nodes[]; };
 
@@ -36,7 +39,15 @@ void main() {
             vec3 p = nodes[ELASTIC_PLANE_P * n + i].xyz;
             vec3 h = nodes[ELASTIC_PLANE_HELD * n + i].xyz;
             vec3 d = p * alpha;
-            nodes[ELASTIC_PLANE_DX * n + i] += vec4(d, 0.0);
+            vec3 dx = nodes[ELASTIC_PLANE_DX * n + i].xyz + d;
+            nodes[ELASTIC_PLANE_DX * n + i] = vec4(dx, 0.0);
+            // A checked step kept the linearisation: a free node no contact holds that ends
+            // inside the floor starts a new Newton step (collider::enters_unheld).
+            bool kept = state_u[ELASTIC_STATE_CHECK] != 0u && state_u[ELASTIC_STATE_RELINEARISE] == 0u;
+            vec3 end = nodes[ELASTIC_PLANE_AT * n + i].xyz + dx;
+            if (kept && pc.floor_on != 0u && positions[i].w > 0.0 && h == vec3(0.0) && end.y < 0.0) {
+                atomicOr(state_u[ELASTIC_STATE_RELINEARISE], 1u);
+            }
             vec3 pushed = nodes[ELASTIC_PLANE_PUSHED * n + i].xyz;
             sum = held_increment(node_increment(velocities[i].w, pc.dt, h, p, alpha), h, d, pushed);
             r -= nodes[ELASTIC_PLANE_Q * n + i].xyz * alpha;

@@ -39,7 +39,31 @@
 #define ELASTIC_STATE_BETA 3u        // the next direction's share of p
 #define ELASTIC_STATE_STRAIN 4u      // uint: the float bits of the largest strain of p's step
 #define ELASTIC_STATE_DONE 5u        // uint: 1 once converged or at non-positive curvature
+#define ELASTIC_STATE_CHECK 6u       // uint: 1 when alpha p goes beyond the trusted strain
+#define ELASTIC_STATE_RELINEARISE 7u // uint: 1 when the next iteration begins a Newton step
 #define ELASTIC_STATE_PARTIALS 16u
+
+// TRUSTED_STRAIN, TRUSTED_RATIO and MOST_HALVINGS in src/schedule/family/elastic.rs.
+#define TRUSTED_STRAIN 0.01
+#define TRUSTED_RATIO 0.5
+#define MOST_HALVINGS 8u
+// The steps the backtracking tries: alpha and its halvings.
+#define BACKTRACK_STEPS (MOST_HALVINGS + 1u)
+
+// The steps the backtracking tries (alpha / 2^k while alpha / 2^k * strain is beyond the
+// trust; `backtrack`) into `steps`, their count returned.
+uint backtrack_steps(float alpha, float strain, out float steps[9]) {
+    uint count = 0u;
+    float step = alpha;
+    for (uint k = 0u; k < BACKTRACK_STEPS; ++k) {
+        steps[k] = step;
+        if (step * strain > TRUSTED_STRAIN) {
+            count = k + 1u;
+        }
+        step *= 0.5;
+    }
+    return count;
+}
 
 // A symmetric 3x3 matrix: xx yy zz in a, xy xz yz in b (Sym3's order).
 struct Sym3 {

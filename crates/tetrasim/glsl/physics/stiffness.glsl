@@ -251,4 +251,43 @@ float elastic_energy(ElasticTet t, vec3 p0, vec3 p1, vec3 p2, vec3 p3) {
            - 0.5 * t.mu * log(ic + 1.0));
 }
 
+// log(1 + x) without the cancellation of 1 + x for small x.
+float log_1p(float x) {
+    float u = 1.0 + x;
+    return u == 1.0 ? x : log(u) * x / (u - 1.0);
+}
+
+// How much the tet's energy changes, V0 (Psi(F0 + a G) - Psi(F0)), for each step `a` of
+// `steps` (up to 9; `count` used) from the corners at p0..p3 along the corner moves
+// d0..d3 (G = their dF): the changes of I_C and J expanded in a (det(F + H) = det F +
+// cof F : H + F : cof H + det H), so that no change is the difference of two energies
+// (in float the step's energy change would drown in the tet's energy). Into `change`.
+void elastic_energy_changes(ElasticTet t, vec3 p0, vec3 p1, vec3 p2, vec3 p3, vec3 d0, vec3 d1,
+                            vec3 d2, vec3 d3, float steps[9], uint count, out float change[9]) {
+    vec3 f0, f1, f2, g0, g1, g2;
+    elastic_columns(t, p0, p1, p2, p3, f0, f1, f2);
+    elastic_columns(t, d0, d1, d2, d3, g0, g1, g2);
+    vec3 c0 = cross(f1, f2);
+    vec3 c1 = cross(f2, f0);
+    vec3 c2 = cross(f0, f1);
+    float j = dot(f0, c0);
+    float ic = dot(f0, f0) + dot(f1, f1) + dot(f2, f2);
+    float f_g = dot(f0, g0) + dot(f1, g1) + dot(f2, g2);
+    float g_g = dot(g0, g0) + dot(g1, g1) + dot(g2, g2);
+    float cof_g = dot(c0, g0) + dot(c1, g1) + dot(c2, g2);
+    float f_cofg = dot(f0, cross(g1, g2)) + dot(f1, cross(g2, g0)) + dot(f2, cross(g0, g1));
+    float det_g = dot(g0, cross(g1, g2));
+    for (uint k = 0u; k < 9u; ++k) {
+        if (k >= count) {
+            change[k] = 0.0;
+            continue;
+        }
+        float a = steps[k];
+        float di = a * (2.0 * f_g + a * g_g);
+        float dj = a * (cof_g + a * (f_cofg + a * det_g));
+        change[k] = t.volume * (0.5 * t.mu * di + 0.5 * t.lambda * dj * (2.0 * (j - t.alpha) + dj)
+                                - 0.5 * t.mu * log_1p(di / (ic + 1.0)));
+    }
+}
+
 #endif
