@@ -30,8 +30,8 @@ use tetrasim::gpu::commands::{barrier, one_shot, Access};
 use tetrasim::gpu::layout::binding;
 use tetrasim::gpu::Buffer;
 use tetrasim::physics::{
-    elastic_energy, elastic_linearise, elastic_product_strain, elastic_relinearise, end_position,
-    held_increment, sym3_apply, ElasticLinear,
+    elastic_linearise, elastic_product_strain, elastic_relinearise, end_position, held_increment,
+    sym3_apply, ElasticLinear,
 };
 use tetrasim::schedule::family::backtrack;
 use tetrasim::shaders::file;
@@ -191,21 +191,8 @@ fn reference_iterations(s: &Scene) -> Vec<Iteration> {
     let y: Vec<DVec3> = (0..n)
         .map(|i| at[i] - s.phi[i] * (w[i] * dt * dt))
         .collect();
-    let potential = |moves: &[DVec3]| -> f64 {
-        let x: Vec<DVec3> = (0..n).map(|i| at[i] + moves[i]).collect();
-        let inertia: f64 = (0..n)
-            .filter(|&i| w[i] > 0.0)
-            .map(|i| {
-                let contact = rows[i].2.dot(moves[i]).powi(2) * dt * dt;
-                nodes.mass[i] * (x[i] - y[i]).length_squared() + contact
-            })
-            .sum::<f64>()
-            / (2.0 * dt * dt);
-        let energy: f64 = (model.tets.iter().zip(&nodes.tets))
-            .map(|(tet, t)| elastic_energy(t, tet.map(|k| x[k as usize])))
-            .sum();
-        inertia + energy
-    };
+    let held: Vec<DVec3> = rows.iter().map(|row| row.2).collect();
+    let potential = |moves: &[DVec3]| nodes.potential(&model.tets, w, dt, at, moves, &y, &held);
     let apply = |m: &[f64; 6], v: DVec3| sym3_apply(*m, v);
     let mut r: Vec<DVec3> = rows.iter().map(|row| row.0).collect();
     let mut z: Vec<DVec3> = (0..n).map(|i| apply(&rows[i].1, r[i])).collect();

@@ -14,9 +14,9 @@ use crate::model::{adjacency, Csr, Model};
 use glam::DVec3;
 
 use crate::physics::{
-    elastic_corner, elastic_product, held_block, node_block, shape_gradients, stable_neo_hookean,
-    sym3_inverse, Aggregates, CoarseSpace, ElasticLinear, ElasticTet, Real, Sym3, Vector,
-    NO_AGGREGATE,
+    elastic_corner, elastic_energy, elastic_product, held_block, node_block, shape_gradients,
+    stable_neo_hookean, sym3_inverse, Aggregates, CoarseSpace, ElasticLinear, ElasticTet, Real,
+    Sym3, Vector, NO_AGGREGATE,
 };
 use crate::problem::Problem;
 
@@ -389,6 +389,38 @@ impl<R: Real> ElasticNodes<R> {
             }
         }
         (grad, hessian)
+    }
+}
+
+impl ElasticNodes<f64> {
+    /// The step's incremental potential with the nodes moved by `moves` from `at` (`cpu-ref`'s
+    /// in [`backtrack`]): `sum_i m_i / (2 dt^2) |x_i - y_i|^2 + (h_i . d_i)^2 / 2` over the
+    /// free nodes (`inv_mass > 0`; `y` where inertia and gravity alone take them, `h` their
+    /// contacts' stiffening, `d` their moves) plus the tets' energy.
+    #[allow(clippy::too_many_arguments)]
+    pub fn potential(
+        &self,
+        tets: &[[u32; 4]],
+        inv_mass: &[f64],
+        dt: f64,
+        at: &[DVec3],
+        moves: &[DVec3],
+        y: &[DVec3],
+        held: &[DVec3],
+    ) -> f64 {
+        let x: Vec<DVec3> = at.iter().zip(moves).map(|(a, d)| *a + *d).collect();
+        let inertia: f64 = (0..x.len())
+            .filter(|&i| inv_mass[i] > 0.0)
+            .map(|i| {
+                let contact = held[i].dot(moves[i]).powi(2) * dt * dt;
+                self.mass[i] * (x[i] - y[i]).length_squared() + contact
+            })
+            .sum::<f64>()
+            / (2.0 * dt * dt);
+        let energy: f64 = (tets.iter().zip(&self.tets))
+            .map(|(tet, t)| elastic_energy(t, tet.map(|k| x[k as usize])))
+            .sum();
+        inertia + energy
     }
 }
 

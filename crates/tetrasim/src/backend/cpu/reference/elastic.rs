@@ -9,7 +9,7 @@ use super::step_forces::StepForces;
 use super::ReferenceBackend;
 use crate::collider;
 use crate::physics::{
-    correction_length, elastic_energy, elastic_linearise, elastic_product, elastic_product_strain,
+    correction_length, elastic_linearise, elastic_product, elastic_product_strain,
     elastic_relinearise, end_position, held_increment, held_mass, rebuilds, sym3_apply, touching,
     CoarseSpace, ElasticLinear, RigidPart, Sym3, NO_AGGREGATE,
 };
@@ -227,7 +227,16 @@ impl ReferenceBackend {
         let (at, dx, p) = (&cg.at, &cg.dx, &cg.p);
         let stepped = backtrack(cg.rz / curvature, strain, curvature, cg.potential, |a| {
             let moves: Vec<DVec3> = (0..n).map(|k| dx[k] + p[k] * a).collect();
-            self.potential(nodes, at, &moves, &cg.y, &cg.held)
+            let (model, dt) = (&self.problem.model, self.problem.params.dt);
+            nodes.potential(
+                &model.tets,
+                &model.inv_mass,
+                dt,
+                at,
+                &moves,
+                &cg.y,
+                &cg.held,
+            )
         });
         (cg.potential, cg.relinearise) = (stepped.potential, stepped.relinearise);
         let Some(alpha) = stepped.alpha else {
@@ -259,33 +268,6 @@ impl ReferenceBackend {
         cg.rz = rz;
         cg.done = !positive(rz);
         sum
-    }
-
-    /// The step's incremental potential with the nodes moved by `moves` from `at`:
-    /// `sum_i m_i / (2 dt^2) |x_i - y_i|^2 + (h_i . d_i)^2 / 2` over the free nodes (`h`:
-    /// their contacts' stiffening, `d` their moves) plus the tets' energy.
-    fn potential(
-        &self,
-        nodes: &ElasticNodes<f64>,
-        at: &[DVec3],
-        moves: &[DVec3],
-        y: &[DVec3],
-        held: &[DVec3],
-    ) -> f64 {
-        let (model, dt) = (&self.problem.model, self.problem.params.dt);
-        let x: Vec<DVec3> = at.iter().zip(moves).map(|(a, d)| *a + *d).collect();
-        let inertia: f64 = (0..x.len())
-            .filter(|&i| model.inv_mass[i] > 0.0)
-            .map(|i| {
-                let contact = held[i].dot(moves[i]).powi(2) * dt * dt;
-                nodes.mass[i] * (x[i] - y[i]).length_squared() + contact
-            })
-            .sum::<f64>()
-            / (2.0 * dt * dt);
-        let energy: f64 = (model.tets.iter().zip(&nodes.tets))
-            .map(|(tet, t)| elastic_energy(t, tet.map(|k| x[k as usize])))
-            .sum();
-        inertia + energy
     }
 }
 
