@@ -6,13 +6,15 @@
 //!   and `newton_row`): each node's residual, inverse diagonal block and contact stiffening,
 //!   at a step's first linearisation and at a later one that keeps the stiffness of the tets
 //!   that barely moved;
-//! - ten conjugate-gradient iterations (`elastic_update#start`, `elastic_scalars`,
-//!   `elastic_product`, `elastic_curvature`, `elastic_potential`, `elastic_update`,
-//!   `elastic_direction`) against `cpu-ref`'s `conjugate_gradients` written out with the
-//!   same functions (its product, increments, contact cut, backtracking on the f64
-//!   potential and floor check), block-Jacobi preconditioned (the coarse correction is not
-//!   in the passes yet), on the first linearisation throughout: displacements, force
-//!   increments, steps and the checked and relinearise flags;
+//! - ten conjugate-gradient iterations (`elastic_scalars`, `elastic_product`,
+//!   `elastic_curvature`, `elastic_potential`, `elastic_update`, the preconditioner's
+//!   `elastic_coarse_modes`, `elastic_coarse_factor`, `elastic_restrict`,
+//!   `elastic_coarse_solve` and `elastic_prolong`, `elastic_direction`) against `cpu-ref`'s
+//!   `conjugate_gradients` written out with the same functions (its product, increments,
+//!   contact cut, backtracking on the f64 potential, floor check and two-level
+//!   preconditioner, the coarse matrix assembled by the reference), on the first
+//!   linearisation throughout: displacements, force increments, steps and the checked and
+//!   relinearise flags;
 //! - the start of a linearisation (`elastic_start`, with a floor) against `end_position`,
 //!   `StepForces::elastic` and `collider::held_normal`.
 //!
@@ -31,7 +33,7 @@ use tetrasim::gpu::layout::binding;
 use tetrasim::gpu::Buffer;
 use tetrasim::physics::{
     elastic_linearise, elastic_product_strain, elastic_relinearise, end_position, held_increment,
-    sym3_apply, ElasticLinear,
+    ElasticLinear,
 };
 use tetrasim::schedule::family::backtrack;
 use tetrasim::shaders::file;
@@ -193,9 +195,12 @@ fn reference_iterations(s: &Scene) -> Vec<Iteration> {
         .collect();
     let held: Vec<DVec3> = rows.iter().map(|row| row.2).collect();
     let potential = |moves: &[DVec3]| nodes.potential(&model.tets, w, dt, at, moves, &y, &held);
-    let apply = |m: &[f64; 6], v: DVec3| sym3_apply(*m, v);
+    let (coarse, _) = coarse_level(s);
+    let inverse: Vec<[f64; 6]> = rows.iter().map(|row| row.1).collect();
+    let touching: Vec<bool> = rows.iter().map(|row| row.2 != DVec3::ZERO).collect();
+    let precondition = |r: &[DVec3]| nodes.precondition(&coarse, at, r, &inverse, &touching);
     let mut r: Vec<DVec3> = rows.iter().map(|row| row.0).collect();
-    let mut z: Vec<DVec3> = (0..n).map(|i| apply(&rows[i].1, r[i])).collect();
+    let mut z = precondition(&r);
     let mut p = z.clone();
     let mut dx = vec![DVec3::ZERO; n];
     let dot = |a: &[DVec3], b: &[DVec3]| a.iter().zip(b).map(|(a, b)| a.dot(*b)).sum::<f64>();
@@ -236,7 +241,7 @@ fn reference_iterations(s: &Scene) -> Vec<Iteration> {
                 held_increment(nodes.increment(i, dt, h, p[i], alpha), h, d, s.pushed[i])
             })
             .collect();
-        z = (0..n).map(|i| apply(&rows[i].1, r[i])).collect();
+        z = precondition(&r);
         let next = dot(&r, &z);
         let beta = next / rz;
         rz = next;
@@ -287,13 +292,43 @@ fn compare_iterations(name: &str, s: Scene) -> usize {
     let readback = Buffer::readback(&gpu.ctx, "readback", want.len() as u64 * size).unwrap();
     let key = |name: &str, variant: &str| format!("{name}#{variant}");
     let scalars = file::PASSES_ELASTIC_SCALARS_COMP;
-    let passes = [
-        gpu.pass(file::PASSES_ELASTIC_LINEARISE_COMP, &[]),
-        gpu.pass(file::PASSES_ELASTIC_ROWS_COMP, &[]),
-        gpu.pass(&key(file::PASSES_ELASTIC_UPDATE_COMP, "start"), &[]),
-        gpu.pass(&key(scalars, "start"), &[partials]),
+    let aggregates = s.nodes.aggregates.len();
+    let (unknowns, groups) = ((6 * aggregates) as u32, aggregates * WORKGROUP as usize);
+    let coarse = [0, aggregates as u32];
+    // The coarse level's modes and factor, then the preconditioner: restriction per
+    // aggregate, the coarse solve, the prolongation with the block-Jacobi term.
+    let precondition = |variant: &str| {
+        let prolong = match variant {
+            "" => gpu.pass(file::PASSES_ELASTIC_PROLONG_COMP, &coarse),
+            v => gpu.pass(&key(file::PASSES_ELASTIC_PROLONG_COMP, v), &coarse),
+        };
+        [
+            (
+                gpu.pass(file::PASSES_ELASTIC_RESTRICT_COMP, &coarse),
+                groups,
+            ),
+            (
+                gpu.pass(file::PASSES_ELASTIC_COARSE_SOLVE_COMP, &[unknowns]),
+                1,
+            ),
+            (prolong, n),
+        ]
+    };
+    let mut passes = vec![
+        (gpu.pass(file::PASSES_ELASTIC_LINEARISE_COMP, &[]), t),
+        (gpu.pass(file::PASSES_ELASTIC_ROWS_COMP, &[]), n),
+        (
+            gpu.pass(file::PASSES_ELASTIC_COARSE_MODES_COMP, &coarse),
+            groups,
+        ),
+        (
+            gpu.pass(file::PASSES_ELASTIC_COARSE_FACTOR_COMP, &[unknowns]),
+            1,
+        ),
     ];
-    let iteration = [
+    passes.extend(precondition("start"));
+    passes.push((gpu.pass(&key(scalars, "start"), &[partials]), 1));
+    let mut iteration = vec![
         (gpu.pass(file::PASSES_ELASTIC_PRODUCT_COMP, &[]), t),
         (gpu.pass(file::PASSES_ELASTIC_CURVATURE_COMP, &[]), n),
         (gpu.pass(&key(scalars, "alpha"), &[partials]), 1),
@@ -303,12 +338,15 @@ fn compare_iterations(name: &str, s: Scene) -> usize {
             1,
         ),
         (gpu.pass(file::PASSES_ELASTIC_UPDATE_COMP, &[]), n),
+    ];
+    iteration.extend(precondition(""));
+    iteration.extend([
         (gpu.pass(&key(scalars, "beta"), &[partials]), 1),
         (gpu.pass(file::PASSES_ELASTIC_DIRECTION_COMP, &[]), n),
-    ];
+    ]);
     one_shot(&gpu.ctx, |cmd| {
-        for (pass, elements) in passes.iter().zip([t, n, n, 1]) {
-            gpu.dispatch(cmd, pass, elements);
+        for (pass, elements) in &passes {
+            gpu.dispatch(cmd, pass, *elements);
         }
         for k in 0..want.len() {
             for (pass, elements) in &iteration {
@@ -349,8 +387,8 @@ fn compare_iterations(name: &str, s: Scene) -> usize {
     }
     let checked = want.iter().filter(|it| it.checked).count();
     println!(
-        "{name}: {} iterations on {n} nodes ({checked} checked against the potential): within \
-         {worst:.2e} of the reference",
+        "{name}: {} iterations on {n} nodes ({aggregates} aggregates; {checked} checked \
+         against the potential): within {worst:.2e} of the reference",
         want.len(),
     );
     checked

@@ -14,7 +14,7 @@ use tetrasim::gpu::layout::{binding, PushConstants};
 use tetrasim::gpu::{BindingLayout, Buffer, Context, Kernel};
 use tetrasim::mesh::grid::box_tets;
 use tetrasim::params::Method;
-use tetrasim::physics::ElasticLinear;
+use tetrasim::physics::{elastic_linearise, CoarseSpace, ElasticLinear};
 use tetrasim::problem::Problem;
 use tetrasim::schedule::family::ElasticNodes;
 use tetrasim::{Model, ModelBuilder, SimParams};
@@ -213,6 +213,19 @@ impl Gpu {
         // The partials: 9 per workgroup of the widest pass (`elastic_potential`).
         let partials = n.max(t).div_ceil(WORKGROUP as usize);
         let state = vec![0u32; 16 + 9 * partials];
+        // The coarse level at the first linearisation, its matrix's columns as the
+        // reference assembles them (with the flags' slots after).
+        let (_, columns) = coarse_level(s);
+        let mut matrix: Vec<f32> = columns.iter().map(|&x| x as f32).collect();
+        let unknowns = 6 * nodes.aggregates.len();
+        matrix.extend(std::iter::repeat_n(0.0f32, unknowns));
+        let aggregates = &nodes.aggregates;
+        let mut lists = vec![0u32];
+        for members in &aggregates.members {
+            lists.push(lists.last().unwrap() + members.len() as u32);
+        }
+        lists.extend(aggregates.members.iter().flatten());
+        lists.extend(&aggregates.of);
         let buffers = vec![
             (
                 binding::POSITIONS,
@@ -247,6 +260,22 @@ impl Gpu {
             (
                 binding::ELASTIC_NODES,
                 upload("nodes", bytemuck::cast_slice(&planes(s, &s.first))),
+            ),
+            (
+                binding::COARSE_MATRIX,
+                upload("coarse matrix", bytemuck::cast_slice(&matrix)),
+            ),
+            (
+                binding::COARSE_VECTOR,
+                empty("coarse vector", 4 * unknowns.max(1)),
+            ),
+            (
+                binding::COARSE_AGGREGATES,
+                upload("coarse aggregates", bytemuck::cast_slice(&lists)),
+            ),
+            (
+                binding::COARSE_MODES,
+                empty("coarse modes", 16 * aggregates.len().max(1)),
             ),
             (
                 binding::ELASTIC_STATE,
@@ -339,6 +368,27 @@ impl Gpu {
 
 /// Invocations per workgroup of the passes here.
 pub const WORKGROUP: u32 = 64;
+
+/// The coarse level of `s` at its first linearisation, assembled as `cpu-ref` assembles it
+/// (the nodes' contact stiffening from its rows), and its matrix's columns.
+pub fn coarse_level(s: &Scene) -> (CoarseSpace, Vec<f64>) {
+    let (model, nodes, at) = (&s.model, &s.nodes, &s.first);
+    let linear: Vec<ElasticLinear<DVec3>> = (model.tets.iter().zip(&nodes.tets))
+        .map(|(tet, e)| elastic_linearise(e, tet.map(|k| at[k as usize])))
+        .collect();
+    let held: Vec<DVec3> = (reference_rows(s, at, &linear).iter())
+        .map(|row| row.2)
+        .collect();
+    let mut coarse = nodes.coarse_space(at);
+    let n = coarse.unknowns();
+    let mut columns = vec![0.0; n * n];
+    for (a, block) in columns.chunks_mut(6 * n).enumerate() {
+        let dt = s.params.dt;
+        nodes.coarse_columns(&coarse, a, &model.tets, at, &linear, &held, dt, block);
+    }
+    coarse.assemble(&columns);
+    (coarse, columns)
+}
 
 /// The node planes of `s` with its nodes ending at `at`.
 pub fn planes(s: &Scene, at: &[DVec3]) -> Vec<[f32; 4]> {

@@ -3,15 +3,11 @@
 // GPU"): a conjugate-gradient step of ALPHA along P (unless the solve is done): the
 // displacement DX grows by alpha p, the residual R loses alpha q, and the node's force
 // increment for the iteration goes to SUM (its inertia's and its contact's, the latter cut
-// to what the contacts push it with: `held_increment`); then the preconditioned residual
-// Z = the inverse diagonal block times R, and its share of r . z as the workgroup's partial.
-// A checked step that kept the linearisation (no RELINEARISE from `elastic_scalars#backtrack`)
-// sets it where a free node no contact holds ends inside the floor. Variant `start`: after
-// `elastic_rows`, no step: Z, P = Z and r . z. The twin of the
-// update in cpu-ref's `conjugate_gradients` (src/backend/cpu/reference/elastic.rs), its
-// preconditioner without the coarse correction so far.
-// @variant plain:
-// @variant start: START
+// to what the contacts push it with: `held_increment`). A checked step that kept the
+// linearisation (no RELINEARISE from `elastic_scalars#backtrack`) sets it where a free node
+// no contact holds ends inside the floor. `elastic_prolong` preconditions the new residual.
+// The twin of the update in cpu-ref's `conjugate_gradients`
+// (src/backend/cpu/reference/elastic.rs).
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/newton.glsl"
@@ -24,48 +20,28 @@ layout(std430, set = 0, binding = B_ELASTIC_NODES) restrict buffer ElasticNodesB
 void main() {
     uint i = gl_GlobalInvocationID.x;
     uint n = pc.node_count;
-    float share = 0.0;
-#ifndef START
-    bool done = state_u[ELASTIC_STATE_DONE] != 0u;
-#else
-    bool done = false;
-#endif
-    if (i < n) {
-        vec3 r = nodes[ELASTIC_PLANE_R * n + i].xyz;
-#ifndef START
-        vec3 sum = vec3(0.0);
-        if (!done) {
-            float alpha = state[ELASTIC_STATE_ALPHA];
-            vec3 p = nodes[ELASTIC_PLANE_P * n + i].xyz;
-            vec3 h = nodes[ELASTIC_PLANE_HELD * n + i].xyz;
-            vec3 d = p * alpha;
-            vec3 dx = nodes[ELASTIC_PLANE_DX * n + i].xyz + d;
-            nodes[ELASTIC_PLANE_DX * n + i] = vec4(dx, 0.0);
-            // A checked step kept the linearisation: a free node no contact holds that ends
-            // inside the floor starts a new Newton step (collider::enters_unheld).
-            bool kept = state_u[ELASTIC_STATE_CHECK] != 0u && state_u[ELASTIC_STATE_RELINEARISE] == 0u;
-            vec3 end = nodes[ELASTIC_PLANE_AT * n + i].xyz + dx;
-            if (kept && pc.floor_on != 0u && positions[i].w > 0.0 && h == vec3(0.0) && end.y < 0.0) {
-                atomicOr(state_u[ELASTIC_STATE_RELINEARISE], 1u);
-            }
-            vec3 pushed = nodes[ELASTIC_PLANE_PUSHED * n + i].xyz;
-            sum = held_increment(node_increment(velocities[i].w, pc.dt, h, p, alpha), h, d, pushed);
-            r -= nodes[ELASTIC_PLANE_Q * n + i].xyz * alpha;
-            nodes[ELASTIC_PLANE_R * n + i] = vec4(r, 0.0);
-        }
-        nodes[ELASTIC_PLANE_SUM * n + i] = vec4(sum, 0.0);
-#endif
-        if (!done) {
-            vec4 a = nodes[ELASTIC_PLANE_INVERSE_A * n + i];
-            vec4 b = nodes[ELASTIC_PLANE_INVERSE_B * n + i];
-            vec3 z = sym3_apply(Sym3(a.xyz, vec3(a.w, b.x, b.y)), r);
-            nodes[ELASTIC_PLANE_Z * n + i] = vec4(z, 0.0);
-#ifdef START
-            nodes[ELASTIC_PLANE_P * n + i] = vec4(z, 0.0);
-            nodes[ELASTIC_PLANE_DX * n + i] = vec4(0.0);
-#endif
-            share = dot(r, z);
-        }
+    if (i >= n) {
+        return;
     }
-    store_partial(share);
+    vec3 sum = vec3(0.0);
+    if (state_u[ELASTIC_STATE_DONE] == 0u) {
+        float alpha = state[ELASTIC_STATE_ALPHA];
+        vec3 p = nodes[ELASTIC_PLANE_P * n + i].xyz;
+        vec3 h = nodes[ELASTIC_PLANE_HELD * n + i].xyz;
+        vec3 d = p * alpha;
+        vec3 dx = nodes[ELASTIC_PLANE_DX * n + i].xyz + d;
+        nodes[ELASTIC_PLANE_DX * n + i] = vec4(dx, 0.0);
+        // A checked step kept the linearisation: a free node no contact holds that ends
+        // inside the floor starts a new Newton step (collider::enters_unheld).
+        bool kept = state_u[ELASTIC_STATE_CHECK] != 0u && state_u[ELASTIC_STATE_RELINEARISE] == 0u;
+        vec3 end = nodes[ELASTIC_PLANE_AT * n + i].xyz + dx;
+        if (kept && pc.floor_on != 0u && positions[i].w > 0.0 && h == vec3(0.0) && end.y < 0.0) {
+            atomicOr(state_u[ELASTIC_STATE_RELINEARISE], 1u);
+        }
+        vec3 pushed = nodes[ELASTIC_PLANE_PUSHED * n + i].xyz;
+        sum = held_increment(node_increment(velocities[i].w, pc.dt, h, p, alpha), h, d, pushed);
+        vec3 r = nodes[ELASTIC_PLANE_R * n + i].xyz - nodes[ELASTIC_PLANE_Q * n + i].xyz * alpha;
+        nodes[ELASTIC_PLANE_R * n + i] = vec4(r, 0.0);
+    }
+    nodes[ELASTIC_PLANE_SUM * n + i] = vec4(sum, 0.0);
 }

@@ -199,4 +199,10 @@ bindings! {
     /// The finite elements' conjugate-gradient scalars, then a partial sum per workgroup
     /// of the node passes (floats; glsl/physics/newton.glsl, `ELASTIC_STATE_*`).
     ELASTIC_STATE = 61,
+    /// u32 (finite elements' coarse level): the aggregates' member offsets (A + 1), their
+    /// members, then each node's aggregate (0xffffffff: none).
+    COARSE_AGGREGATES = 62,
+    /// vec4 per aggregate (finite elements' coarse level): the centre of its nodes where the
+    /// level was built, and its size (their root-mean-square distance to it).
+    COARSE_MODES = 63,
 }

@@ -529,6 +529,8 @@ mod tests {
             ("ElasticNodesBuffer", binding::ELASTIC_NODES),
             ("ElasticStateF", binding::ELASTIC_STATE),
             ("ElasticStateU", binding::ELASTIC_STATE),
+            ("CoarseAggregates", binding::COARSE_AGGREGATES),
+            ("CoarseModes", binding::COARSE_MODES),
         ]
         .into_iter()
         .collect();

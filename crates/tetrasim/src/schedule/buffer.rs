@@ -146,6 +146,10 @@ pub enum BufferId {
     ElasticNodes,
     /// The conjugate gradients' scalars and partial sums (`neo-hookean`).
     ElasticState,
+    /// u32: the aggregates' members and each node's aggregate (`neo-hookean`).
+    CoarseAggregates,
+    /// vec4 per aggregate: its centre and size (`neo-hookean`).
+    CoarseModes,
 }
 
 impl BufferId {
@@ -214,6 +218,8 @@ impl BufferId {
             BufferId::ElasticCorners => "elastic corners",
             BufferId::ElasticNodes => "elastic nodes",
             BufferId::ElasticState => "elastic state",
+            BufferId::CoarseAggregates => "coarse aggregates",
+            BufferId::CoarseModes => "coarse modes",
         }
     }
 
@@ -282,6 +288,8 @@ impl BufferId {
             BufferId::ElasticCorners => binding::ELASTIC_CORNERS,
             BufferId::ElasticNodes => binding::ELASTIC_NODES,
             BufferId::ElasticState => binding::ELASTIC_STATE,
+            BufferId::CoarseAggregates => binding::COARSE_AGGREGATES,
+            BufferId::CoarseModes => binding::COARSE_MODES,
         }
     }
 }

@@ -15,8 +15,8 @@ use glam::DVec3;
 
 use crate::physics::{
     elastic_corner, elastic_energy, elastic_product, held_block, node_block, shape_gradients,
-    stable_neo_hookean, sym3_inverse, Aggregates, CoarseSpace, ElasticLinear, ElasticTet, Real,
-    Sym3, Vector, NO_AGGREGATE,
+    stable_neo_hookean, sym3_apply, sym3_inverse, Aggregates, CoarseSpace, ElasticLinear,
+    ElasticTet, Real, Sym3, Vector, NO_AGGREGATE,
 };
 use crate::problem::Problem;
 
@@ -393,6 +393,41 @@ impl<R: Real> ElasticNodes<R> {
 }
 
 impl ElasticNodes<f64> {
+    /// The two-level preconditioner (`cpu-ref`'s): each node's inverse diagonal block
+    /// (`inverse`) times its residual `r`, plus, for a node of an aggregate not `touching` a
+    /// contact, the coarse correction `P A_c^-1 P^T r` of `coarse` with the nodes at `at`.
+    pub fn precondition(
+        &self,
+        coarse: &CoarseSpace,
+        at: &[DVec3],
+        r: &[DVec3],
+        inverse: &[Sym3<f64>],
+        touching: &[bool],
+    ) -> Vec<DVec3> {
+        let aggregates = &self.aggregates;
+        let mut u = vec![0.0; coarse.unknowns()];
+        for (a, members) in aggregates.members.iter().enumerate() {
+            for &i in members {
+                if touching[i as usize] {
+                    continue;
+                }
+                let share = coarse.restrict(a, at[i as usize], r[i as usize]);
+                (u[6 * a..6 * a + 6].iter_mut().zip(share)).for_each(|(u, s)| *u += s);
+            }
+        }
+        coarse.solve(&mut u);
+        (0..r.len())
+            .map(|i| {
+                let z = sym3_apply(inverse[i], r[i]);
+                match aggregates.of[i] {
+                    NO_AGGREGATE => z,
+                    _ if touching[i] => z,
+                    a => z + coarse.prolong(a as usize, at[i], &u),
+                }
+            })
+            .collect()
+    }
+
     /// The step's incremental potential with the nodes moved by `moves` from `at` (`cpu-ref`'s
     /// in [`backtrack`]): `sum_i m_i / (2 dt^2) |x_i - y_i|^2 + (h_i . d_i)^2 / 2` over the
     /// free nodes (`inv_mass > 0`; `y` where inertia and gravity alone take them, `h` their

@@ -10,8 +10,8 @@ use super::ReferenceBackend;
 use crate::collider;
 use crate::physics::{
     correction_length, elastic_linearise, elastic_product, elastic_product_strain,
-    elastic_relinearise, end_position, held_increment, held_mass, rebuilds, sym3_apply, touching,
-    CoarseSpace, ElasticLinear, RigidPart, Sym3, NO_AGGREGATE,
+    elastic_relinearise, end_position, held_increment, held_mass, rebuilds, touching,
+    ElasticLinear, RigidPart, Sym3,
 };
 use crate::schedule::family::{backtrack, ElasticNodes, Family};
 use crate::schedule::GroupAt;
@@ -191,7 +191,8 @@ impl ReferenceBackend {
                 coarse.assemble(&columns);
                 *self.coarse.borrow_mut() = coarse;
             }
-            cg.z = precondition(nodes, cg, &self.coarse.borrow());
+            let coarse = self.coarse.borrow();
+            cg.z = nodes.precondition(&coarse, &cg.at, &cg.r, &cg.inverse, &cg.touching);
             cg.p.clone_from(&cg.z);
             cg.rz = dot(&cg.r, &cg.z);
             cg.done = !positive(cg.rz);
@@ -259,7 +260,8 @@ impl ReferenceBackend {
             sum[i] = held_increment(nodes.increment(i, dt, h, cg.p[i], alpha), h, d, pushed);
             cg.r[i] -= q[i] * alpha;
         }
-        cg.z = precondition(nodes, cg, &self.coarse.borrow());
+        let coarse = self.coarse.borrow();
+        cg.z = nodes.precondition(&coarse, &cg.at, &cg.r, &cg.inverse, &cg.touching);
         let rz = dot(&cg.r, &cg.z);
         let beta = rz / cg.rz;
         for (p, z) in cg.p.iter_mut().zip(&cg.z) {
@@ -269,33 +271,6 @@ impl ReferenceBackend {
         cg.done = !positive(rz);
         sum
     }
-}
-
-/// The two-level preconditioner: each node's inverse block times its residual plus the
-/// coarse correction `P A_c^-1 P^T r`.
-fn precondition(nodes: &ElasticNodes<f64>, cg: &NewtonCg, coarse: &CoarseSpace) -> Vec<DVec3> {
-    let aggregates = &nodes.aggregates;
-    let mut u = vec![0.0; coarse.unknowns()];
-    for (a, nodes) in aggregates.members.iter().enumerate() {
-        for &i in nodes {
-            if cg.touching[i as usize] {
-                continue;
-            }
-            let share = coarse.restrict(a, cg.at[i as usize], cg.r[i as usize]);
-            (u[6 * a..6 * a + 6].iter_mut().zip(share)).for_each(|(u, s)| *u += s);
-        }
-    }
-    coarse.solve(&mut u);
-    (0..cg.r.len())
-        .map(|i| {
-            let z = sym3_apply(cg.inverse[i], cg.r[i]);
-            match aggregates.of[i] {
-                NO_AGGREGATE => z,
-                _ if cg.touching[i] => z,
-                a => z + coarse.prolong(a as usize, cg.at[i], &u),
-            }
-        })
-        .collect()
 }
 
 /// `sum_i a_i . b_i`, in node order.
