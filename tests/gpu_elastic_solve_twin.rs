@@ -16,7 +16,10 @@
 //!   linearisation throughout: displacements, force increments, steps and the checked and
 //!   relinearise flags;
 //! - the start of a linearisation (`elastic_start`, with a floor) against `end_position`,
-//!   `StepForces::elastic` and `collider::held_normal`.
+//!   `StepForces::elastic` and `collider::held_normal`;
+//! - the coarse matrix's assembly (`elastic_coarse_modes`, `elastic_coarse_tets`,
+//!   `elastic_coarse_nodes`, `elastic_coarse_gather`) against
+//!   `ElasticNodes::coarse_columns`.
 //!
 //! Bricks of `vulkan`'s finite elements (docs/GPU.md, "Finite elements on the GPU").
 
@@ -455,4 +458,82 @@ fn the_gpu_start_of_a_linearisation_equals_its_definition() {
     }
     println!("{n} nodes, {held} held by the floor ({resting} resting on it unpushed): within {worst:.1e} m or N");
     assert!(held >= 10 && resting >= 1, "{held} held, {resting} resting");
+}
+
+#[test]
+fn the_gpu_coarse_matrix_equals_its_definition() {
+    if !gpu_support::vulkan_available() {
+        return;
+    }
+    let s = scene();
+    let (_, want) = coarse_level(&s);
+    let gpu = Gpu::new(&s);
+    let (n, t) = (s.model.node_count(), s.model.tets.len());
+    let aggregates = s.nodes.aggregates.len();
+    let members: usize = s.nodes.aggregates.members.iter().map(Vec::len).sum();
+    let unknowns = 6 * aggregates;
+    let bytes = (4 * unknowns * unknowns) as u64;
+    let readback = Buffer::readback(&gpu.ctx, "readback", bytes).unwrap();
+    let coarse = [0, aggregates as u32];
+    let groups = aggregates * WORKGROUP as usize;
+    let passes = [
+        (gpu.pass(file::PASSES_ELASTIC_LINEARISE_COMP, &[]), t),
+        (gpu.pass(file::PASSES_ELASTIC_ROWS_COMP, &[]), n),
+        (
+            gpu.pass(file::PASSES_ELASTIC_COARSE_MODES_COMP, &coarse),
+            groups,
+        ),
+        (gpu.pass(file::PASSES_ELASTIC_COARSE_TETS_COMP, &coarse), t),
+        (
+            gpu.pass(file::PASSES_ELASTIC_COARSE_NODES_COMP, &coarse),
+            members,
+        ),
+        (
+            gpu.pass(file::PASSES_ELASTIC_COARSE_GATHER_COMP, &coarse),
+            aggregates * groups,
+        ),
+    ];
+    one_shot(&gpu.ctx, |cmd| {
+        for (pass, elements) in &passes {
+            gpu.dispatch(cmd, pass, *elements);
+        }
+        let matrix = gpu.buffer(binding::COARSE_MATRIX);
+        barrier(
+            &gpu.ctx,
+            cmd,
+            &[matrix],
+            Access::COMPUTE,
+            Access::TRANSFER_READ,
+        );
+        twin::copy(&gpu.ctx, cmd, matrix, &readback, [0, 0], bytes);
+        twin::to_host(&gpu.ctx, cmd, &readback);
+    })
+    .unwrap();
+    let got = twin::floats(&gpu.ctx, &readback);
+    let largest = want.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let mut worst = 0.0f64;
+    for (e, (&g, &w)) in got.iter().zip(&want).enumerate() {
+        let off = (f64::from(g) - w).abs() / largest;
+        assert!(
+            off <= 1e-5,
+            "entry (row {}, column {}): {g} on the GPU, {w} by definition",
+            e % unknowns,
+            e / unknowns
+        );
+        worst = worst.max(off);
+    }
+    let coupled = (0..aggregates * aggregates)
+        .filter(|&blk| {
+            let (a, b) = (blk / aggregates, blk % aggregates);
+            a != b && (0..36).any(|e| want[(6 * a + e / 6) * unknowns + 6 * b + e % 6] != 0.0)
+        })
+        .count();
+    println!(
+        "{unknowns} coarse unknowns ({coupled} off-diagonal blocks coupled): the GPU's matrix \
+         within {worst:.1e} of its largest entry"
+    );
+    assert!(
+        aggregates >= 2 && coupled >= 2,
+        "{aggregates} aggregates, {coupled} coupled blocks"
+    );
 }

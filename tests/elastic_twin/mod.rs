@@ -9,6 +9,7 @@ use std::sync::Arc;
 use ash::vk;
 use bytemuck::Zeroable;
 use glam::DVec3;
+use tetrasim::backend::vulkan::CoarseIndex;
 use tetrasim::gpu::commands::{barrier, Access};
 use tetrasim::gpu::layout::{binding, PushConstants};
 use tetrasim::gpu::{BindingLayout, Buffer, Context, Kernel};
@@ -226,6 +227,7 @@ impl Gpu {
         }
         lists.extend(aggregates.members.iter().flatten());
         lists.extend(&aggregates.of);
+        let index = CoarseIndex::of(aggregates, model);
         let buffers = vec![
             (
                 binding::POSITIONS,
@@ -276,6 +278,14 @@ impl Gpu {
             (
                 binding::COARSE_MODES,
                 empty("coarse modes", 16 * aggregates.len().max(1)),
+            ),
+            (
+                binding::COARSE_INDEX,
+                upload("coarse index", bytemuck::cast_slice(&index.words())),
+            ),
+            (
+                binding::COARSE_SCRATCH,
+                empty("coarse scratch", 144 * index.scratch_rows(aggregates)),
             ),
             (
                 binding::ELASTIC_STATE,

@@ -27,4 +27,17 @@ uint aggregate_of(uint i) {
     return aggregates[AGGREGATES + 1u + aggregates[AGGREGATES] + i];
 }
 
+// Mode l (0..6) of an aggregate at a node rho from its centre per unit of its size
+// (CoarseSpace::modes): the translations, then the rotations e_l x rho.
+vec3 coarse_mode(uint l, vec3 rho) {
+    vec3 e = vec3(l % 3u == 0u ? 1.0 : 0.0, l % 3u == 1u ? 1.0 : 0.0, l % 3u == 2u ? 1.0 : 0.0);
+    return l < 3u ? e : cross(e, rho);
+}
+
+// Where x lies from aggregate a's centre, per unit of its size.
+vec3 coarse_rho(uint a, vec3 x) {
+    vec4 centre = modes[a];
+    return (x - centre.xyz) / centre.w;
+}
+
 #endif

@@ -205,4 +205,9 @@ bindings! {
     /// vec4 per aggregate (finite elements' coarse level): the centre of its nodes where the
     /// level was built, and its size (their root-mean-square distance to it).
     COARSE_MODES = 63,
+    /// u32 (finite elements' coarse assembly, backend::vulkan::CoarseIndex): each tet's
+    /// items, then each block's scratch rows.
+    COARSE_INDEX = 64,
+    /// 36 floats per item of the coarse assembly: its 6 x 6 block (row mode, column mode).
+    COARSE_SCRATCH = 65,
 }

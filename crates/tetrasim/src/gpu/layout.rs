@@ -531,6 +531,8 @@ mod tests {
             ("ElasticStateU", binding::ELASTIC_STATE),
             ("CoarseAggregates", binding::COARSE_AGGREGATES),
             ("CoarseModes", binding::COARSE_MODES),
+            ("CoarseIndex", binding::COARSE_INDEX),
+            ("CoarseScratch", binding::COARSE_SCRATCH),
         ]
         .into_iter()
         .collect();

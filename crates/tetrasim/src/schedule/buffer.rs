@@ -150,6 +150,10 @@ pub enum BufferId {
     CoarseAggregates,
     /// vec4 per aggregate: its centre and size (`neo-hookean`).
     CoarseModes,
+    /// u32: the coarse assembly's items per tet and per block (`neo-hookean`).
+    CoarseIndex,
+    /// 36 floats per item of the coarse assembly (`neo-hookean`).
+    CoarseScratch,
 }
 
 impl BufferId {
@@ -220,6 +224,8 @@ impl BufferId {
             BufferId::ElasticState => "elastic state",
             BufferId::CoarseAggregates => "coarse aggregates",
             BufferId::CoarseModes => "coarse modes",
+            BufferId::CoarseIndex => "coarse index",
+            BufferId::CoarseScratch => "coarse scratch",
         }
     }
 
@@ -290,6 +296,8 @@ impl BufferId {
             BufferId::ElasticState => binding::ELASTIC_STATE,
             BufferId::CoarseAggregates => binding::COARSE_AGGREGATES,
             BufferId::CoarseModes => binding::COARSE_MODES,
+            BufferId::CoarseIndex => binding::COARSE_INDEX,
+            BufferId::CoarseScratch => binding::COARSE_SCRATCH,
         }
     }
 }

@@ -12,6 +12,7 @@
 //! reads back every node.
 
 mod buffers;
+mod coarse;
 mod colliders;
 mod frames;
 mod minres;
@@ -36,6 +37,7 @@ use crate::model::Model;
 use crate::params::SimParams;
 use crate::problem::Problem;
 use buffers::SimBuffers;
+pub use coarse::CoarseIndex;
 pub use options::{EngineOptions, FRAMES_IN_FLIGHT, MAX_FRAMES_IN_FLIGHT};
 use passes::{Passes, Recorder};
 use plan::{EnginePlan, PlanCounts};
