@@ -63,6 +63,8 @@ pub struct Scene {
     pub normal: Vec<DVec3>,
     /// The contacts' force on each node at the linearisation.
     pub pushed: Vec<DVec3>,
+    /// Each node's force increment of the last iteration (before the rigid correction).
+    pub sum: Vec<DVec3>,
     /// Each node's velocity, and its force so far with the floor's normal force (F, w).
     pub velocity: Vec<DVec3>,
     pub force: Vec<(DVec3, f64)>,
@@ -83,12 +85,26 @@ pub fn scene_loaded(load: f64) -> Scene {
 /// [`scene`] with every node off its bent place by up to `jitter` [m], and where the nodes
 /// end lifted by `lift` [m] (at 0 the bent bottom ends below the floor).
 pub fn scene_jittered(jitter: f64, lift: f64) -> Scene {
+    scene_of(jitter, lift, true)
+}
+
+/// The block free (nothing pinned), lifted 1 cm, a third of its nodes held by a contact
+/// where `held`, none otherwise.
+pub fn scene_free(held: bool) -> Scene {
+    let mut s = scene_of(0.002, 0.01, false);
+    if !held {
+        s.normal = vec![DVec3::ZERO; s.normal.len()];
+    }
+    s
+}
+
+fn scene_of(jitter: f64, lift: f64, pinned: bool) -> Scene {
     let mesh = box_tets(DVec3::ZERO, 0.02, [6, 3, 3]);
-    let model = ModelBuilder::new(&mesh)
-        .placement(unplaced())
-        .pinned_in_box(DVec3::splat(-1e-9), DVec3::new(1e-9, 1.0, 1.0))
-        .build()
-        .unwrap();
+    let mut builder = ModelBuilder::new(&mesh).placement(unplaced());
+    if pinned {
+        builder = builder.pinned_in_box(DVec3::splat(-1e-9), DVec3::new(1e-9, 1.0, 1.0));
+    }
+    let model = builder.build().unwrap();
     let params = SimParams {
         damping: Some(0.01),
         ..material_params(Method::NeoHookean, 1e5, 0.45, 1000.0)
@@ -143,6 +159,7 @@ pub fn scene_jittered(jitter: f64, lift: f64) -> Scene {
             (noise3(19000 + i as u64) * 0.05 + DVec3::Y * floor, floor)
         })
         .collect();
+    let sum = (0..n).map(|i| noise3(23000 + i as u64) * 0.01).collect();
     Scene {
         model,
         params,
@@ -152,6 +169,7 @@ pub fn scene_jittered(jitter: f64, lift: f64) -> Scene {
         phi,
         normal,
         pushed,
+        sum,
         velocity,
         force,
     }
@@ -228,6 +246,16 @@ impl Gpu {
         lists.extend(aggregates.members.iter().flatten());
         lists.extend(&aggregates.of);
         let index = CoarseIndex::of(aggregates, model);
+        let objects: Vec<u32> = (model.objects.windows(2))
+            .flat_map(|w| {
+                let free = model.inv_mass[w[0] as usize..w[1] as usize]
+                    .iter()
+                    .all(|&m| m > 0.0);
+                let mut words = [0u32; 16];
+                words[..3].copy_from_slice(&[w[0], w[1], u32::from(free)]);
+                words
+            })
+            .collect();
         let buffers = vec![
             (
                 binding::POSITIONS,
@@ -290,6 +318,10 @@ impl Gpu {
             (
                 binding::ELASTIC_STATE,
                 upload("state", bytemuck::cast_slice(&state)),
+            ),
+            (
+                binding::ELASTIC_OBJECTS,
+                upload("objects", bytemuck::cast_slice(&objects)),
             ),
         ];
         let numbers: Vec<u32> = buffers.iter().map(|(b, _)| *b).collect();
@@ -412,6 +444,7 @@ pub fn planes(s: &Scene, at: &[DVec3]) -> Vec<[f32; 4]> {
         let w = s.model.inv_mass[i] * s.params.dt * s.params.dt;
         out[Y * n + i] = vec4(at[i] - s.phi[i] * w, 0.0);
         out[NODE * n + i] = [s.nodes.reach[i] as f32, 0.0, 0.0, 0.0];
+        out[SUM * n + i] = vec4(s.sum[i], 0.0);
     }
     out
 }

@@ -5,6 +5,10 @@
 // from `elastic_product`'s corners; zero for a pinned node), into the Q plane, and its share
 // of the curvature p . q as its workgroup's partial (`elastic_scalars#alpha` adds them). The
 // twin of ElasticNodes::product (src/schedule/family/elastic.rs).
+// Variant `correction`: the rigid-part correction's moves (in P) at the last iteration,
+// whether or not the solve is done.
+// @variant plain:
+// @variant correction: CORRECTION
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/newton.glsl"
@@ -21,7 +25,11 @@ layout(std430, set = 0, binding = B_ELASTIC_NODES) restrict buffer ElasticNodesB
 void main() {
     uint i = gl_GlobalInvocationID.x;
     uint n = pc.node_count;
+#ifdef CORRECTION
+    bool done = false;
+#else
     bool done = state_u[ELASTIC_STATE_DONE] != 0u;
+#endif
     float share = 0.0;
     if (i < n && !done) {
         vec3 p = nodes[ELASTIC_PLANE_P * n + i].xyz;

@@ -5,6 +5,10 @@
 // in it (the Frobenius norm of dF) raised into the state's largest (`atomicMax` of the
 // float's bits: non-negative floats order as their bits do). The product half of cpu-ref's
 // `elastic_product_strain` loop (src/backend/cpu/reference/elastic.rs).
+// Variant `correction`: the rigid-part correction's moves (in P) at the last iteration,
+// whether or not the solve is done.
+// @variant plain:
+// @variant correction: CORRECTION
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/newton.glsl"
@@ -18,7 +22,12 @@ layout(std430, set = 0, binding = B_ELASTIC_CORNERS) writeonly restrict buffer E
 
 void main() {
     uint t = gl_GlobalInvocationID.x;
-    if (t >= pc.tet_count || state_u[ELASTIC_STATE_DONE] != 0u) {
+#ifdef CORRECTION
+    bool done = false;
+#else
+    bool done = state_u[ELASTIC_STATE_DONE] != 0u;
+#endif
+    if (t >= pc.tet_count || done) {
         return;
     }
     uvec4 tet = tets[t];

@@ -210,4 +210,8 @@ bindings! {
     COARSE_INDEX = 64,
     /// 36 floats per item of the coarse assembly: its 6 x 6 block (row mode, column mode).
     COARSE_SCRATCH = 65,
+    /// 16 words per object (finite elements' rigid-part correction): its first and end
+    /// node, 1 if nothing pins it, 1 if a contact holds it; then, as floats, the rigid
+    /// part's centre, acceleration and angular acceleration (vec4 each).
+    ELASTIC_OBJECTS = 66,
 }

@@ -533,6 +533,8 @@ mod tests {
             ("CoarseModes", binding::COARSE_MODES),
             ("CoarseIndex", binding::COARSE_INDEX),
             ("CoarseScratch", binding::COARSE_SCRATCH),
+            ("ElasticObjectsU", binding::ELASTIC_OBJECTS),
+            ("ElasticObjectsF", binding::ELASTIC_OBJECTS),
         ]
         .into_iter()
         .collect();

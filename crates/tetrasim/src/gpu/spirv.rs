@@ -218,8 +218,9 @@ mod tests {
         // colliders; contact_measure: colliders, bodies, colliders_bodies; minres_setup and
         // minres_forces: colliders; minres_rows: one per mix of its four row segments (15);
         // minres_finish: s, v, sv; elastic: gather; elastic_linearise: later; elastic_update:
-        // start; elastic_scalars: start, alpha, beta, backtrack.
-        assert_eq!(variants, 64);
+        // start; elastic_scalars: start, alpha, beta, backtrack; elastic_prolong: start;
+        // elastic_product, elastic_curvature: correction; elastic_rigid: part, apply.
+        assert_eq!(variants, 68);
     }
 
     #[test]

@@ -154,6 +154,8 @@ pub enum BufferId {
     CoarseIndex,
     /// 36 floats per item of the coarse assembly (`neo-hookean`).
     CoarseScratch,
+    /// 16 words per object: its nodes and rigid part (`neo-hookean`).
+    ElasticObjects,
 }
 
 impl BufferId {
@@ -226,6 +228,7 @@ impl BufferId {
             BufferId::CoarseModes => "coarse modes",
             BufferId::CoarseIndex => "coarse index",
             BufferId::CoarseScratch => "coarse scratch",
+            BufferId::ElasticObjects => "elastic objects",
         }
     }
 
@@ -298,6 +301,7 @@ impl BufferId {
             BufferId::CoarseModes => binding::COARSE_MODES,
             BufferId::CoarseIndex => binding::COARSE_INDEX,
             BufferId::CoarseScratch => binding::COARSE_SCRATCH,
+            BufferId::ElasticObjects => binding::ELASTIC_OBJECTS,
         }
     }
 }
