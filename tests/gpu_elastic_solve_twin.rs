@@ -412,16 +412,8 @@ fn the_gpu_start_of_a_linearisation_equals_its_definition() {
     let (model, dt) = (&s.model, s.params.dt);
     let n = model.node_count();
     let gpu = Gpu::new(&s);
-    let size = gpu.node_bytes + 64;
-    let readback = Buffer::readback(&gpu.ctx, "readback", size).unwrap();
     let start = gpu.pass(file::PASSES_ELASTIC_START_COMP, &[]);
-    one_shot(&gpu.ctx, |cmd| {
-        gpu.dispatch(cmd, &start, n);
-        gpu.snapshot(cmd, &readback, 0);
-        twin::to_host(&gpu.ctx, cmd, &readback);
-    })
-    .unwrap();
-    let floats = twin::floats(&gpu.ctx, &readback);
+    let floats = gpu.run(&[(&start, n)], 1, |_| {});
     let (planes, _) = snapshot_of(&floats, n, 0);
     let (mut held, mut resting) = (0, 0);
     let mut worst = 0.0f64;

@@ -4,24 +4,21 @@
 //! buffers on the GPU at the engine's binding numbers with what runs the passes on them.
 #![allow(dead_code)]
 
-use std::sync::Arc;
-
-use ash::vk;
-use bytemuck::Zeroable;
 use glam::DVec3;
-use tetrasim::backend::vulkan::CoarseIndex;
-use tetrasim::gpu::commands::{barrier, Access};
-use tetrasim::gpu::layout::{binding, PushConstants};
-use tetrasim::gpu::{BindingLayout, Buffer, Context, Kernel};
 use tetrasim::mesh::grid::box_tets;
 use tetrasim::params::Method;
-use tetrasim::physics::{elastic_linearise, CoarseSpace, ElasticLinear};
+use tetrasim::physics::{
+    correction_length, elastic_linearise, elastic_product, held_mass, CoarseSpace, ElasticLinear,
+    RigidPart,
+};
 use tetrasim::problem::Problem;
 use tetrasim::schedule::family::ElasticNodes;
 use tetrasim::{Model, ModelBuilder, SimParams};
 
 use crate::common::{material_params, noise3, unplaced};
-use crate::gpu_support::twin;
+
+mod gpu;
+pub use gpu::{Gpu, WORKGROUP};
 
 /// Planes of ElasticNodes (glsl/physics/newton.glsl).
 pub const PLANES: usize = 15;
@@ -36,6 +33,7 @@ pub const SUM: usize = 12;
 pub const PUSHED: usize = 13;
 pub const NODE: usize = 14;
 pub const Y: usize = 1;
+pub const P: usize = 5;
 pub const DX: usize = 2;
 /// The state's word of `alpha`.
 pub const ALPHA: usize = 2;
@@ -65,6 +63,8 @@ pub struct Scene {
     pub pushed: Vec<DVec3>,
     /// Each node's force increment of the last iteration (before the rigid correction).
     pub sum: Vec<DVec3>,
+    /// The colliders' force on each node so far.
+    pub contacts: Vec<DVec3>,
     /// Each node's velocity, and its force so far with the floor's normal force (F, w).
     pub velocity: Vec<DVec3>,
     pub force: Vec<(DVec3, f64)>,
@@ -161,6 +161,7 @@ fn scene_of(jitter: f64, lift: f64, pinned: bool) -> Scene {
         .collect();
     let sum = (0..n).map(|i| noise3(23000 + i as u64) * 0.01).collect();
     Scene {
+        contacts: vec![DVec3::ZERO; n],
         model,
         params,
         nodes,
@@ -192,224 +193,6 @@ pub fn reference_rows(s: &Scene, at: &[DVec3], linear: &[ElasticLinear<DVec3>]) 
         })
         .collect()
 }
-
-/// The scene's buffers on the GPU, bound at the engine's binding numbers, and what runs the
-/// passes on them.
-pub struct Gpu {
-    pub ctx: Arc<Context>,
-    pub buffers: Vec<(u32, Buffer)>,
-    pub layout: Arc<BindingLayout>,
-    pub push: PushConstants,
-    pub node_bytes: u64,
-}
-
-impl Gpu {
-    /// The scene's nodes at its first linearisation, their planes filled from it.
-    pub fn new(s: &Scene) -> Self {
-        let ctx = twin::context();
-        let (model, nodes) = (&s.model, &s.nodes);
-        let (n, t) = (model.node_count(), model.tets.len());
-        let positions: Vec<[f32; 4]> = (0..n)
-            .map(|i| vec4(model.positions[i], model.inv_mass[i]))
-            .collect();
-        let velocities: Vec<[f32; 4]> =
-            (0..n).map(|i| vec4(s.velocity[i], model.mass[i])).collect();
-        let forces: Vec<[f32; 4]> = s.force.iter().map(|&(f, floor)| vec4(f, floor)).collect();
-        let elastic: Vec<[f32; 4]> = (nodes.tets.iter().zip(&model.tets))
-            .flat_map(|(e, tet)| {
-                let g = |k: usize| DVec3::from_array(e.shape[k]);
-                let beta = nodes.damping[tet[0] as usize].max(0.0);
-                [
-                    vec4(g(0), e.volume),
-                    vec4(g(1), e.mu),
-                    vec4(g(2), e.lambda),
-                    [e.alpha as f32, beta as f32, 0.0, 0.0],
-                ]
-            })
-            .collect();
-        let upload = |name: &str, bytes: &[u8]| Buffer::with_data(&ctx, name, bytes).unwrap();
-        let empty = |name: &str, bytes: usize| Buffer::device(&ctx, name, bytes as u64).unwrap();
-        // The partials: 9 per workgroup of the widest pass (`elastic_potential`).
-        let partials = n.max(t).div_ceil(WORKGROUP as usize);
-        let state = vec![0u32; 16 + 9 * partials];
-        // The coarse level at the first linearisation, its matrix's columns as the
-        // reference assembles them (with the flags' slots after).
-        let (_, columns) = coarse_level(s);
-        let mut matrix: Vec<f32> = columns.iter().map(|&x| x as f32).collect();
-        let unknowns = 6 * nodes.aggregates.len();
-        matrix.extend(std::iter::repeat_n(0.0f32, unknowns));
-        let aggregates = &nodes.aggregates;
-        let mut lists = vec![0u32];
-        for members in &aggregates.members {
-            lists.push(lists.last().unwrap() + members.len() as u32);
-        }
-        lists.extend(aggregates.members.iter().flatten());
-        lists.extend(&aggregates.of);
-        let index = CoarseIndex::of(aggregates, model);
-        let objects: Vec<u32> = (model.objects.windows(2))
-            .flat_map(|w| {
-                let free = model.inv_mass[w[0] as usize..w[1] as usize]
-                    .iter()
-                    .all(|&m| m > 0.0);
-                let mut words = [0u32; 16];
-                words[..3].copy_from_slice(&[w[0], w[1], u32::from(free)]);
-                words
-            })
-            .collect();
-        let buffers = vec![
-            (
-                binding::POSITIONS,
-                upload("positions", bytemuck::cast_slice(&positions)),
-            ),
-            (
-                binding::VELOCITIES,
-                upload("velocities", bytemuck::cast_slice(&velocities)),
-            ),
-            (
-                binding::FORCES,
-                upload("forces", bytemuck::cast_slice(&forces)),
-            ),
-            (
-                binding::TETS,
-                upload("tets", bytemuck::cast_slice(&model.tets)),
-            ),
-            (
-                binding::ELASTIC_TETS,
-                upload("elastic tets", bytemuck::cast_slice(&elastic)),
-            ),
-            (
-                binding::NODE_TET_OFFSETS,
-                upload("offsets", bytemuck::cast_slice(&nodes.node_tets.offsets)),
-            ),
-            (
-                binding::NODE_TET_ITEMS,
-                upload("items", bytemuck::cast_slice(&nodes.node_tets.items)),
-            ),
-            (binding::ELASTIC_LINEAR, empty("linear", 96 * t)),
-            (binding::ELASTIC_CORNERS, empty("corners", 64 * t)),
-            (
-                binding::ELASTIC_NODES,
-                upload("nodes", bytemuck::cast_slice(&planes(s, &s.first))),
-            ),
-            (
-                binding::COARSE_MATRIX,
-                upload("coarse matrix", bytemuck::cast_slice(&matrix)),
-            ),
-            (
-                binding::COARSE_VECTOR,
-                empty("coarse vector", 4 * unknowns.max(1)),
-            ),
-            (
-                binding::COARSE_AGGREGATES,
-                upload("coarse aggregates", bytemuck::cast_slice(&lists)),
-            ),
-            (
-                binding::COARSE_MODES,
-                empty("coarse modes", 16 * aggregates.len().max(1)),
-            ),
-            (
-                binding::COARSE_INDEX,
-                upload("coarse index", bytemuck::cast_slice(&index.words())),
-            ),
-            (
-                binding::COARSE_SCRATCH,
-                empty("coarse scratch", 144 * index.scratch_rows(aggregates)),
-            ),
-            (
-                binding::ELASTIC_STATE,
-                upload("state", bytemuck::cast_slice(&state)),
-            ),
-            (
-                binding::ELASTIC_OBJECTS,
-                upload("objects", bytemuck::cast_slice(&objects)),
-            ),
-        ];
-        let numbers: Vec<u32> = buffers.iter().map(|(b, _)| *b).collect();
-        let layout = Kernel::binding_layout(&ctx, "elastic twin", &numbers).unwrap();
-        layout.write(&buffers.iter().map(|(b, buf)| (*b, buf)).collect::<Vec<_>>());
-        let push = PushConstants {
-            dt: s.params.dt as f32,
-            gravity: s.params.gravity.as_vec3().to_array(),
-            floor_on: 1,
-            node_count: n as u32,
-            tet_count: t as u32,
-            ..PushConstants::zeroed()
-        };
-        let node_bytes = (PLANES * n * 16) as u64;
-        Gpu {
-            ctx,
-            buffers,
-            layout,
-            push,
-            node_bytes,
-        }
-    }
-
-    /// The pass of shader `key` (a variant after `#`), its specialisation constants from
-    /// id 1 on being `constants`.
-    pub fn pass(&self, key: &str, constants: &[u32]) -> Kernel {
-        Kernel::with_constants(&self.ctx, key, key, &self.layout, WORKGROUP, constants).unwrap()
-    }
-
-    pub fn buffer(&self, number: u32) -> &Buffer {
-        &self.buffers.iter().find(|(b, _)| *b == number).unwrap().1
-    }
-
-    /// Records `pass` over `elements` invocations, then a barrier on every buffer.
-    pub fn dispatch(&self, cmd: vk::CommandBuffer, pass: &Kernel, elements: usize) {
-        pass.record(cmd, &self.push, elements as u32);
-        let all: Vec<&Buffer> = self.buffers.iter().map(|(_, b)| b).collect();
-        barrier(&self.ctx, cmd, &all, Access::COMPUTE, Access::COMPUTE);
-    }
-
-    /// Records setting word `word` of buffer `number` to 0, between barriers.
-    pub fn clear_word(&self, cmd: vk::CommandBuffer, number: u32, word: u64) {
-        let buffer = self.buffer(number);
-        barrier(
-            &self.ctx,
-            cmd,
-            &[buffer],
-            Access::COMPUTE,
-            Access::TRANSFER_WRITE,
-        );
-        // SAFETY: `cmd` is recording; the buffer is alive and holds the word.
-        unsafe {
-            let handle = tetrasim::gpu::commands::BufferHandle::handle(buffer);
-            self.ctx
-                .device()
-                .cmd_fill_buffer(cmd, handle, 4 * word, 4, 0);
-        }
-        barrier(
-            &self.ctx,
-            cmd,
-            &[buffer],
-            Access::TRANSFER_WRITE,
-            Access::COMPUTE,
-        );
-    }
-
-    /// Records copying the node planes (and, with `state`, the state's first 16 words after
-    /// them) into `readback` at `at`.
-    pub fn snapshot(&self, cmd: vk::CommandBuffer, readback: &Buffer, at: u64) {
-        let all: Vec<&Buffer> = self.buffers.iter().map(|(_, b)| b).collect();
-        barrier(&self.ctx, cmd, &all, Access::COMPUTE, Access::TRANSFER_READ);
-        let nodes = self.buffer(binding::ELASTIC_NODES);
-        twin::copy(&self.ctx, cmd, nodes, readback, [0, at], self.node_bytes);
-        let state = self.buffer(binding::ELASTIC_STATE);
-        twin::copy(
-            &self.ctx,
-            cmd,
-            state,
-            readback,
-            [0, at + self.node_bytes],
-            64,
-        );
-        barrier(&self.ctx, cmd, &all, Access::TRANSFER_READ, Access::COMPUTE);
-    }
-}
-
-/// Invocations per workgroup of the passes here.
-pub const WORKGROUP: u32 = 64;
 
 /// The coarse level of `s` at its first linearisation, assembled as `cpu-ref` assembles it
 /// (the nodes' contact stiffening from its rows), and its matrix's columns.
@@ -461,4 +244,49 @@ pub fn snapshot_of(floats: &[f32], n: usize, k: usize) -> (&[[f32; 4]], &[f32]) 
 
 pub fn xyz(v: [f32; 4]) -> DVec3 {
     DVec3::new(v[0].into(), v[1].into(), v[2].into())
+}
+
+/// cpu-ref's rigid-part correction on the increments `s.sum` at the first linearisation
+/// (`elastic_group`'s last iteration): each free object's increments less its rigid part,
+/// scaled by the correction's length where a contact holds it; and that length.
+pub fn reference_correction(s: &Scene) -> (Vec<DVec3>, f64) {
+    let (model, nodes, dt, at) = (&s.model, &s.nodes, s.params.dt, &s.first);
+    let linear: Vec<ElasticLinear<DVec3>> = (model.tets.iter().zip(&nodes.tets))
+        .map(|(tet, e)| elastic_linearise(e, tet.map(|k| at[k as usize])))
+        .collect();
+    let rows = reference_rows(s, at, &linear);
+    let x = &model.positions;
+    let w = &model.inv_mass;
+    let moved = |i: usize| held_mass(nodes.mass[i], rows[i].2);
+    let elastic = |i: usize| {
+        let (f, floor) = s.force[i];
+        f - s.params.gravity * model.mass[i] - DVec3::Y * floor - s.contacts[i] + s.sum[i]
+    };
+    let mut sum = s.sum.clone();
+    let mut length = 1.0;
+    for object in &nodes.free_objects {
+        let part = RigidPart::of(object.clone().map(|i| (x[i], moved(i), elastic(i))));
+        if object.clone().any(|i| rows[i].2 != DVec3::ZERO) {
+            let n = model.node_count();
+            let mut d = vec![DVec3::ZERO; n];
+            for i in object.clone() {
+                d[i] = -part.force(x[i], moved(i)) * (w[i] * dt * dt);
+            }
+            let corners: Vec<[DVec3; 4]> = (model.tets.iter().zip(&nodes.tets).zip(&linear))
+                .map(|((tet, t), lin)| elastic_product(t, lin, tet.map(|k| d[k as usize])))
+                .collect();
+            let (mut gain, mut curvature) = (0.0, 0.0);
+            for i in object.clone() {
+                let corner = |item: usize| corners[item / 4][item % 4];
+                let q = nodes.product(i, w[i], dt, d[i], rows[i].2, corner);
+                gain += rows[i].0.dot(d[i]);
+                curvature += d[i].dot(q);
+            }
+            length = correction_length(gain, curvature);
+        }
+        for i in object.clone() {
+            sum[i] -= part.force(x[i], moved(i)) * length;
+        }
+    }
+    (sum, length)
 }

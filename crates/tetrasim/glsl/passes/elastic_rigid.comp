@@ -12,7 +12,9 @@
 // (correction_length of r . d and d . A d; 1 where nothing holds the object) and SUM less
 // that share of the rigid part's force. The twin of cpu-ref's `elastic_group` and
 // `correction_length` (src/backend/cpu/reference/elastic.rs).
+// Variant `part_colliders`: the colliders' force so far is not elastic either.
 // @variant part: PART
+// @variant part_colliders: PART COLLIDERS_ON
 // @variant apply: APPLY
 #include "common/version.glsl"
 #include "common/bindings.glsl"
@@ -25,6 +27,10 @@ layout(std430, set = 0, binding = B_FORCES) readonly restrict buffer Forces { ve
 layout(std430, set = 0, binding = B_ELASTIC_NODES) restrict buffer ElasticNodesBuffer { vec4 nodes[]; };
 layout(std430, set = 0, binding = B_ELASTIC_OBJECTS) restrict buffer ElasticObjectsU { uint objects_u[]; };
 layout(std430, set = 0, binding = B_ELASTIC_OBJECTS) restrict buffer ElasticObjectsF { vec4 objects[]; };
+
+#ifdef COLLIDERS_ON
+layout(std430, set = 0, binding = B_COLLIDER_CONTACTS) readonly restrict buffer ColliderContacts { vec4 collider_contacts[]; };
+#endif
 
 WORKGROUP_SUM_PAIR(rigid_sum, vec4)
 
@@ -70,6 +76,9 @@ void main() {
         vec3 r = positions[i].xyz - origin;
         vec4 f4 = forces[i];
         vec3 f = f4.xyz - pc.gravity * velocities[i].w - vec3(0.0, f4.w, 0.0) + plane(ELASTIC_PLANE_SUM, i);
+#ifdef COLLIDERS_ON
+        f -= collider_contacts[i].xyz;
+#endif
         moments += vec4(m, r * m);
         force += vec4(f, plane(ELASTIC_PLANE_HELD, i) == vec3(0.0) ? 0.0 : 1.0);
         torque += vec4(cross(r, f), 0.0);

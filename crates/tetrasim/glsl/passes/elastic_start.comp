@@ -8,12 +8,41 @@
 // strain (its reach in ELASTIC_PLANE_NODE), else a collider's push's (NORMAL.w: 1 where the
 // floor or a collider pushes it, which `elastic_rows` makes `touching`). The twin of the
 // start of a linearisation in cpu-ref's `conjugate_gradients` (end_position,
-// StepForces::elastic, collider::held_normal). Without colliders so far: a collider resting
-// on a node it does not push yet is the `colliders` variant's, not written yet.
+// StepForces::elastic, collider::held_normal). Variant `colliders`: the colliders' force so
+// far (ColliderContacts) is not elastic, pushes the node and holds it along its direction,
+// and where none pushes it, the first collider the node ends within HELD_GAP of in strain
+// (beyond the collider's contact thickness) holds it along its normal.
+// @variant plain:
+// @variant colliders: COLLIDERS_ON
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/implicit.glsl"
 #include "physics/newton.glsl"
+
+#ifdef COLLIDERS_ON
+// The colliders and the grabbed nodes (specialisation constants 2 and 3).
+layout(constant_id = 2) const uint COLLIDERS = 0u;
+layout(constant_id = 3) const uint GRABBED = 0u;
+#include "physics/contact.glsl"
+layout(std430, set = 0, binding = B_COLLIDER_CONTACTS) readonly restrict buffer ColliderContacts { vec4 collider_contacts[]; };
+
+// The outward normal of the first collider whose surface x lies within `gap` of (its
+// contact thickness included) at the step's end, or zero (collider::resting_on).
+vec3 resting_on(vec3 x, float gap) {
+    for (uint k = 0u; k < COLLIDERS; ++k) {
+        vec3 away = x - poses[pc.collider_first + k].end_position.xyz;
+        float reach = colliders[k].reach;
+        if (dot(away, away) > reach * reach) {
+            continue;
+        }
+        vec3 normal;
+        if (collider_distance(k, x, normal) - colliders[k].thickness <= gap) {
+            return normal;
+        }
+    }
+    return vec3(0.0);
+}
+#endif
 
 layout(std430, set = 0, binding = B_POSITIONS) readonly restrict buffer Positions { vec4 positions[]; };
 layout(std430, set = 0, binding = B_VELOCITIES) readonly restrict buffer Velocities { vec4 velocities[]; };
@@ -29,7 +58,11 @@ void main() {
     vec4 x = positions[i];
     vec4 v = velocities[i];
     vec4 f = forces[i];
+#ifdef COLLIDERS_ON
+    vec3 contact = collider_contacts[i].xyz;
+#else
     vec3 contact = vec3(0.0);
+#endif
     vec3 phi = f.xyz - pc.gravity * v.w - vec3(0.0, f.w, 0.0) - contact;
     float w = x.w;
     vec3 at = x.xyz + (v.xyz + f.xyz * (w * pc.dt)) * pc.dt;
@@ -43,5 +76,11 @@ void main() {
     nodes[ELASTIC_PLANE_PHI * n + i] = vec4(phi, 0.0);
     nodes[ELASTIC_PLANE_PUSHED * n + i] = vec4(pushed, 0.0);
     bool touching = floor_pushes || contact != vec3(0.0);
-    nodes[ELASTIC_PLANE_NORMAL * n + i] = vec4(held_direction(on_floor, contact), touching ? 1.0 : 0.0);
+    vec3 collider = contact;
+#ifdef COLLIDERS_ON
+    if (contact == vec3(0.0) && reach > 0.0) {
+        collider = resting_on(at, HELD_GAP / reach);
+    }
+#endif
+    nodes[ELASTIC_PLANE_NORMAL * n + i] = vec4(held_direction(on_floor, collider), touching ? 1.0 : 0.0);
 }

@@ -7,11 +7,40 @@
 // linearisation (no RELINEARISE from `elastic_scalars#backtrack`) sets it where a free node
 // no contact holds ends inside the floor. `elastic_prolong` preconditions the new residual.
 // The twin of the update in cpu-ref's `conjugate_gradients`
-// (src/backend/cpu/reference/elastic.rs).
+// (src/backend/cpu/reference/elastic.rs). Variant `colliders`: also where it ends within a
+// collider's contact thickness (collider::enters_unheld).
+// @variant plain:
+// @variant colliders: COLLIDERS_ON
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/newton.glsl"
 #include "common/elastic_state.glsl"
+
+#ifdef COLLIDERS_ON
+// The colliders and the grabbed nodes (specialisation constants 2 and 3).
+layout(constant_id = 2) const uint COLLIDERS = 0u;
+layout(constant_id = 3) const uint GRABBED = 0u;
+#include "physics/contact.glsl"
+#endif
+
+// Whether a node ending at x is inside the floor or, with colliders, within one's contact
+// thickness (collider::enters_unheld's places).
+bool inside_a_contact(vec3 x) {
+    if (pc.floor_on != 0u && x.y < 0.0) {
+        return true;
+    }
+#ifdef COLLIDERS_ON
+    for (uint k = 0u; k < COLLIDERS; ++k) {
+        vec3 away = x - poses[pc.collider_first + k].end_position.xyz;
+        float reach = colliders[k].reach;
+        vec3 normal;
+        if (dot(away, away) <= reach * reach && collider_distance(k, x, normal) < colliders[k].thickness) {
+            return true;
+        }
+    }
+#endif
+    return false;
+}
 
 layout(std430, set = 0, binding = B_POSITIONS) readonly restrict buffer Positions { vec4 positions[]; };
 layout(std430, set = 0, binding = B_VELOCITIES) readonly restrict buffer Velocities { vec4 velocities[]; };
@@ -32,10 +61,10 @@ void main() {
         vec3 dx = nodes[ELASTIC_PLANE_DX * n + i].xyz + d;
         nodes[ELASTIC_PLANE_DX * n + i] = vec4(dx, 0.0);
         // A checked step kept the linearisation: a free node no contact holds that ends
-        // inside the floor starts a new Newton step (collider::enters_unheld).
+        // inside a contact starts a new Newton step (collider::enters_unheld).
         bool kept = state_u[ELASTIC_STATE_CHECK] != 0u && state_u[ELASTIC_STATE_RELINEARISE] == 0u;
         vec3 end = nodes[ELASTIC_PLANE_AT * n + i].xyz + dx;
-        if (kept && pc.floor_on != 0u && positions[i].w > 0.0 && h == vec3(0.0) && end.y < 0.0) {
+        if (kept && positions[i].w > 0.0 && h == vec3(0.0) && inside_a_contact(end)) {
             atomicOr(state_u[ELASTIC_STATE_RELINEARISE], 1u);
         }
         vec3 pushed = nodes[ELASTIC_PLANE_PUSHED * n + i].xyz;

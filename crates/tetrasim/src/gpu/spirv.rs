@@ -219,8 +219,9 @@ mod tests {
         // minres_forces: colliders; minres_rows: one per mix of its four row segments (15);
         // minres_finish: s, v, sv; elastic: gather; elastic_linearise: later; elastic_update:
         // start; elastic_scalars: start, alpha, beta, backtrack; elastic_prolong: start;
-        // elastic_product, elastic_curvature: correction; elastic_rigid: part, apply.
-        assert_eq!(variants, 68);
+        // elastic_product, elastic_curvature: correction; elastic_rigid: part,
+        // part_colliders, apply; elastic_start, elastic_update: colliders.
+        assert_eq!(variants, 71);
     }
 
     #[test]

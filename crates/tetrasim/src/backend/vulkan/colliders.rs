@@ -11,7 +11,7 @@ use crate::gpu::layout::{vec4, GpuClampNode, GpuClampPose, GpuCollider, GpuColli
 
 /// Each collider's [`GpuCollider`] and every mesh collider's grid samples, one grid after
 /// another (each collider's `grid_dims.w` its first sample).
-pub(crate) fn static_data(colliders: &[Collider]) -> (Vec<GpuCollider>, Vec<f32>) {
+pub fn static_data(colliders: &[Collider]) -> (Vec<GpuCollider>, Vec<f32>) {
     let mut values: Vec<f32> = Vec::new();
     let data = colliders
         .iter()
@@ -55,12 +55,7 @@ fn quat(q: DQuat) -> [f32; 4] {
 
 /// The poses of every collider over the `substeps` steps from step `first` (step `s` runs
 /// from `s dt` to `(s + 1) dt`), substep after substep.
-pub(crate) fn poses(
-    colliders: &[Collider],
-    first: u64,
-    substeps: u32,
-    dt: f64,
-) -> Vec<GpuColliderPose> {
+pub fn poses(colliders: &[Collider], first: u64, substeps: u32, dt: f64) -> Vec<GpuColliderPose> {
     (0..u64::from(substeps))
         .flat_map(|j| {
             let t = (first + j) as f64 * dt;

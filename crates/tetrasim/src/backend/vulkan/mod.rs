@@ -38,6 +38,7 @@ use crate::params::SimParams;
 use crate::problem::Problem;
 use buffers::SimBuffers;
 pub use coarse::CoarseIndex;
+pub use colliders::{poses as collider_poses, static_data as collider_data};
 pub use options::{EngineOptions, FRAMES_IN_FLIGHT, MAX_FRAMES_IN_FLIGHT};
 use passes::{Passes, Recorder};
 use plan::{EnginePlan, PlanCounts};
