@@ -9,26 +9,18 @@
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/newton.glsl"
+#define NODE_TETS
+#include "common/elastic_tets.glsl"
 
 layout(constant_id = 2) const uint AGGREGATES = 1u;
 
 #include "common/coarse.glsl"
 
 layout(std430, set = 0, binding = B_TETS) readonly restrict buffer Tets { uvec4 tets[]; };
-layout(std430, set = 0, binding = B_ELASTIC_TETS) readonly restrict buffer ElasticTets { vec4 elastic_tets[]; };
-layout(std430, set = 0, binding = B_NODE_TET_OFFSETS) readonly restrict buffer NodeTetOffsets { uint node_tet_offsets[]; };
-layout(std430, set = 0, binding = B_NODE_TET_ITEMS) readonly restrict buffer NodeTetItems { uint node_tet_items[]; };
 layout(std430, set = 0, binding = B_ELASTIC_LINEAR) readonly restrict buffer ElasticLinearBuffer { vec4 linear[]; };
 layout(std430, set = 0, binding = B_ELASTIC_NODES) readonly restrict buffer ElasticNodesBuffer { vec4 nodes[]; };
 layout(std430, set = 0, binding = B_COARSE_INDEX) readonly restrict buffer CoarseIndex { uint index[]; };
 layout(std430, set = 0, binding = B_COARSE_SCRATCH) writeonly restrict buffer CoarseScratch { float scratch[]; };
-
-// 1 + beta/dt for node k, beta its first tet's damping time (`ElasticNodes::damping`).
-float damping_scale(uint k) {
-    uint first = node_tet_offsets[k];
-    float beta = first < node_tet_offsets[k + 1u] ? elastic_tets[4u * (node_tet_items[first] >> 2u) + 3u].y : 0.0;
-    return 1.0 + beta / pc.dt;
-}
 
 void main() {
     uint t = gl_GlobalInvocationID.x;
@@ -37,10 +29,7 @@ void main() {
     }
     uvec4 tet = tets[t];
     uint corner[4] = uint[4](tet.x, tet.y, tet.z, tet.w);
-    ElasticTet e;
-    e.g1 = elastic_tets[4u * t].xyz;
-    e.g2 = elastic_tets[4u * t + 1u].xyz;
-    e.g3 = elastic_tets[4u * t + 2u].xyz;
+    ElasticTet e = elastic_tet_at(t);
     ElasticLinear lin = elastic_linear_of(linear[6u * t], linear[6u * t + 1u], linear[6u * t + 2u],
                                           linear[6u * t + 3u], linear[6u * t + 4u], linear[6u * t + 5u]);
     vec3 x[4];
@@ -49,7 +38,7 @@ void main() {
     for (uint j = 0u; j < 4u; ++j) {
         x[j] = nodes[ELASTIC_PLANE_AT * pc.node_count + corner[j]].xyz;
         agg[j] = aggregate_of(corner[j]);
-        scale[j] = damping_scale(corner[j]);
+        scale[j] = 1.0 + node_damping(corner[j]) / pc.dt;
     }
     uint items = pc.tet_count + 1u;
     vec3 applied[6][4];

@@ -12,13 +12,12 @@
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/newton.glsl"
+#define NODE_TETS
+#include "common/elastic_tets.glsl"
 #include "common/elastic_state.glsl"
 
 layout(std430, set = 0, binding = B_POSITIONS) readonly restrict buffer Positions { vec4 positions[]; };
 layout(std430, set = 0, binding = B_VELOCITIES) readonly restrict buffer Velocities { vec4 velocities[]; };
-layout(std430, set = 0, binding = B_ELASTIC_TETS) readonly restrict buffer ElasticTets { vec4 elastic_tets[]; };
-layout(std430, set = 0, binding = B_NODE_TET_OFFSETS) readonly restrict buffer NodeTetOffsets { uint node_tet_offsets[]; };
-layout(std430, set = 0, binding = B_NODE_TET_ITEMS) readonly restrict buffer NodeTetItems { uint node_tet_items[]; };
 layout(std430, set = 0, binding = B_ELASTIC_CORNERS) readonly restrict buffer ElasticCornersBuffer { vec4 corners[]; };
 layout(std430, set = 0, binding = B_ELASTIC_NODES) restrict buffer ElasticNodesBuffer { vec4 nodes[]; };
 
@@ -37,7 +36,7 @@ void main() {
         if (positions[i].w > 0.0) {
             uint first = node_tet_offsets[i];
             uint end = node_tet_offsets[i + 1u];
-            float beta = first < end ? elastic_tets[4u * (node_tet_items[first] >> 2u) + 3u].y : 0.0;
+            float beta = node_damping(i);
             vec3 k = vec3(0.0);
             for (uint item = first; item < end; ++item) {
                 k += corners[node_tet_items[item]].xyz;

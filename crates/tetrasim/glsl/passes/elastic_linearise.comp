@@ -12,10 +12,10 @@
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/newton.glsl"
+#include "common/elastic_tets.glsl"
 
 layout(std430, set = 0, binding = B_POSITIONS) readonly restrict buffer Positions { vec4 positions[]; };
 layout(std430, set = 0, binding = B_TETS) readonly restrict buffer Tets { uvec4 tets[]; };
-layout(std430, set = 0, binding = B_ELASTIC_TETS) readonly restrict buffer ElasticTets { vec4 elastic_tets[]; };
 layout(std430, set = 0, binding = B_ELASTIC_NODES) readonly restrict buffer ElasticNodesBuffer { vec4 nodes[]; };
 layout(std430, set = 0, binding = B_ELASTIC_LINEAR) restrict buffer ElasticLinearBuffer { vec4 linear[]; };
 layout(std430, set = 0, binding = B_ELASTIC_CORNERS) writeonly restrict buffer ElasticCornersBuffer { vec4 corners[]; };
@@ -26,17 +26,7 @@ void main() {
         return;
     }
     uvec4 tet = tets[t];
-    ElasticTet e;
-    vec4 r0 = elastic_tets[4u * t];
-    vec4 r1 = elastic_tets[4u * t + 1u];
-    vec4 r2 = elastic_tets[4u * t + 2u];
-    e.g1 = r0.xyz;
-    e.volume = r0.w;
-    e.g2 = r1.xyz;
-    e.mu = r1.w;
-    e.g3 = r2.xyz;
-    e.lambda = r2.w;
-    e.alpha = elastic_tets[4u * t + 3u].x;
+    ElasticTet e = elastic_tet_at(t);
     uint at = ELASTIC_PLANE_AT * pc.node_count;
     vec3 p0 = nodes[at + tet.x].xyz;
     vec3 p1 = nodes[at + tet.y].xyz;

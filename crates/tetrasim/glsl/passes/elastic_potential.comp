@@ -11,12 +11,12 @@
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/newton.glsl"
+#include "common/elastic_tets.glsl"
 #include "common/elastic_state.glsl"
 
 layout(std430, set = 0, binding = B_POSITIONS) readonly restrict buffer Positions { vec4 positions[]; };
 layout(std430, set = 0, binding = B_VELOCITIES) readonly restrict buffer Velocities { vec4 velocities[]; };
 layout(std430, set = 0, binding = B_TETS) readonly restrict buffer Tets { uvec4 tets[]; };
-layout(std430, set = 0, binding = B_ELASTIC_TETS) readonly restrict buffer ElasticTets { vec4 elastic_tets[]; };
 layout(std430, set = 0, binding = B_ELASTIC_NODES) readonly restrict buffer ElasticNodesBuffer { vec4 nodes[]; };
 
 vec3 plane(uint k, uint i) {
@@ -43,17 +43,7 @@ void main() {
     }
     if (j < pc.tet_count) {
         uvec4 tet = tets[j];
-        ElasticTet e;
-        vec4 r0 = elastic_tets[4u * j];
-        vec4 r1 = elastic_tets[4u * j + 1u];
-        vec4 r2 = elastic_tets[4u * j + 2u];
-        e.g1 = r0.xyz;
-        e.volume = r0.w;
-        e.g2 = r1.xyz;
-        e.mu = r1.w;
-        e.g3 = r2.xyz;
-        e.lambda = r2.w;
-        e.alpha = elastic_tets[4u * j + 3u].x;
+        ElasticTet e = elastic_tet_at(j);
         uint p = ELASTIC_PLANE_P;
         elastic_energy_changes(e, base(tet.x), base(tet.y), base(tet.z), base(tet.w),
                                plane(p, tet.x), plane(p, tet.y), plane(p, tet.z), plane(p, tet.w),

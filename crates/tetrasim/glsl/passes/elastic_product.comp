@@ -12,10 +12,10 @@
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/newton.glsl"
+#include "common/elastic_tets.glsl"
 #include "common/elastic_state.glsl"
 
 layout(std430, set = 0, binding = B_TETS) readonly restrict buffer Tets { uvec4 tets[]; };
-layout(std430, set = 0, binding = B_ELASTIC_TETS) readonly restrict buffer ElasticTets { vec4 elastic_tets[]; };
 layout(std430, set = 0, binding = B_ELASTIC_NODES) readonly restrict buffer ElasticNodesBuffer { vec4 nodes[]; };
 layout(std430, set = 0, binding = B_ELASTIC_LINEAR) readonly restrict buffer ElasticLinearBuffer { vec4 linear[]; };
 layout(std430, set = 0, binding = B_ELASTIC_CORNERS) writeonly restrict buffer ElasticCornersBuffer { vec4 corners[]; };
@@ -31,10 +31,7 @@ void main() {
         return;
     }
     uvec4 tet = tets[t];
-    ElasticTet e;
-    e.g1 = elastic_tets[4u * t].xyz;
-    e.g2 = elastic_tets[4u * t + 1u].xyz;
-    e.g3 = elastic_tets[4u * t + 2u].xyz;
+    ElasticTet e = elastic_tet_at(t);
     ElasticLinear lin = elastic_linear_of(linear[6u * t], linear[6u * t + 1u], linear[6u * t + 2u],
                                           linear[6u * t + 3u], linear[6u * t + 4u], linear[6u * t + 5u]);
     uint p = ELASTIC_PLANE_P * pc.node_count;
