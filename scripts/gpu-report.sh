@@ -10,6 +10,8 @@
 #             pass breakdown included;
 #             the real-size horse with implicit springs in blocks; the cpu backend's threads in blocks
 #   implicit  the real-size horse with implicit springs (issue 13's scene), 400 frames
+#   elastic   the same horse with the finite elements (neo-hookean, issue 51), 400 frames, and
+#             the cantilever's trade against scikit-fem (tradeoff --cantilever) on the GPU
 #   stiff     issue 26: the real-size horse (1000 kg/m^3, ks 5000) with Anderson acceleration,
 #             more colour groups, substeps, inversion sweeps, blocks swept twice and MINRES,
 #             400 frames each; the `distance` sphere with the settings that stop its rebound; what those
@@ -27,10 +29,10 @@
 set -u
 b=target/gpu-bundle
 [ -f "$b/binaries.tar.xz" ] || { echo "gpu-report.sh: $b/binaries.tar.xz is missing; run scripts/gpu-bundle.sh first" >&2; exit 2; }
-steps=${*:-bench blocks implicit stiff tests threads tradeoff scaling}
+steps=${*:-bench blocks implicit elastic stiff tests threads tradeoff scaling}
 for s in $steps; do
-  case $s in bench|blocks|implicit|stiff|tests|threads|tradeoff|scaling) ;;
-    *) echo "gpu-report.sh: unknown step \`$s\` (known: bench blocks implicit stiff tests threads tradeoff scaling)" >&2; exit 2 ;;
+  case $s in bench|blocks|implicit|elastic|stiff|tests|threads|tradeoff|scaling) ;;
+    *) echo "gpu-report.sh: unknown step \`$s\` (known: bench blocks implicit elastic stiff tests threads tradeoff scaling)" >&2; exit 2 ;;
   esac
 done
 OUT=${OUT:-$PWD/gpu-report}; WORK=${WORK:-/tmp/gpu-report}; mkdir -p "$OUT"
@@ -123,6 +125,14 @@ for step in $steps; do
         > "$R/implicit_horse_$v.txt" 2>&1
       echo "$v:"; sed -n '2,4p' "$R/implicit_horse_$v.txt"
     done ;;
+  elastic)
+    timeout 150 "$B/tetrasim" run --mesh "$M/horse86m" --no-fit --drop-height 0.1 --method neo-hookean \
+      --youngs-modulus 1e5 --poisson-ratio 0.45 --density 1050 --backend vulkan --frames 400 \
+      > "$R/elastic_horse.txt" 2>&1
+    sed -n '2,4p' "$R/elastic_horse.txt"
+    timeout 150 "$B/tetrasim" tradeoff --cantilever --backend vulkan --out-dir "$R/cantilever" \
+      > "$R/cantilever.txt" 2>&1
+    tail -24 "$R/cantilever.txt" ;;
   stiff)
     while read -r label opts; do
       f="$R/stiff_horse_$label.txt"

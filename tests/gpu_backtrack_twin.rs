@@ -1,4 +1,4 @@
-//! The finite elements' backtracking decision on the GPU (`elastic_scalars#backtrack`)
+//! The finite elements' backtracking decision on the GPU (`elastic_backtrack`)
 //! equals `backtrack` (src/schedule/family/elastic.rs) on potentials that fall as the
 //! quadratic model predicts (the linearisation kept), fall short of it (relinearised), rise
 //! at the full step but fall at a halving, never fall within the halvings (done), or are
@@ -76,8 +76,8 @@ fn on_gpu(case: &Case) -> (Option<f32>, bool) {
     let readback = Buffer::readback(&ctx, "readback", bytes).unwrap();
     let layout = Kernel::binding_layout(&ctx, "backtrack twin", &[binding::ELASTIC_STATE]).unwrap();
     layout.write(&[(binding::ELASTIC_STATE, &state)]);
-    let key = format!("{}#backtrack", file::PASSES_ELASTIC_SCALARS_COMP);
-    let pass = Kernel::with_constants(&ctx, &key, &key, &layout, 64, &[1]).unwrap();
+    let key = file::PASSES_ELASTIC_BACKTRACK_COMP;
+    let pass = Kernel::with_constants(&ctx, key, key, &layout, 64, &[1]).unwrap();
     one_shot(&ctx, |cmd| {
         pass.record(cmd, &PushConstants::zeroed(), 1);
         barrier(&ctx, cmd, &[&state], Access::COMPUTE, Access::TRANSFER_READ);

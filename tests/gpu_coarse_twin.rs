@@ -79,9 +79,19 @@ fn on_gpu(n: usize, columns: &[f64], rhs: &[Vec<f64>]) -> Vec<Vec<f64>> {
     let staged = Buffer::with_data(&ctx, "coarse rhs", bytemuck::cast_slice(&vectors)).unwrap();
     let total = bytes * rhs.len() as u64;
     let readback = Buffer::readback(&ctx, "coarse readback", total).unwrap();
-    let numbers = [binding::COARSE_MATRIX, binding::COARSE_VECTOR];
+    // The solve's state at its start (step 0, iteration 0: the passes' gates open).
+    let state = Buffer::with_data(&ctx, "elastic state", &[0u8; 64]).unwrap();
+    let numbers = [
+        binding::COARSE_MATRIX,
+        binding::COARSE_VECTOR,
+        binding::ELASTIC_STATE,
+    ];
     let layout = Kernel::binding_layout(&ctx, "coarse twin", &numbers).unwrap();
-    layout.write(&[(numbers[0], &coarse), (numbers[1], &vector)]);
+    layout.write(&[
+        (numbers[0], &coarse),
+        (numbers[1], &vector),
+        (numbers[2], &state),
+    ]);
     let constants = [n as u32];
     let (factor, solve) = (
         file::PASSES_ELASTIC_COARSE_FACTOR_COMP,

@@ -78,7 +78,6 @@ fn the_gpu_start_against_colliders_equals_its_definition() {
             );
         };
         close("elastic force", planes[PHI * n + i], phi);
-        close("push", planes[PUSHED * n + i], DVec3::Y * floor + contact);
         close("held normal", planes[NORMAL * n + i], normal);
         let touching = floor > 0.0 || contact != DVec3::ZERO;
         assert_eq!(
@@ -113,9 +112,11 @@ fn the_gpu_rigid_part_leaves_the_colliders_force_out() {
     let gpu = Gpu::new(&s);
     let n = s.model.node_count();
     let objects = s.model.objects.len() - 1;
-    let rigid = file::PASSES_ELASTIC_RIGID_COMP;
-    let (part, apply) = (format!("{rigid}#part_colliders"), format!("{rigid}#apply"));
-    let (part, apply) = (gpu.pass(&part, &[]), gpu.pass(&apply, &[]));
+    let part = format!("{}#colliders", file::PASSES_ELASTIC_RIGID_PART_COMP);
+    let (part, apply) = (
+        gpu.pass(&part, &[]),
+        gpu.pass(file::PASSES_ELASTIC_RIGID_APPLY_COMP, &[]),
+    );
     let groups = objects * WORKGROUP as usize;
     let floats = gpu.run(&[(&part, groups), (&apply, groups)], 2, |_| {});
     let (planes, _) = snapshot_of(&floats, n, 0);
@@ -148,7 +149,7 @@ fn a_free_node_ending_inside_a_collider_relinearises_on_the_gpu() {
         let gpu = Gpu::new(&s);
         let key = format!("{}#colliders", file::PASSES_ELASTIC_START_COMP);
         let start = gpu.pass(&key, &[0, 1, 0]);
-        let key = format!("{}#colliders", file::PASSES_ELASTIC_UPDATE_COMP);
+        let key = format!("{}#colliders", file::PASSES_ELASTIC_COMP);
         let update = gpu.pass(&key, &[0, 1, 0]);
         // After the start: the step of 1 (ALPHA) checked (CHECK), along `lift`.
         let floats = gpu.run(&[(&start, n), (&update, n)], 1, |cmd| {

@@ -1,5 +1,5 @@
-//! The finite elements' rigid-part correction on the GPU (`elastic_rigid#part`,
-//! `elastic_product#correction`, `elastic_curvature#correction`, `elastic_rigid#apply`)
+//! The finite elements' rigid-part correction on the GPU (`elastic_rigid_part`,
+//! `elastic_correction_product`, `elastic_correction_curvature`, `elastic_rigid_apply`)
 //! equals cpu-ref's (`elastic_group`'s last iteration: `RigidPart` of each free object's
 //! elastic forces, a held node weighing nothing, taken off whole where nothing holds the
 //! body, and as far as it lowers the step's quadratic model, `correction_length`, where a
@@ -40,15 +40,13 @@ fn the_gpu_rigid_part_correction_equals_its_definition() {
         let gpu = Gpu::new(&s);
         let (n, t) = (s.model.node_count(), s.model.tets.len());
         let objects = s.model.objects.len() - 1;
-        let key = |name: &str, variant: &str| format!("{name}#{variant}");
-        let rigid = file::PASSES_ELASTIC_RIGID_COMP;
         let kernels = [
             gpu.pass(file::PASSES_ELASTIC_LINEARISE_COMP, &[]),
             gpu.pass(file::PASSES_ELASTIC_ROWS_COMP, &[]),
-            gpu.pass(&key(rigid, "part"), &[]),
-            gpu.pass(&key(file::PASSES_ELASTIC_PRODUCT_COMP, "correction"), &[]),
-            gpu.pass(&key(file::PASSES_ELASTIC_CURVATURE_COMP, "correction"), &[]),
-            gpu.pass(&key(rigid, "apply"), &[]),
+            gpu.pass(file::PASSES_ELASTIC_RIGID_PART_COMP, &[]),
+            gpu.pass(file::PASSES_ELASTIC_CORRECTION_PRODUCT_COMP, &[]),
+            gpu.pass(file::PASSES_ELASTIC_CORRECTION_CURVATURE_COMP, &[]),
+            gpu.pass(file::PASSES_ELASTIC_RIGID_APPLY_COMP, &[]),
         ];
         let groups = objects * WORKGROUP as usize;
         let passes: Vec<(&_, usize)> = kernels.iter().zip([t, n, groups, t, n, groups]).collect();

@@ -1,13 +1,15 @@
 //! The finite elements' Newton step on the GPU, pass by pass, equals its definition in f64
 //! on a damped rubber block deformed and moving, a face of it pinned and a third of its
 //! nodes held by a contact:
-//! - the rows (`elastic_linearise`, its `later` variant, `elastic_rows`) against `cpu-ref`'s
-//!   linearisation (`elastic_linearise`, `elastic_relinearise`, `ElasticNodes::rate_corners`
-//!   and `newton_row`): each node's residual, inverse diagonal block and contact stiffening,
+//! - the rows (`elastic_linearise` at iteration 0 and at a later one, `elastic_rows`) against
+//!   `cpu-ref`'s
+//!   linearisation (`elastic_linearise`, `elastic_relinearise`,
+//!   `ElasticNodes::rate_corners` and `newton_row`): each node's residual, inverse diagonal block and contact stiffening,
 //!   at a step's first linearisation and at a later one that keeps the stiffness of the tets
 //!   that barely moved;
-//! - ten conjugate-gradient iterations (`elastic_scalars`, `elastic_product`,
-//!   `elastic_curvature`, `elastic_potential`, `elastic_update`, the preconditioner's
+//! - ten conjugate-gradient iterations in the engine's order (`elastic_begin`,
+//!   `elastic_product`, `elastic_curvature`, `elastic_alpha`, `elastic_potential`,
+//!   `elastic_backtrack`, `elastic`, the preconditioner's
 //!   `elastic_coarse_modes`, `elastic_coarse_factor`, `elastic_restrict`,
 //!   `elastic_coarse_solve` and `elastic_prolong`, `elastic_direction`) against `cpu-ref`'s
 //!   `conjugate_gradients` written out with the same functions (its product, increments,
@@ -54,14 +56,13 @@ fn on_gpu(s: &Scene) -> [Vec<Row>; 2] {
     let size = gpu.node_bytes + 64;
     let readback = Buffer::readback(&gpu.ctx, "readback", 2 * size).unwrap();
     let linearise = gpu.pass(file::PASSES_ELASTIC_LINEARISE_COMP, &[]);
-    let relinearise = gpu.pass(
-        &format!("{}#later", file::PASSES_ELASTIC_LINEARISE_COMP),
-        &[],
-    );
     let rows = gpu.pass(file::PASSES_ELASTIC_ROWS_COMP, &[]);
     one_shot(&gpu.ctx, |cmd| {
-        for (phase, pass) in [&linearise, &relinearise].into_iter().enumerate() {
+        // The first linearisation at iteration 0; the later one at iteration 1 after a step
+        // beyond the trust (RELINEARISE).
+        for phase in 0..2u32 {
             if phase == 1 {
+                gpu.set_word(cmd, binding::ELASTIC_STATE, 7, 1);
                 // The later linearisation's ends, over the first's (its stiffness stays).
                 let nodes = gpu.buffer(binding::ELASTIC_NODES);
                 barrier(
@@ -80,9 +81,9 @@ fn on_gpu(s: &Scene) -> [Vec<Row>; 2] {
                     Access::COMPUTE,
                 );
             }
-            gpu.dispatch(cmd, pass, t);
-            gpu.dispatch(cmd, &rows, n);
-            gpu.snapshot(cmd, &readback, phase as u64 * size);
+            gpu.dispatch_at(cmd, &linearise, t, phase);
+            gpu.dispatch_at(cmd, &rows, n, phase);
+            gpu.snapshot(cmd, &readback, u64::from(phase) * size);
         }
         twin::to_host(&gpu.ctx, cmd, &readback);
     })
@@ -293,31 +294,14 @@ fn compare_iterations(name: &str, s: Scene) -> usize {
     let potential_partials = widest.div_ceil(WORKGROUP as usize) as u32;
     let size = gpu.node_bytes + 64;
     let readback = Buffer::readback(&gpu.ctx, "readback", want.len() as u64 * size).unwrap();
-    let key = |name: &str, variant: &str| format!("{name}#{variant}");
-    let scalars = file::PASSES_ELASTIC_SCALARS_COMP;
     let aggregates = s.nodes.aggregates.len();
     let (unknowns, groups) = ((6 * aggregates) as u32, aggregates * WORKGROUP as usize);
     let coarse = [0, aggregates as u32];
-    // The coarse level's modes and factor, then the preconditioner: restriction per
-    // aggregate, the coarse solve, the prolongation with the block-Jacobi term.
-    let precondition = |variant: &str| {
-        let prolong = match variant {
-            "" => gpu.pass(file::PASSES_ELASTIC_PROLONG_COMP, &coarse),
-            v => gpu.pass(&key(file::PASSES_ELASTIC_PROLONG_COMP, v), &coarse),
-        };
-        [
-            (
-                gpu.pass(file::PASSES_ELASTIC_RESTRICT_COMP, &coarse),
-                groups,
-            ),
-            (
-                gpu.pass(file::PASSES_ELASTIC_COARSE_SOLVE_COMP, &[unknowns]),
-                1,
-            ),
-            (prolong, n),
-        ]
-    };
-    let mut passes = vec![
+    // The first linearisation's rows and the coarse level's modes and factor; then, as
+    // the engine runs an iteration, the preconditioner (restriction per aggregate, the
+    // coarse solve, the prolongation with the block-Jacobi term), r . z and beta (0 at the
+    // linearisation), the direction, and the step.
+    let passes = [
         (gpu.pass(file::PASSES_ELASTIC_LINEARISE_COMP, &[]), t),
         (gpu.pass(file::PASSES_ELASTIC_ROWS_COMP, &[]), n),
         (
@@ -329,34 +313,38 @@ fn compare_iterations(name: &str, s: Scene) -> usize {
             1,
         ),
     ];
-    passes.extend(precondition("start"));
-    passes.push((gpu.pass(&key(scalars, "start"), &[partials]), 1));
-    let mut iteration = vec![
-        (gpu.pass(file::PASSES_ELASTIC_PRODUCT_COMP, &[]), t),
-        (gpu.pass(file::PASSES_ELASTIC_CURVATURE_COMP, &[]), n),
-        (gpu.pass(&key(scalars, "alpha"), &[partials]), 1),
-        (gpu.pass(file::PASSES_ELASTIC_POTENTIAL_COMP, &[]), widest),
+    let iteration = [
         (
-            gpu.pass(&key(scalars, "backtrack"), &[potential_partials]),
+            gpu.pass(file::PASSES_ELASTIC_RESTRICT_COMP, &coarse),
+            groups,
+        ),
+        (
+            gpu.pass(file::PASSES_ELASTIC_COARSE_SOLVE_COMP, &[unknowns]),
             1,
         ),
-        (gpu.pass(file::PASSES_ELASTIC_UPDATE_COMP, &[]), n),
-    ];
-    iteration.extend(precondition(""));
-    iteration.extend([
-        (gpu.pass(&key(scalars, "beta"), &[partials]), 1),
+        (gpu.pass(file::PASSES_ELASTIC_PROLONG_COMP, &coarse), n),
+        (gpu.pass(file::PASSES_ELASTIC_BEGIN_COMP, &[partials]), 1),
         (gpu.pass(file::PASSES_ELASTIC_DIRECTION_COMP, &[]), n),
-    ]);
+        (gpu.pass(file::PASSES_ELASTIC_PRODUCT_COMP, &[]), t),
+        (gpu.pass(file::PASSES_ELASTIC_CURVATURE_COMP, &[]), n),
+        (gpu.pass(file::PASSES_ELASTIC_ALPHA_COMP, &[partials]), 1),
+        (gpu.pass(file::PASSES_ELASTIC_POTENTIAL_COMP, &[]), widest),
+        (
+            gpu.pass(file::PASSES_ELASTIC_BACKTRACK_COMP, &[potential_partials]),
+            1,
+        ),
+        (gpu.pass(file::PASSES_ELASTIC_COMP, &[]), n),
+    ];
     one_shot(&gpu.ctx, |cmd| {
         for (pass, elements) in &passes {
             gpu.dispatch(cmd, pass, *elements);
         }
         for k in 0..want.len() {
             for (pass, elements) in &iteration {
-                gpu.dispatch(cmd, pass, *elements);
+                gpu.dispatch_at(cmd, pass, *elements, k as u32);
             }
             gpu.snapshot(cmd, &readback, k as u64 * size);
-            // The relinearisation flag read, as the next Newton step's start clears it.
+            // The relinearisation flag read: the reference goes on with its linearisation.
             gpu.clear_word(cmd, binding::ELASTIC_STATE, 7);
         }
         twin::to_host(&gpu.ctx, cmd, &readback);
@@ -438,7 +426,6 @@ fn the_gpu_start_of_a_linearisation_equals_its_definition() {
         worst = worst.max(close("end", planes[AT * n + i], at));
         worst = worst.max(close("inertial end", planes[Y * n + i], y));
         worst = worst.max(close("elastic force", planes[PHI * n + i], phi));
-        close("push", planes[PUSHED * n + i], DVec3::Y * floor);
         assert_eq!(xyz(planes[NORMAL * n + i]), normal, "node {i}: held normal");
         assert_eq!(
             planes[NORMAL * n + i][3] > 0.0,

@@ -6,7 +6,10 @@
 //! within 1 % of its rest length (the shape, whatever rotation the body ended in: a body with
 //! no angular momentum still turns while it deforms), and the momentum and angular momentum
 //! are those it started with: the elastic forces are internal, so an unconverged step's
-//! residual must not push or turn the body (`physics::RigidPart`). On `cpu-ref` and `cpu`.
+//! residual must not push or turn the body (`physics::RigidPart`). On `cpu-ref`, `cpu` and
+//! `vulkan` (lavapipe, the validation layer on).
+
+mod gpu_support;
 
 use glam::DVec3;
 use tetrasim::backend::cpu::{ParallelBackend, ReferenceBackend};
@@ -25,6 +28,15 @@ fn params() -> SimParams {
         floor: false,
         gravity: glam::DVec3::ZERO,
         ..SimParams::default()
+    }
+}
+
+/// The backend named `backend` of `model` (`vulkan` with the validation layer on).
+fn backend_of(backend: &str, model: &Model, params: &SimParams) -> Box<dyn Backend> {
+    match backend {
+        "cpu" => Box::new(ParallelBackend::new(model, params).unwrap()),
+        "vulkan" => Box::new(gpu_support::validated(model, params)),
+        _ => Box::new(ReferenceBackend::new(model, params).unwrap()),
     }
 }
 
@@ -65,10 +77,7 @@ fn squash(backend: &str) -> (f64, f64, u32, f64, f64) {
         .material(&params)
         .build()
         .unwrap();
-    let mut solver: Box<dyn Backend> = match backend {
-        "cpu" => Box::new(ParallelBackend::new(&model, &params).unwrap()),
-        _ => Box::new(ReferenceBackend::new(&model, &params).unwrap()),
-    };
+    let mut solver = backend_of(backend, &model, &params);
     let centre = DVec3::splat(0.1);
     let spin = DVec3::new(0.0, 3.0, 0.0);
     let positions: Vec<DVec3> = (model.positions.iter())
@@ -145,6 +154,15 @@ fn a_squashed_cube_recovers_on_cpu() {
     check("cpu", 1e-5);
 }
 
+/// The GPU's solve, in single precision as `cpu`'s.
+#[test]
+fn a_squashed_cube_recovers_on_vulkan() {
+    if !gpu_support::vulkan_available() {
+        return;
+    }
+    check("vulkan", 1e-5);
+}
+
 /// A small soft body hitting the floor: the bundled sphere fitted to 5 cm (E 0.1 MPa, nu
 /// 0.45, 1050 kg/m^3) dropped 0.1 m. The elastic waves cross it in 5 steps, so at the
 /// impact a step's strain changes by per cents and one Newton step per time step does not
@@ -152,7 +170,7 @@ fn a_squashed_cube_recovers_on_cpu() {
 /// (`cpu-ref`). An untrusted CG step is now followed by a new Newton step, which took it to
 /// 78 % of its volume at the worst frame with 5 tets inverted; holding the nodes the floor
 /// holds inside the Newton step (docs/PHYSICS.md, "Finite elements against contacts") lands
-/// it with more than 99.8 % and none inverted (measured on both backends).
+/// it with more than 99.8 % and none inverted (measured on the three backends).
 #[test]
 fn a_small_soft_sphere_survives_its_impact_on_the_floor() {
     let params = SimParams {
@@ -173,11 +191,11 @@ fn a_small_soft_sphere_survives_its_impact_on_the_floor() {
         .build()
         .unwrap();
     let rest: f64 = model.rest_volume.iter().sum();
-    for backend in ["cpu", "cpu-ref"] {
-        let mut solver: Box<dyn Backend> = match backend {
-            "cpu" => Box::new(ParallelBackend::new(&model, &params).unwrap()),
-            _ => Box::new(ReferenceBackend::new(&model, &params).unwrap()),
-        };
+    for backend in ["cpu", "cpu-ref", "vulkan"] {
+        if backend == "vulkan" && !gpu_support::vulkan_available() {
+            continue;
+        }
+        let mut solver = backend_of(backend, &model, &params);
         let (mut least, mut inverted) = (f64::INFINITY, 0);
         for frame in 0..400 {
             solver

@@ -120,8 +120,7 @@ fn reference(nu: f64) -> Result<Vec<(DVec3, DVec3)>> {
 }
 
 /// Runs every method at every iteration count at each Poisson's ratio on `backend`, at most
-/// `most` frames each; `progress` sees each point. A method the backend cannot run is left
-/// out with a note.
+/// `most` frames each; `progress` sees each point.
 pub fn run_cantilever(
     methods: &[Method],
     iterations: &[u32],
@@ -136,10 +135,6 @@ pub fn run_cantilever(
         let fem = reference(nu)?;
         let first = points.len();
         for &method in methods {
-            if backend == "vulkan" && method == Method::NeoHookean {
-                eprintln!("note: neo-hookean runs on cpu and cpu-ref only: left out on vulkan");
-                continue;
-            }
             for &it in iterations {
                 let params = params(method, nu, it);
                 let model = beam(&params)?;

@@ -5,11 +5,12 @@ use std::sync::Arc;
 use ash::vk;
 use bytemuck::Zeroable;
 use glam::DVec3;
-use tetrasim::backend::vulkan::{collider_data, collider_poses, CoarseIndex};
+use tetrasim::backend::vulkan::{collider_data, collider_poses, ElasticData};
 use tetrasim::collider::Collider;
 use tetrasim::gpu::commands::{barrier, one_shot, Access};
 use tetrasim::gpu::layout::{binding, PushConstants};
 use tetrasim::gpu::{BindingLayout, Buffer, Context, Kernel};
+use tetrasim::problem::Problem;
 
 use super::{coarse_level, planes, vec4, Scene, PLANES};
 use crate::gpu_support::twin;
@@ -36,18 +37,8 @@ impl Gpu {
         let velocities: Vec<[f32; 4]> =
             (0..n).map(|i| vec4(s.velocity[i], model.mass[i])).collect();
         let forces: Vec<[f32; 4]> = s.force.iter().map(|&(f, floor)| vec4(f, floor)).collect();
-        let elastic: Vec<[f32; 4]> = (nodes.tets.iter().zip(&model.tets))
-            .flat_map(|(e, tet)| {
-                let g = |k: usize| DVec3::from_array(e.shape[k]);
-                let beta = nodes.damping[tet[0] as usize].max(0.0);
-                [
-                    vec4(g(0), e.volume),
-                    vec4(g(1), e.mu),
-                    vec4(g(2), e.lambda),
-                    [e.alpha as f32, beta as f32, 0.0, 0.0],
-                ]
-            })
-            .collect();
+        // The engine's uploads of the finite elements' data (`ElasticData`).
+        let data = ElasticData::prepare(&Problem::new(model, &s.params).unwrap());
         let upload = |name: &str, bytes: &[u8]| Buffer::with_data(&ctx, name, bytes).unwrap();
         let empty = |name: &str, bytes: usize| Buffer::device(&ctx, name, bytes as u64).unwrap();
         // The partials: 9 per workgroup of the widest pass (`elastic_potential`).
@@ -60,13 +51,6 @@ impl Gpu {
         let unknowns = 6 * nodes.aggregates.len();
         matrix.extend(std::iter::repeat_n(0.0f32, unknowns));
         let aggregates = &nodes.aggregates;
-        let mut lists = vec![0u32];
-        for members in &aggregates.members {
-            lists.push(lists.last().unwrap() + members.len() as u32);
-        }
-        lists.extend(aggregates.members.iter().flatten());
-        lists.extend(&aggregates.of);
-        let index = CoarseIndex::of(aggregates, model);
         // The colliders at the step from t = 0 (a placeholder of each where there is none).
         let contacts: Vec<[f32; 4]> = s.contacts.iter().map(|&c| vec4(c, 0.0)).collect();
         let (mut colliders, mut grids) = collider_data(&model.colliders);
@@ -76,16 +60,6 @@ impl Gpu {
             poses = collider_poses(&[Collider::sphere(DVec3::ZERO, 1.0)], 0, 1, 1.0);
         }
         grids.push(0.0);
-        let objects: Vec<u32> = (model.objects.windows(2))
-            .flat_map(|w| {
-                let free = model.inv_mass[w[0] as usize..w[1] as usize]
-                    .iter()
-                    .all(|&m| m > 0.0);
-                let mut words = [0u32; 16];
-                words[..3].copy_from_slice(&[w[0], w[1], u32::from(free)]);
-                words
-            })
-            .collect();
         let up = |b: u32, name: &str, bytes: &[u8]| (b, upload(name, bytes));
         let buffers = vec![
             up(
@@ -103,7 +77,7 @@ impl Gpu {
             up(
                 binding::ELASTIC_TETS,
                 "elastic tets",
-                bytemuck::cast_slice(&elastic),
+                bytemuck::cast_slice(&data.tets),
             ),
             up(
                 binding::NODE_TET_OFFSETS,
@@ -117,6 +91,7 @@ impl Gpu {
             ),
             (binding::ELASTIC_LINEAR, empty("linear", 96 * t)),
             (binding::ELASTIC_CORNERS, empty("corners", 64 * t)),
+            (binding::CONTRIBUTIONS, empty("contributions", 16 * n)),
             up(
                 binding::ELASTIC_NODES,
                 "nodes",
@@ -134,7 +109,7 @@ impl Gpu {
             up(
                 binding::COARSE_AGGREGATES,
                 "coarse aggregates",
-                bytemuck::cast_slice(&lists),
+                bytemuck::cast_slice(&data.aggregates),
             ),
             (
                 binding::COARSE_MODES,
@@ -143,11 +118,11 @@ impl Gpu {
             up(
                 binding::COARSE_INDEX,
                 "coarse index",
-                bytemuck::cast_slice(&index.words()),
+                bytemuck::cast_slice(&data.index),
             ),
             (
                 binding::COARSE_SCRATCH,
-                empty("coarse scratch", 144 * index.scratch_rows(aggregates)),
+                empty("coarse scratch", 144 * data.counts.scratch_rows as usize),
             ),
             up(
                 binding::ELASTIC_STATE,
@@ -157,7 +132,7 @@ impl Gpu {
             up(
                 binding::ELASTIC_OBJECTS,
                 "objects",
-                bytemuck::cast_slice(&objects),
+                bytemuck::cast_slice(&data.objects),
             ),
             up(
                 binding::COLLIDER_CONTACTS,
@@ -213,9 +188,26 @@ impl Gpu {
         &self.buffers.iter().find(|(b, _)| *b == number).unwrap().1
     }
 
-    /// Records `pass` over `elements` invocations, then a barrier on every buffer.
+    /// Records `pass` over `elements` invocations in iteration 0, then a barrier on every
+    /// buffer.
     pub fn dispatch(&self, cmd: vk::CommandBuffer, pass: &Kernel, elements: usize) {
-        pass.record(cmd, &self.push, elements as u32);
+        self.dispatch_at(cmd, pass, elements, 0);
+    }
+
+    /// [`Self::dispatch`] in conjugate-gradient iteration `iteration` (the push constant
+    /// the passes decide a linearisation by).
+    pub fn dispatch_at(
+        &self,
+        cmd: vk::CommandBuffer,
+        pass: &Kernel,
+        elements: usize,
+        iteration: u32,
+    ) {
+        let push = PushConstants {
+            iteration,
+            ..self.push
+        };
+        pass.record(cmd, &push, elements as u32);
         let all: Vec<&Buffer> = self.buffers.iter().map(|(_, b)| b).collect();
         barrier(&self.ctx, cmd, &all, Access::COMPUTE, Access::COMPUTE);
     }

@@ -21,7 +21,7 @@ mod gpu;
 pub use gpu::{Gpu, WORKGROUP};
 
 /// Planes of ElasticNodes (glsl/physics/newton.glsl).
-pub const PLANES: usize = 15;
+pub const PLANES: usize = 14;
 pub const AT: usize = 0;
 pub const R: usize = 3;
 pub const INVERSE_A: usize = 7;
@@ -30,8 +30,7 @@ pub const HELD: usize = 9;
 pub const PHI: usize = 10;
 pub const NORMAL: usize = 11;
 pub const SUM: usize = 12;
-pub const PUSHED: usize = 13;
-pub const NODE: usize = 14;
+pub const NODE: usize = 13;
 pub const Y: usize = 1;
 pub const P: usize = 5;
 pub const DX: usize = 2;
@@ -59,7 +58,7 @@ pub struct Scene {
     pub later: Vec<DVec3>,
     pub phi: Vec<DVec3>,
     pub normal: Vec<DVec3>,
-    /// The contacts' force on each node at the linearisation.
+    /// The contacts' force on each node so far: the floor's (`force`'s w) and the colliders'.
     pub pushed: Vec<DVec3>,
     /// Each node's force increment of the last iteration (before the rigid correction).
     pub sum: Vec<DVec3>,
@@ -140,17 +139,9 @@ fn scene_of(jitter: f64, lift: f64, pinned: bool) -> Scene {
             _ => DVec3::ZERO,
         })
         .collect();
-    // The held nodes pushed by 0.3 N along their contact, a tenth of them by nothing.
-    let pushed = (0..n)
-        .map(|i| match (i % 3, i % 30) {
-            (0, 0) => DVec3::ZERO,
-            (0, _) => DVec3::Y * 0.3,
-            _ => DVec3::ZERO,
-        })
-        .collect();
     // Moving at up to 1 cm/s, the bottom's nodes pushed by the floor (a tenth not yet).
     let velocity = (0..n).map(|i| noise3(13000 + i as u64) * 0.01).collect();
-    let force = (0..n)
+    let force: Vec<(DVec3, f64)> = (0..n)
         .map(|i| {
             let floor = match model.positions[i].y == 0.0 && i % 10 != 0 {
                 true => 0.02 * (1.0 + noise3(17000 + i as u64).x),
@@ -160,6 +151,7 @@ fn scene_of(jitter: f64, lift: f64, pinned: bool) -> Scene {
         })
         .collect();
     let sum = (0..n).map(|i| noise3(23000 + i as u64) * 0.01).collect();
+    let pushed = force.iter().map(|&(_, floor)| DVec3::Y * floor).collect();
     Scene {
         contacts: vec![DVec3::ZERO; n],
         model,
@@ -223,7 +215,6 @@ pub fn planes(s: &Scene, at: &[DVec3]) -> Vec<[f32; 4]> {
         out[AT * n + i] = vec4(at[i], 0.0);
         out[PHI * n + i] = vec4(s.phi[i], 0.0);
         out[NORMAL * n + i] = vec4(s.normal[i], 0.0);
-        out[PUSHED * n + i] = vec4(s.pushed[i], 0.0);
         let w = s.model.inv_mass[i] * s.params.dt * s.params.dt;
         out[Y * n + i] = vec4(at[i] - s.phi[i] * w, 0.0);
         out[NODE * n + i] = [s.nodes.reach[i] as f32, 0.0, 0.0, 0.0];

@@ -409,13 +409,19 @@ pub fn pass_table(records: &[RunRecord]) -> String {
             r.device.as_deref().unwrap_or("?"),
             r.atomics.as_deref().unwrap_or("-")
         );
+        let width = passes
+            .iter()
+            .map(|p| p.name.len())
+            .max()
+            .unwrap_or(0)
+            .max(17);
         for PassTime {
             name,
             ms_per_frame: ms,
         } in passes
         {
             let share = if total > 0.0 { 100.0 * ms / total } else { 0.0 };
-            let _ = writeln!(out, "  {name:<17} {ms:>9.3} ms {share:>6.1} %");
+            let _ = writeln!(out, "  {name:<width$} {ms:>9.3} ms {share:>6.1} %");
         }
     }
     out

@@ -10,6 +10,8 @@
 // floats); the flags follow the matrix.
 #include "common/version.glsl"
 #include "common/bindings.glsl"
+#include "physics/newton.glsl"
+#include "common/elastic_state.glsl"
 
 layout(constant_id = 1) const uint UNKNOWNS = 6u;
 
@@ -18,6 +20,9 @@ layout(std430, set = 0, binding = B_COARSE_MATRIX) restrict buffer CoarseMatrix 
 shared float diagonal;
 
 void main() {
+    if (!coarse_rebuilds()) {
+        return;
+    }
     uint n = UNKNOWNS;
     uint lanes = gl_WorkGroupSize.x;
     for (uint j = 0u; j < n; ++j) {

@@ -6,6 +6,8 @@
 // 6b..6b+6 (column-major, as `elastic_coarse_factor` reads it); a block of no item is zero.
 #include "common/version.glsl"
 #include "common/bindings.glsl"
+#include "physics/newton.glsl"
+#include "common/elastic_state.glsl"
 #include "common/workgroup_sum.glsl"
 
 layout(constant_id = 2) const uint AGGREGATES = 1u;
@@ -17,6 +19,9 @@ layout(std430, set = 0, binding = B_COARSE_MATRIX) writeonly restrict buffer Coa
 WORKGROUP_SUM_PAIR(gather_sum, float)
 
 void main() {
+    if (!coarse_rebuilds()) {
+        return;
+    }
     uint block = gl_WorkGroupID.x;
     uint a = block / AGGREGATES;
     uint b = block % AGGREGATES;

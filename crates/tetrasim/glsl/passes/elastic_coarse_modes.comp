@@ -8,6 +8,7 @@
 #include "common/bindings.glsl"
 #include "common/workgroup_sum.glsl"
 #include "physics/newton.glsl"
+#include "common/elastic_state.glsl"
 
 layout(constant_id = 2) const uint AGGREGATES = 1u;
 
@@ -18,6 +19,9 @@ layout(std430, set = 0, binding = B_ELASTIC_NODES) readonly restrict buffer Elas
 WORKGROUP_SUM_PAIR(modes_sum, vec4)
 
 void main() {
+    if (!coarse_rebuilds()) {
+        return;
+    }
     uint a = gl_WorkGroupID.x;
     uint first = aggregate_first(a);
     uint end = aggregate_end(a);

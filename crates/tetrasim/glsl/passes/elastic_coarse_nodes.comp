@@ -7,6 +7,7 @@
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/newton.glsl"
+#include "common/elastic_state.glsl"
 
 layout(constant_id = 2) const uint AGGREGATES = 1u;
 
@@ -18,6 +19,9 @@ layout(std430, set = 0, binding = B_COARSE_INDEX) readonly restrict buffer Coars
 layout(std430, set = 0, binding = B_COARSE_SCRATCH) writeonly restrict buffer CoarseScratch { float scratch[]; };
 
 void main() {
+    if (!coarse_rebuilds()) {
+        return;
+    }
     uint k = gl_GlobalInvocationID.x;
     if (k >= aggregates[AGGREGATES]) {
         return;

@@ -7,6 +7,8 @@
 // invocation at once; the vector stays in shared memory.
 #include "common/version.glsl"
 #include "common/bindings.glsl"
+#include "physics/newton.glsl"
+#include "common/elastic_state.glsl"
 
 layout(constant_id = 1) const uint UNKNOWNS = 6u;
 
@@ -16,6 +18,9 @@ layout(std430, set = 0, binding = B_COARSE_VECTOR) restrict buffer CoarseVector 
 shared float u[UNKNOWNS];
 
 void main() {
+    if (!elastic_preconditions()) {
+        return;
+    }
     uint n = UNKNOWNS;
     uint lanes = gl_WorkGroupSize.x;
     uint me = gl_LocalInvocationID.x;

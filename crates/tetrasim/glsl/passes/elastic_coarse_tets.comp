@@ -9,6 +9,7 @@
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/newton.glsl"
+#include "common/elastic_state.glsl"
 #define NODE_TETS
 #include "common/elastic_tets.glsl"
 
@@ -23,6 +24,9 @@ layout(std430, set = 0, binding = B_COARSE_INDEX) readonly restrict buffer Coars
 layout(std430, set = 0, binding = B_COARSE_SCRATCH) writeonly restrict buffer CoarseScratch { float scratch[]; };
 
 void main() {
+    if (!coarse_rebuilds()) {
+        return;
+    }
     uint t = gl_GlobalInvocationID.x;
     if (t >= pc.tet_count) {
         return;

@@ -1,6 +1,7 @@
 #version 460
 // Pass `elastic_direction` (finite elements, per node; docs/GPU.md, "Finite elements on the
-// GPU"): the next search direction P = Z + beta P, after `elastic_scalars#beta`.
+// GPU"): the next search direction P = Z + beta P, after `elastic_begin` (beta 0 at a
+// linearisation: the first direction is Z).
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/newton.glsl"
@@ -16,5 +17,5 @@ void main() {
     }
     float beta = state[ELASTIC_STATE_BETA];
     vec4 z = nodes[ELASTIC_PLANE_Z * n + i];
-    nodes[ELASTIC_PLANE_P * n + i] = z + nodes[ELASTIC_PLANE_P * n + i] * beta;
+    nodes[ELASTIC_PLANE_P * n + i] = beta == 0.0 ? z : z + nodes[ELASTIC_PLANE_P * n + i] * beta;
 }

@@ -1,17 +1,16 @@
 #version 460
 // Pass `elastic_linearise` (finite elements, per tet; docs/GPU.md, "Finite elements on the
-// GPU"): tet t's stiffness where its corners end the step so far (ElasticNodes' AT plane),
-// the first linearisation of a step taking it anew, a later one (variant `later`) keeping
-// the one stored where F moved by at most KEPT_STIFFNESS_STRAIN (physics/stiffness.glsl);
-// then the stiffness times the corners' velocities over the step so far, (AT - x) / dt, at
+// GPU"), at each linearisation (`elastic_linearises`): tet t's stiffness where its corners
+// end the step so far (ElasticNodes' AT plane), the step's first linearisation (iteration
+// 0) taking it anew, a later one keeping the one stored where F moved by at most
+// KEPT_STIFFNESS_STRAIN (physics/stiffness.glsl); then the stiffness times the corners' velocities over the step so far, (AT - x) / dt, at
 // each corner into ElasticCorners: the Rayleigh damping's shares of K v, which
 // `elastic_rows` gathers. The twin of the linearisation in cpu-ref's
 // `conjugate_gradients` (src/backend/cpu/reference/elastic.rs).
-// @variant plain:
-// @variant later: LATER
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/newton.glsl"
+#include "common/elastic_state.glsl"
 #include "common/elastic_tets.glsl"
 
 layout(std430, set = 0, binding = B_POSITIONS) readonly restrict buffer Positions { vec4 positions[]; };
@@ -21,6 +20,9 @@ layout(std430, set = 0, binding = B_ELASTIC_LINEAR) restrict buffer ElasticLinea
 layout(std430, set = 0, binding = B_ELASTIC_CORNERS) writeonly restrict buffer ElasticCornersBuffer { vec4 corners[]; };
 
 void main() {
+    if (!elastic_linearises()) {
+        return;
+    }
     uint t = gl_GlobalInvocationID.x;
     if (t >= pc.tet_count) {
         return;
@@ -32,13 +34,14 @@ void main() {
     vec3 p1 = nodes[at + tet.y].xyz;
     vec3 p2 = nodes[at + tet.z].xyz;
     vec3 p3 = nodes[at + tet.w].xyz;
-#ifdef LATER
-    ElasticLinear kept = elastic_linear_of(linear[6u * t], linear[6u * t + 1u], linear[6u * t + 2u],
-                                           linear[6u * t + 3u], linear[6u * t + 4u], linear[6u * t + 5u]);
-    ElasticLinear lin = elastic_relinearise(e, p0, p1, p2, p3, kept);
-#else
-    ElasticLinear lin = elastic_linearise(e, p0, p1, p2, p3);
-#endif
+    ElasticLinear lin;
+    if (pc.iteration == 0u) {
+        lin = elastic_linearise(e, p0, p1, p2, p3);
+    } else {
+        ElasticLinear kept = elastic_linear_of(linear[6u * t], linear[6u * t + 1u], linear[6u * t + 2u],
+                                               linear[6u * t + 3u], linear[6u * t + 4u], linear[6u * t + 5u]);
+        lin = elastic_relinearise(e, p0, p1, p2, p3, kept);
+    }
     linear[6u * t] = vec4(lin.f0, lin.k.x);
     linear[6u * t + 1u] = vec4(lin.f1, lin.k.y);
     linear[6u * t + 2u] = vec4(lin.f2, lin.k.z);

@@ -6,7 +6,7 @@
 // tet j's energy change and free node j's inertia's, m/(2 dt^2) (|x - y|^2 change), and its
 // contact's, (h . d)^2 / 2 change (each expanded in the step, so no change is a difference of
 // two potentials), and each workgroup stores its partial of every step's change
-// (`elastic_scalars#backtrack` decides). The twin of cpu-ref's `potential` in `backtrack`
+// (`elastic_backtrack` decides). The twin of cpu-ref's `potential` in `backtrack`
 // (src/backend/cpu/reference/elastic.rs), as changes. Covers max(nodes, tets) invocations.
 #include "common/version.glsl"
 #include "common/bindings.glsl"

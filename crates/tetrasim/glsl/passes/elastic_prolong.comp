@@ -3,12 +3,10 @@
 // elements on the GPU"): the preconditioned residual Z = the inverse diagonal block times R
 // plus, for a node of an aggregate not touching a contact, the coarse correction P u
 // (`elastic_coarse_solve`'s u: its aggregate's translation plus its turn x (x - centre) /
-// size), and its share of r . z as the workgroup's partial. Variant `start`: the first
-// direction P = Z and DX = 0 too. The twin of cpu-ref's `precondition`
+// size), and its share of r . z as the workgroup's partial, at a linearisation or while
+// the solve goes on (`elastic_preconditions`). The twin of cpu-ref's `precondition`
 // (src/schedule/family/elastic.rs, ElasticNodes::precondition). Without aggregates
 // (AGGREGATES 0) the block-Jacobi term alone.
-// @variant plain:
-// @variant start: START
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/newton.glsl"
@@ -25,7 +23,7 @@ void main() {
     uint i = gl_GlobalInvocationID.x;
     uint n = pc.node_count;
     float share = 0.0;
-    if (i < n && state_u[ELASTIC_STATE_DONE] == 0u) {
+    if (i < n && elastic_preconditions()) {
         vec3 r = nodes[ELASTIC_PLANE_R * n + i].xyz;
         vec4 a = nodes[ELASTIC_PLANE_INVERSE_A * n + i];
         vec4 b = nodes[ELASTIC_PLANE_INVERSE_B * n + i];
@@ -38,10 +36,6 @@ void main() {
             z += push + cross(turn, nodes[ELASTIC_PLANE_AT * n + i].xyz - centre.xyz) / centre.w;
         }
         nodes[ELASTIC_PLANE_Z * n + i] = vec4(z, 0.0);
-#ifdef START
-        nodes[ELASTIC_PLANE_P * n + i] = vec4(z, 0.0);
-        nodes[ELASTIC_PLANE_DX * n + i] = vec4(0.0);
-#endif
         share = dot(r, z);
     }
     store_partial(share);

@@ -9,6 +9,7 @@
 #include "common/bindings.glsl"
 #include "common/workgroup_sum.glsl"
 #include "physics/newton.glsl"
+#include "common/elastic_state.glsl"
 
 layout(constant_id = 2) const uint AGGREGATES = 1u;
 
@@ -20,6 +21,9 @@ layout(std430, set = 0, binding = B_COARSE_VECTOR) writeonly restrict buffer Coa
 WORKGROUP_SUM_PAIR(restrict_sum, vec4)
 
 void main() {
+    if (!elastic_preconditions()) {
+        return;
+    }
     uint a = gl_WorkGroupID.x;
     uint n = pc.node_count;
     vec4 centre = modes[a];

@@ -12,6 +12,7 @@
 #include "common/bindings.glsl"
 #include "physics/elastic.glsl"
 #include "physics/newton.glsl"
+#include "common/elastic_state.glsl"
 #define NODE_TETS
 #include "common/elastic_tets.glsl"
 
@@ -22,6 +23,9 @@ layout(std430, set = 0, binding = B_ELASTIC_CORNERS) readonly restrict buffer El
 layout(std430, set = 0, binding = B_ELASTIC_NODES) restrict buffer ElasticNodesBuffer { vec4 nodes[]; };
 
 void main() {
+    if (!elastic_linearises()) {
+        return;
+    }
     uint i = gl_GlobalInvocationID.x;
     uint n = pc.node_count;
     if (i >= n) {

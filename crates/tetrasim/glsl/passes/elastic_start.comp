@@ -1,9 +1,9 @@
 #version 460
 // Pass `elastic_start` (finite elements, per node, at each linearisation; docs/GPU.md,
-// "Finite elements on the GPU"): where node i ends the step at the forces so far, AT =
-// x + dt (v + dt w F), its elastic force so far PHI = F - m g - the floor's normal force
+// "Finite elements on the GPU"), after `elastic_contacts`: where node i ends the step at
+// the forces so far, AT = x + dt (v + dt w F), its elastic force so far PHI = F - m g - the floor's normal force
 // (F.w) - the colliders' force, Y = AT - w dt^2 PHI (where inertia and gravity alone take
-// it), DX = 0, the contacts' push PUSHED, and the direction a contact holds it along,
+// it), DX = 0, and the direction a contact holds it along,
 // NORMAL: the floor's +Y where the floor pushes it or it ends within HELD_GAP of it in
 // strain (its reach in ELASTIC_PLANE_NODE), else a collider's push's (NORMAL.w: 1 where the
 // floor or a collider pushes it, which `elastic_rows` makes `touching`). The twin of the
@@ -18,6 +18,7 @@
 #include "common/bindings.glsl"
 #include "physics/implicit.glsl"
 #include "physics/newton.glsl"
+#include "common/elastic_state.glsl"
 
 #ifdef COLLIDERS_ON
 // The colliders and the grabbed nodes (specialisation constants 2 and 3).
@@ -50,6 +51,9 @@ layout(std430, set = 0, binding = B_FORCES) readonly restrict buffer Forces { ve
 layout(std430, set = 0, binding = B_ELASTIC_NODES) restrict buffer ElasticNodesBuffer { vec4 nodes[]; };
 
 void main() {
+    if (!elastic_linearises()) {
+        return;
+    }
     uint i = gl_GlobalInvocationID.x;
     uint n = pc.node_count;
     if (i >= n) {
@@ -69,12 +73,10 @@ void main() {
     bool floor_pushes = pc.floor_on != 0u && f.w > 0.0;
     float reach = nodes[ELASTIC_PLANE_NODE * n + i].x;
     bool on_floor = pc.floor_on != 0u && (floor_pushes || at.y * reach <= HELD_GAP);
-    vec3 pushed = vec3(0.0, f.w, 0.0) + contact;
     nodes[ELASTIC_PLANE_AT * n + i] = vec4(at, 0.0);
     nodes[ELASTIC_PLANE_Y * n + i] = vec4(at - phi * (w * pc.dt * pc.dt), 0.0);
     nodes[ELASTIC_PLANE_DX * n + i] = vec4(0.0);
     nodes[ELASTIC_PLANE_PHI * n + i] = vec4(phi, 0.0);
-    nodes[ELASTIC_PLANE_PUSHED * n + i] = vec4(pushed, 0.0);
     bool touching = floor_pushes || contact != vec3(0.0);
     vec3 collider = contact;
 #ifdef COLLIDERS_ON

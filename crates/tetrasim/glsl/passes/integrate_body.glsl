@@ -2,7 +2,7 @@
 // (passes/integrate.comp, passes/split_velocity.comp): per node the floor's final solve,
 // then, with COLLIDERS_ON, the kinematic colliders'; symplectic Euler with floor friction
 // and the touched collider's friction; the force (and the colliders' force) reset for the
-// next solve. Defines:
+// next solve (with ELASTIC_WARM, to gravity plus the finite elements' start). Defines:
 //   SPLIT_VELOCITY_PASS: split contact's velocity solve ends here; the new velocity goes to
 //     SplitVelocities, positions and velocities stay;
 //   SPLIT_ON (integrate only): the new positions are this solve's, the new velocities the
@@ -21,7 +21,11 @@ layout(constant_id = 1) const uint FLOOR = 1u;
 layout(constant_id = 2) const uint COLLIDERS = 0u;
 // The nodes grabs hold (specialisation constant 3): the rows of one step's GrabTargets.
 layout(constant_id = 3) const uint GRABBED = 0u;
+// 1 with the finite elements: the next step starts from this step's elastic forces
+// (elastic_start, physics/elastic.glsl) beside gravity (specialisation constant 4).
+layout(constant_id = 4) const uint ELASTIC_WARM = 0u;
 #include "physics/contact.glsl"
+#include "physics/elastic.glsl"
 
 layout(std430, set = 0, binding = B_POSITIONS) restrict buffer Positions { vec4 positions[]; };
 layout(std430, set = 0, binding = B_VELOCITIES) restrict buffer Velocities { vec4 velocities[]; };
@@ -70,7 +74,8 @@ void main() {
 #else
     vec3 vn = integrate_node(xn, v.xyz, f.xyz, w, pc.dt, n, pc.friction);
 #endif
-    forces[i] = vec4(pc.gravity * v.w, 0.0);
+    vec3 warm = ELASTIC_WARM != 0u ? elastic_start(f.xyz, v.w, pc.gravity) : vec3(0.0);
+    forces[i] = vec4(pc.gravity * v.w + warm, 0.0);
 #ifdef SPLIT_VELOCITY_PASS
     split_velocities[i] = vec4(vn, 0.0);
 #else

@@ -1,6 +1,5 @@
 // Finite elements (physics.md, fourth edition): stable Neo-Hookean's gradient and Hessian
-// block at one corner of a tet, and one node's Newton step of Vertex Block Descent in the
-// engine's force form. The twin of src/physics/elastic.rs (same names, same order of
+// block at one corner of a tet, and the force the next step starts from. The twin of src/physics/elastic.rs (same names, same order of
 // operations).
 #ifndef PHYSICS_ELASTIC_GLSL
 #define PHYSICS_ELASTIC_GLSL
@@ -42,31 +41,17 @@ void elastic_corner(vec3 p0, vec3 p1, vec3 p2, vec3 p3, vec3 g1, vec3 g2, vec3 g
     h1 += cu * vec3(u.x * u.y, u.x * u.z, u.y * u.z) + cw * vec3(w.x * w.y, w.x * w.z, w.y * w.z);
 }
 
-// The node's force increment m dx / dt^2 [N] (elastic_step in Rust); zero when singular.
-vec3 elastic_step(float mass, float dt, float beta, vec3 phi, vec3 grad, vec3 h0, vec3 h1, vec3 moved) {
-    float inertia = mass / (dt * dt);
-    float damp = beta / dt;
-    vec3 m0 = h0 * (1.0 + damp) + vec3(inertia);
-    vec3 m1 = h1 * (1.0 + damp);
-    vec3 hm = vec3(h0.x * moved.x + h1.x * moved.y + h1.y * moved.z,
-                   h1.x * moved.x + h0.y * moved.y + h1.z * moved.z,
-                   h1.y * moved.x + h1.z * moved.y + h0.z * moved.z);
-    vec3 r = -(grad + hm * damp + phi);
-    float a = m0.x, b = m0.y, c = m0.z, d = m1.x, e = m1.y, f = m1.z;
-    float c00 = b * c - f * f;
-    float c01 = e * f - d * c;
-    float c02 = d * f - b * e;
-    float det = a * c00 + d * c01 + e * c02;
-    if (!(det > 0.0) || isinf(det)) {
+// The force that starts the next step's solve beside gravity's (elastic_start in Rust): a
+// node whose total force this step was `total` (mass `mass`, gravity `gravity`) keeps only
+// what it fell along gravity, never faster than free fall.
+vec3 elastic_start(vec3 total, float mass, vec3 gravity) {
+    float g = length(gravity);
+    if (!(g > 0.0 && mass > 0.0)) {
         return vec3(0.0);
     }
-    float c11 = a * c - e * e;
-    float c12 = d * e - a * f;
-    float c22 = a * b - d * d;
-    vec3 dx = vec3(c00 * r.x + c01 * r.y + c02 * r.z,
-                   c01 * r.x + c11 * r.y + c12 * r.z,
-                   c02 * r.x + c12 * r.y + c22 * r.z) / det;
-    return dx * inertia;
+    vec3 down = gravity / g;
+    float along = min(max(dot(total, down) / mass, 0.0), g);
+    return (down * along - gravity) * mass;
 }
 
 #endif

@@ -27,9 +27,8 @@
 #define ELASTIC_PLANE_PHI 10u      // the elastic force so far at the linearisation
 #define ELASTIC_PLANE_NORMAL 11u   // the direction a contact holds the node along (or 0)
 #define ELASTIC_PLANE_SUM 12u      // the iteration's force increment on the node
-#define ELASTIC_PLANE_PUSHED 13u   // the contacts' force on the node at the linearisation
-#define ELASTIC_PLANE_NODE 14u     // fixed: x = the node's reach (1 / its thinnest tet's height)
-#define ELASTIC_PLANES 15u
+#define ELASTIC_PLANE_NODE 13u     // fixed: x = the node's reach (1 / its thinnest tet's height)
+#define ELASTIC_PLANES 14u
 
 // Words of ElasticState: the conjugate gradients' scalars (floats unless said), then one
 // partial sum per workgroup of the node passes from ELASTIC_STATE_PARTIALS on.
@@ -41,6 +40,7 @@
 #define ELASTIC_STATE_DONE 5u        // uint: 1 once converged or at non-positive curvature
 #define ELASTIC_STATE_CHECK 6u       // uint: 1 when alpha p goes beyond the trusted strain
 #define ELASTIC_STATE_RELINEARISE 7u // uint: 1 when the next iteration begins a Newton step
+#define ELASTIC_STATE_STEP 8u        // uint: the steps taken so far (the coarse level's clock)
 #define ELASTIC_STATE_PARTIALS 16u
 
 // TRUSTED_STRAIN, TRUSTED_RATIO and MOST_HALVINGS in src/schedule/family/elastic.rs.

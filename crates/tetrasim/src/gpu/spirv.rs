@@ -217,11 +217,9 @@ mod tests {
         // the shader's own key); integrate: split, colliders_split; split_velocity:
         // colliders; contact_measure: colliders, bodies, colliders_bodies; minres_setup and
         // minres_forces: colliders; minres_rows: one per mix of its four row segments (15);
-        // minres_finish: s, v, sv; elastic: gather; elastic_linearise: later; elastic_update:
-        // start; elastic_scalars: start, alpha, beta, backtrack; elastic_prolong: start;
-        // elastic_product, elastic_curvature: correction; elastic_rigid: part,
-        // part_colliders, apply; elastic_start, elastic_update: colliders.
-        assert_eq!(variants, 71);
+        // minres_finish: s, v, sv; elastic_contacts, elastic_start, elastic and
+        // elastic_rigid_part: colliders.
+        assert_eq!(variants, 61);
     }
 
     #[test]

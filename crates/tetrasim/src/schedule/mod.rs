@@ -18,12 +18,14 @@
 //! colliders or body contact. Which variant of a stage a backend runs
 //! (per-node gather or atomics) follows from [`Schedule::gather`].
 //!
-//! A new pass is a [`PassKind`] and its stage in [`Schedule::new`] (both in stages.rs), its
-//! shader, and its arm in each CPU backend's executor.
+//! A new pass is a [`PassKind`] (pass_kind.rs) and its stage in [`Schedule::new`]
+//! (stages.rs), its shader, and its arm in each CPU backend's executor.
 
 mod buffer;
+mod elastic;
 pub mod family;
 mod minres;
+mod pass_kind;
 mod scene;
 mod stages;
 #[cfg(test)]
@@ -32,8 +34,8 @@ mod walk;
 
 pub use buffer::{Access, BufferId};
 pub use minres::MinresRowKinds;
+pub use pass_kind::PassKind;
 pub use scene::volume_sum;
-pub use stages::PassKind;
 pub use walk::{Dispatch, GroupAt};
 
 use crate::model::{ConstraintKind, Sweep};
@@ -48,6 +50,12 @@ pub enum Repeat {
     /// a stage of one sweep ([`Stage::sweep`]) for each of that sweep's groups, followed
     /// each time by the stages of no sweep (consecutive such stages repeat together).
     Iteration,
+    /// As [`Repeat::Iteration`], in the first iteration only (the finite elements' coarse
+    /// level, built at a step's first linearisation).
+    FirstIteration,
+    /// As [`Repeat::Iteration`], in the last iteration only (the finite elements' rigid-part
+    /// correction).
+    LastIteration,
     /// Once per iteration, after its constraint groups (the global volume constraints).
     IterationEnd,
     /// After the iterations, [`Schedule::inversion_sweeps`] times: once per group of the
@@ -82,6 +90,9 @@ pub enum Domain {
     /// MINRES's rows: every constraint of the step (one invocation each), then one
     /// workgroup per global volume constraint.
     Rows,
+    /// The finite elements' workgroup passes: per aggregate of the coarse level, per block
+    /// of its matrix, per object, or one workgroup (the engine plan sizes each).
+    Coarse,
 }
 
 /// One stage of the step: a pass, when it runs, what it covers, what it touches.
@@ -99,6 +110,34 @@ pub struct Stage {
     pub sweep: Option<usize>,
     /// The arrays it reads and writes.
     pub bindings: Vec<(BufferId, Access)>,
+}
+
+impl Repeat {
+    /// Whether a stage of this repetition belongs to the iterations' block (runs in some
+    /// or every iteration, group by group).
+    pub fn in_iterations(self) -> bool {
+        matches!(
+            self,
+            Repeat::Iteration | Repeat::FirstIteration | Repeat::LastIteration
+        )
+    }
+
+    /// Whether a stage of this repetition runs in iteration `iteration` of `iterations`.
+    pub fn runs_in(self, iteration: u32, iterations: u32) -> bool {
+        match self {
+            Repeat::FirstIteration => iteration == 0,
+            Repeat::LastIteration => iteration + 1 == iterations,
+            _ => true,
+        }
+    }
+
+    /// Of `iterations`, how many iterations a stage of this repetition runs in.
+    pub fn iterations_of(self, iterations: u32) -> u32 {
+        match self {
+            Repeat::FirstIteration | Repeat::LastIteration => iterations.min(1),
+            _ => iterations,
+        }
+    }
 }
 
 impl Stage {

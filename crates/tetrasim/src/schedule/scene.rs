@@ -56,6 +56,22 @@ impl Schedule {
                     .bindings
                     .extend([(ColliderContacts, Read), (GrabNodes, Read)]);
             }
+            // The finite elements' step checks where the nodes end against the colliders,
+            // and their rigid part leaves the colliders' force out.
+            for stage in self.stages.iter_mut() {
+                match stage.kind {
+                    PassKind::Elastic => stage.bindings.extend([
+                        (ColliderContacts, Read),
+                        (Colliders, Read),
+                        (ColliderGrids, Read),
+                        (ColliderPoses, Read),
+                        (GrabNodes, Read),
+                        (GrabTargets, Read),
+                    ]),
+                    PassKind::ElasticRigidPart => stage.bindings.push((ColliderContacts, Read)),
+                    _ => {}
+                }
+            }
             // The global volume constraints count the nodes the colliders hold.
             for stage in (self.stages.iter_mut()).filter(|s| s.kind == PassKind::GlobalVolumeSum) {
                 stage.bindings.push((ColliderContacts, Read));

@@ -98,7 +98,7 @@ impl Schedule {
         let mut k = 0;
         while k < step.len() {
             match repeat(k) {
-                Repeat::Iteration => {}
+                r if r.in_iterations() => {}
                 Repeat::Restore => {
                     // After the iterations: the stage's sweep, group by group, then the
                     // global volume constraint when it is solved (the floor moves surface
@@ -161,7 +161,7 @@ impl Schedule {
                 }
             }
             let end = (k..step.len())
-                .find(|&e| repeat(e) != Repeat::Iteration)
+                .find(|&e| !repeat(e).in_iterations())
                 .unwrap_or(step.len());
             let after_end = (end..step.len())
                 .find(|&e| repeat(e) != Repeat::IterationEnd)
@@ -171,6 +171,7 @@ impl Schedule {
                 for s in 0..self.sweeps.len() {
                     let own: Vec<usize> = (block.iter().copied())
                         .filter(|&i| self.stages[i].sweep == Some(s))
+                        .filter(|&i| (self.stages[i].repeat).runs_in(iteration, self.iterations))
                         .collect();
                     self.push_groups(&mut out, s, &own, &shared, Some(iteration));
                 }

@@ -62,8 +62,16 @@ fn floats(v: &[f64]) -> Vec<f32> {
 
 impl SimBuffers {
     /// Overwrites positions and velocities with `state`, keeping the model's inverse masses
-    /// and masses in the `w` components (see [`crate::backend::Backend::set_state`]).
-    pub fn upload_state(&self, state: &State, inv_mass: &[f64], mass: &[f64]) -> Result<()> {
+    /// and masses in the `w` components (see [`crate::backend::Backend::set_state`]); with
+    /// `gravity` (the finite elements, whose next step starts from the last one's forces),
+    /// the forces become gravity's alone.
+    pub fn upload_state(
+        &self,
+        state: &State,
+        inv_mass: &[f64],
+        mass: &[f64],
+        gravity: Option<glam::DVec3>,
+    ) -> Result<()> {
         let positions: Vec<[f32; 4]> = state
             .positions
             .iter()
@@ -83,6 +91,10 @@ impl SimBuffers {
         // values count in iteration 0 only with `warm_start`; zeroing is harmless otherwise).
         if let Some(multipliers) = self.optional.get(&BufferId::SpringMultipliers) {
             uploads.zero(multipliers);
+        }
+        if let Some(g) = gravity {
+            let forces: Vec<[f32; 4]> = mass.iter().map(|&m| vec4(g * m, 0.0)).collect();
+            uploads.write(&self.forces, bytes(&forces))?;
         }
         uploads.submit(self.positions.context())
     }
@@ -224,6 +236,17 @@ impl SimBuffers {
         if let Some(bodies) = problem.bodies.as_ref().filter(|_| plan.body.is_some()) {
             body_buffers(&mut optional, bodies, n)?;
         }
+        if plan.elastic_counts().is_some() {
+            let data = super::elastic::ElasticData::prepare(problem);
+            for (id, data) in data.uploads() {
+                optional.data(id, data)?;
+            }
+            for id in super::elastic::BUFFERS {
+                if !optional.built.contains_key(&id) {
+                    optional.zeroed(id, plan.buffer(id).map_or(0, |b| b.bytes))?;
+                }
+            }
+        }
         let Optional { up, built, .. } = optional;
         let partials_size = plan.buffer(BufferId::Partials).map_or(0, |b| b.bytes);
         let buffers = SimBuffers {
@@ -267,8 +290,7 @@ impl SimBuffers {
 
     /// Device-local bytes of every buffer built (what the plan's total must equal).
     pub fn device_bytes(&self) -> u64 {
-        ALL_BUFFERS
-            .iter()
+        (ALL_BUFFERS.iter().chain(&super::elastic::BUFFERS))
             .filter_map(|&id| self.get(id))
             .map(|b| b.size)
             .sum()
@@ -277,7 +299,7 @@ impl SimBuffers {
     /// Fails when a buffer exists that the plan lacks, or the other way round, or when a
     /// size differs: the plan printed by `tetrasim plan` is then wrong.
     fn check_against(&self, plan: &EnginePlan) -> Result<()> {
-        for id in ALL_BUFFERS {
+        for &id in ALL_BUFFERS.iter().chain(&super::elastic::BUFFERS) {
             let built = self.get(id).map(|b| b.size);
             let planned = plan.buffer(id).map(|b| b.bytes);
             if built != planned {

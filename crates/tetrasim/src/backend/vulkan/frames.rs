@@ -157,12 +157,14 @@ impl Backend for VulkanBackend {
         self.settle()?;
         self.fresh_slot = None;
         self.measure_fresh = false;
-        self.buffers.upload_state(state, &self.inv_mass, &self.mass)
+        let gravity = self.plan.elastic_counts().map(|_| self.gravity);
+        self.buffers
+            .upload_state(state, &self.inv_mass, &self.mass, gravity)
     }
 
     /// The frame and step counters. Everything else a step starts from is the state or is
-    /// rebuilt at the step's start, except warm-started springs' multipliers, which stay on
-    /// the device (refused for now).
+    /// rebuilt at the step's start, except warm-started springs' multipliers and the finite
+    /// elements' forces and coarse level, which stay on the device (refused for now).
     fn carried(&mut self) -> Result<Carried> {
         self.settle()?;
         if self.plan.schedule.warm_start {
@@ -170,6 +172,13 @@ impl Backend for VulkanBackend {
                 "checkpoint",
                 "the vulkan backend keeps warm-started springs' multipliers on the device, \
                  and cannot save them yet (run on cpu or cpu-ref, or without warm_start)",
+            ));
+        }
+        if self.plan.elastic_counts().is_some() {
+            return Err(Error::param(
+                "checkpoint",
+                "the vulkan backend keeps the finite elements' forces and coarse level on the \
+                 device, and cannot save them yet (checkpoint neo-hookean on cpu or cpu-ref)",
             ));
         }
         Ok(Carried {
@@ -181,7 +190,8 @@ impl Backend for VulkanBackend {
 
     fn restore(&mut self, state: &State, carried: &Carried) -> Result<()> {
         let substeps = u64::from(self.plan.schedule.substeps);
-        if self.plan.schedule.warm_start || carried.steps % substeps != 0 {
+        let on_device = self.plan.schedule.warm_start || self.plan.elastic_counts().is_some();
+        if on_device || carried.steps % substeps != 0 {
             return Err(Error::param(
                 "checkpoint",
                 "it was not saved by the vulkan backend on this problem",

@@ -14,6 +14,7 @@
 mod buffers;
 mod coarse;
 mod colliders;
+mod elastic;
 mod frames;
 mod minres;
 mod options;
@@ -39,6 +40,7 @@ use crate::problem::Problem;
 use buffers::SimBuffers;
 pub use coarse::CoarseIndex;
 pub use colliders::{poses as collider_poses, static_data as collider_data};
+pub use elastic::ElasticData;
 pub use options::{EngineOptions, FRAMES_IN_FLIGHT, MAX_FRAMES_IN_FLIGHT};
 use passes::{Passes, Recorder};
 use plan::{EnginePlan, PlanCounts};
@@ -114,6 +116,8 @@ pub struct VulkanBackend {
     rest: Vec<DVec3>,
     /// Time step [s] (f64: the colliders' poses are computed on the host in f64).
     dt: f64,
+    /// Gravity's acceleration [m/s^2] (the finite elements' forces after a new state).
+    gravity: DVec3,
     /// The model's inverse masses and masses, the `w` of the uploaded positions and
     /// velocities ([`Backend::set_state`]).
     inv_mass: Vec<f64>,
@@ -195,11 +199,20 @@ impl VulkanBackend {
         options: &EngineOptions,
     ) -> Result<EnginePlan> {
         if problem.params.method == crate::params::Method::NeoHookean {
-            return Err(Error::param(
-                "method",
-                "neo-hookean runs on the cpu-ref and cpu backends; the vulkan engine does not run \
-                 the finite elements yet (use --backend cpu)",
-            ));
+            let unsupported = match (problem.params.contact, problem.bodies.is_some()) {
+                (crate::params::ContactMode::Split, _) => Some(("contact", "split contact")),
+                (_, true) => Some(("backend", "contact between bodies")),
+                _ => None,
+            };
+            if let Some((key, what)) = unsupported {
+                return Err(Error::param(
+                    key,
+                    format!(
+                        "the vulkan engine's finite elements do not run with {what} yet (use \
+                         --backend cpu for neo-hookean with it)"
+                    ),
+                ));
+            }
         }
         let depth = options.frames_in_flight.unwrap_or(FRAMES_IN_FLIGHT);
         if !(1..=MAX_FRAMES_IN_FLIGHT).contains(&depth) {
@@ -321,6 +334,7 @@ impl VulkanBackend {
                 false => model.positions.clone(),
             },
             dt: params.dt,
+            gravity: params.gravity,
             inv_mass: model.inv_mass.clone(),
             mass: model.mass.clone(),
             ctx,

@@ -21,9 +21,12 @@
 //! are the rest volumes (the local volume error needs them).
 
 mod anderson;
+#[cfg(test)]
+mod binding_tests;
 mod buffer;
 mod cost;
 mod counts;
+mod elastic;
 mod minres;
 mod pass;
 mod pass_of;
@@ -42,6 +45,7 @@ pub use cost::{profile as gpu_profile, GpuProfile, GPU_PROFILES};
 pub use counts::{
     grabbed_nodes, BodyCounts, GlobalCounts, PlanCounts, SweepOffsets, PEAK_BANDWIDTH,
 };
+pub use elastic::{elastic_workgroup, ElasticCounts, ELASTIC_PLANES, ELASTIC_STATE_WORDS};
 pub use minres::{MinresCounts, MINRES_PLANES, MINRES_STATE_BYTES};
 pub use pass::{volume_sum_pass, PassPlan, Variant};
 pub use workgroups::for_elements as workgroup_for_elements;
@@ -76,6 +80,8 @@ pub struct EnginePlan {
     /// One pass per stage of the schedule, in its order: the time step's (repeated
     /// `substeps` times), then the frame's.
     pub passes: Vec<PassPlan>,
+    /// The finite elements' sizes, when the plan runs them ([`Self::with_elastic`]).
+    pub elastic: Option<ElasticCounts>,
 }
 
 /// Invocations per workgroup of the global volume passes (at most; a smaller plan-wide size
@@ -109,7 +115,7 @@ impl EnginePlan {
             .volume_compliance
             .iter()
             .filter(|&&a| a > 0.0);
-        Ok(EnginePlan::with_bodies(
+        let plan = EnginePlan::with_bodies(
             PlanCounts {
                 compliant_tets: compliant.count() as u32,
                 ..PlanCounts::of(&problem.model)?
@@ -120,7 +126,14 @@ impl EnginePlan {
             &sweeps,
             problem.global.as_ref().map(GlobalCounts::of),
             problem.bodies.as_ref().map(BodyCounts::of),
-        ))
+        );
+        Ok(match plan.runs(PassKind::Elastic) {
+            true => {
+                let data = super::elastic::ElasticData::prepare(problem);
+                plan.with_elastic(data.counts)
+            }
+            false => plan,
+        })
     }
 
     /// The plan for a model of `counts` under `params`, with `workgroup_size` invocations per
@@ -215,6 +228,7 @@ impl EnginePlan {
             metrics,
             buffers,
             passes,
+            elastic: None,
         }
     }
 }
@@ -233,13 +247,18 @@ fn body_buffers(counts: PlanCounts, body: BodyCounts) -> Vec<BufferPlan> {
         (ContactSums, 16 * n),
     ]
     .into_iter()
-    .map(|(id, bytes)| BufferPlan {
+    .map(|(id, bytes)| device_only(id, bytes))
+    .collect()
+}
+
+/// Buffer `id` of `bytes` on the device alone (no readback, no per-frame upload).
+fn device_only(id: BufferId, bytes: u64) -> BufferPlan {
+    BufferPlan {
         id,
         bytes: alloc(bytes),
         readback_bytes: 0,
         upload_bytes: 0,
-    })
-    .collect()
+    }
 }
 
 /// Bytes of the divergence status (check.comp).

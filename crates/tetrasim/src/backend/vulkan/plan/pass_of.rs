@@ -40,7 +40,11 @@ impl PassPlan {
                 PassKind::Integrate
                 | PassKind::GlobalVolume
                 | PassKind::GlobalVolumeSum
-                | PassKind::SplitVelocity,
+                | PassKind::SplitVelocity
+                | PassKind::ElasticContacts
+                | PassKind::ElasticStart
+                | PassKind::Elastic
+                | PassKind::ElasticRigidPart,
                 _,
             ) if solve => Variant::Named("colliders"),
             (PassKind::SpringScatter, _) => Variant::Atomics,
@@ -92,6 +96,10 @@ impl PassPlan {
         if solve && stage.kind.has_floor_constant() {
             constants.extend([colliders, counts.grabbed]);
         }
+        // The finite elements' step checks the colliders (constants 2 and 3).
+        if solve && stage.kind == PassKind::Elastic {
+            constants = vec![floor, colliders, counts.grabbed];
+        }
         if stage.kind == PassKind::ContactMeasure && colliders > 0 {
             constants = vec![colliders];
         }
@@ -138,8 +146,9 @@ impl PassPlan {
             (Domain::Group, _) => constraints(stage.sweep),
             (Domain::Surface, Some(g)) => g.objects * g.chunks(global_workgroup) * global_workgroup,
             (Domain::Surface, None) => 0,
-            // MINRES's row passes: set with their constants below.
-            (Domain::Rows, _) => 0,
+            // MINRES's row passes: set with their constants below; the finite elements'
+            // workgroup passes with the coarse level's sizes (EnginePlan::with_elastic).
+            (Domain::Rows | Domain::Coarse, _) => 0,
         };
         // Block Gauss-Seidel: a stage of a blocked sweep (its constraints, the inversion
         // floor) runs one workgroup per block.

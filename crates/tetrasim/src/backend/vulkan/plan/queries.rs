@@ -54,8 +54,8 @@ impl EnginePlan {
         match pass.stage.repeat {
             Repeat::Substep | Repeat::AfterIterations => solves * self.schedule.substeps,
             Repeat::Minres => solves * self.schedule.substeps * self.schedule.minres,
-            Repeat::Iteration => {
-                let per_step = self.schedule.iterations * self.groups_of(pass)
+            r @ (Repeat::Iteration | Repeat::FirstIteration | Repeat::LastIteration) => {
+                let per_step = r.iterations_of(self.schedule.iterations) * self.groups_of(pass)
                     + match pass.stage.sweep {
                         // constraint_apply also follows every group of the restore sweeps.
                         None => self.schedule.restore_groups(),

@@ -105,17 +105,22 @@ impl EnginePlan {
             self.dispatches_per_frame()
         );
         // Each pass's predicted time per run and share of the frame on each modelled GPU.
-        let _ = write!(out, "{:<22} {:>6} {:>14}", "pass", "runs", "bytes per run");
+        let labels: Vec<String> = self.passes.iter().map(PassPlan::label).collect();
+        let width = labels.iter().map(String::len).max().unwrap_or(0).max(22);
+        let _ = write!(
+            out,
+            "{:<width$} {:>6} {:>14}",
+            "pass", "runs", "bytes per run"
+        );
         for gpu in GPU_PROFILES {
             let _ = write!(out, "   {} us per run, % of frame", gpu.name);
         }
         let _ = writeln!(out);
-        for p in &self.passes {
+        for (p, label) in self.passes.iter().zip(&labels) {
             let runs = self.runs_per_frame(p);
             let _ = write!(
                 out,
-                "{:<22} {:>6} {:>14}",
-                p.label(),
+                "{label:<width$} {:>6} {:>14}",
                 runs,
                 self.pass_bytes(p)
             );
@@ -195,7 +200,11 @@ impl EnginePlan {
                 let mut labels: Vec<String> = passes
                     .iter()
                     .filter(|p| p.stage.sweep == Some(index))
-                    .map(|p| p.label())
+                    .map(|p| match p.stage.repeat {
+                        Repeat::FirstIteration => format!("{} (first)", p.label()),
+                        Repeat::LastIteration => format!("{} (last)", p.label()),
+                        _ => p.label(),
+                    })
                     .collect();
                 labels.extend(shared.iter().cloned());
                 let text = match sweep.groups.len() {
@@ -266,14 +275,13 @@ impl EnginePlan {
                 ));
                 minres.clear();
             }
-            if !matches!(p.stage.repeat, Repeat::Iteration | Repeat::IterationEnd)
-                && !group.is_empty()
-            {
+            let iterates = p.stage.repeat.in_iterations() || p.stage.repeat == Repeat::IterationEnd;
+            if !iterates && !group.is_empty() {
                 out.push(self.iteration_label(&group, &after));
                 iteration = (std::mem::take(&mut group), std::mem::take(&mut after));
             }
             match p.stage.repeat {
-                Repeat::Iteration => group.push(p),
+                r if r.in_iterations() => group.push(p),
                 Repeat::IterationEnd => after.push(p.label()),
                 Repeat::Minres => minres.push(p.label()),
                 Repeat::Restore => out.push(self.restore_label(p, &iteration.0, &iteration.1)),

@@ -83,25 +83,28 @@ impl EnginePlan {
 
 /// Whether each invocation of `kind` works alone (no shared-memory reduction). MINRES's
 /// passes but its setup keep the row passes' workgroup (at most 256): common/minres.glsl
-/// declares the sums' shared arrays, and the node passes add their lanes'.
+/// declares the sums' shared arrays, and the node passes add their lanes'. The finite
+/// elements' passes keep theirs (`elastic_workgroup`): their scalar passes add the node
+/// passes' partials, one per workgroup.
 fn element_wise(kind: PassKind) -> bool {
-    !matches!(
-        kind,
-        PassKind::GlobalVolumePrepare
-            | PassKind::GlobalVolumeSum
-            | PassKind::GlobalVolume
-            | PassKind::Check
-            | PassKind::VolumeSum
-            | PassKind::ContactScan
-            | PassKind::AndersonSum
-            | PassKind::AndersonMix
-            | PassKind::MinresRows
-            | PassKind::MinresNodes
-            | PassKind::MinresProduct
-            | PassKind::MinresNext
-            | PassKind::MinresFinish
-            | PassKind::MinresForces
-    )
+    !kind.is_elastic()
+        && !matches!(
+            kind,
+            PassKind::GlobalVolumePrepare
+                | PassKind::GlobalVolumeSum
+                | PassKind::GlobalVolume
+                | PassKind::Check
+                | PassKind::VolumeSum
+                | PassKind::ContactScan
+                | PassKind::AndersonSum
+                | PassKind::AndersonMix
+                | PassKind::MinresRows
+                | PassKind::MinresNodes
+                | PassKind::MinresProduct
+                | PassKind::MinresNext
+                | PassKind::MinresFinish
+                | PassKind::MinresForces
+        )
 }
 
 #[cfg(test)]

@@ -1,20 +1,21 @@
-#version 460
-// Pass `elastic_scalars` (finite elements, one workgroup; docs/GPU.md, "Finite elements on
-// the GPU"): the node passes' partials added in workgroup order (the same total whichever
-// workgroup finished last), then the conjugate gradients' scalars. Variant `start`: r . z
-// of the linearisation (done if not positive). Variant `alpha`: the curvature p . A p and
-// the step alpha = r . z / p . A p (done at non-positive curvature), and whether it goes
-// beyond the trusted strain (CHECK). Variant `beta`: the new r . z, beta = its ratio to the
-// last (done if not positive), and the largest strain cleared for the next product.
-// Variant `backtrack` (after `elastic_potential`, whose PARTIALS workgroups left a partial
-// per step tried): cpu-ref's `backtrack` on the potential's changes: the first step tried
-// that lowers the potential is taken, and the Newton step relinearised unless it fell by
-// TRUSTED_RATIO of the quadratic model's prediction; a halving within the trust is taken
-// unchecked and relinearised; none: done.
-// @variant start: START
-// @variant alpha: ALPHA
-// @variant beta: BETA
-// @variant backtrack: BACKTRACK
+// The body of the finite elements' scalar passes, one workgroup each (docs/GPU.md,
+// "Finite elements on the GPU"): the node passes' partials added in workgroup order (the
+// same total whichever workgroup finished last), then the conjugate gradients' scalars in
+// ElasticState. Defines (one of):
+//   BEGIN (`elastic_begin`, after `elastic_prolong`): at a linearisation (the step's first
+//     iteration, or RELINEARISE) r . z begins the Newton step's solve (done if not
+//     positive; beta 0, so that `elastic_direction` takes z; the flags cleared; at the
+//     step's first iteration the step counter advanced); otherwise, unless done, the new
+//     r . z and beta = its ratio to the last (done if not positive). The largest strain is
+//     cleared for the next product either way.
+//   ALPHA (`elastic_alpha`): the curvature p . A p and the step alpha = r . z / p . A p
+//     (done at non-positive curvature), and whether it goes beyond the trusted strain
+//     (CHECK).
+//   BACKTRACK (`elastic_backtrack`, after `elastic_potential`, whose PARTIALS workgroups
+//     left a partial per step tried): cpu-ref's `backtrack` on the potential's changes: the
+//     first step tried that lowers the potential is taken, and the Newton step relinearised
+//     unless it fell by TRUSTED_RATIO of the quadratic model's prediction; a halving within
+//     the trust is taken unchecked and relinearised; none: done.
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/newton.glsl"
@@ -80,12 +81,23 @@ void main() {
         return;
     }
 #endif
-#ifdef START
-    state[ELASTIC_STATE_RZ] = total;
-    state_u[ELASTIC_STATE_DONE] = total > 0.0 ? 0u : 1u;
+#ifdef BEGIN
+    if (elastic_linearises()) {
+        // A Newton step begins: the first direction is z (beta 0).
+        state[ELASTIC_STATE_RZ] = total;
+        state[ELASTIC_STATE_BETA] = 0.0;
+        state_u[ELASTIC_STATE_DONE] = total > 0.0 ? 0u : 1u;
+        state_u[ELASTIC_STATE_CHECK] = 0u;
+        state_u[ELASTIC_STATE_RELINEARISE] = 0u;
+        if (pc.iteration == 0u) {
+            state_u[ELASTIC_STATE_STEP] += 1u;
+        }
+    } else if (state_u[ELASTIC_STATE_DONE] == 0u) {
+        state[ELASTIC_STATE_BETA] = total / state[ELASTIC_STATE_RZ];
+        state[ELASTIC_STATE_RZ] = total;
+        state_u[ELASTIC_STATE_DONE] = total > 0.0 ? 0u : 1u;
+    }
     state_u[ELASTIC_STATE_STRAIN] = 0u;
-    state_u[ELASTIC_STATE_CHECK] = 0u;
-    state_u[ELASTIC_STATE_RELINEARISE] = 0u;
 #endif
 #ifdef ALPHA
     if (state_u[ELASTIC_STATE_DONE] == 0u) {
@@ -99,13 +111,5 @@ void main() {
             state_u[ELASTIC_STATE_DONE] = 1u;
         }
     }
-#endif
-#ifdef BETA
-    if (state_u[ELASTIC_STATE_DONE] == 0u) {
-        state[ELASTIC_STATE_BETA] = total / state[ELASTIC_STATE_RZ];
-        state[ELASTIC_STATE_RZ] = total;
-        state_u[ELASTIC_STATE_DONE] = total > 0.0 ? 0u : 1u;
-    }
-    state_u[ELASTIC_STATE_STRAIN] = 0u;
 #endif
 }

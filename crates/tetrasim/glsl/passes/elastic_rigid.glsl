@@ -1,21 +1,19 @@
-#version 460
-// Pass `elastic_rigid` (finite elements, after the last conjugate-gradient iteration; one
-// workgroup per object; docs/GPU.md, "Finite elements on the GPU"): the rigid part of each
-// free object's elastic forces (what the unconverged residual leaves) taken off them, so
-// that they conserve momentum: whole on a body nothing holds, as far as it lowers the step's
-// quadratic model on one a contact holds. Variant `part`: the rigid part (RigidPart::of
-// over the nodes at the step's start, a held node weighing nothing, the elastic force so
-// far plus the iteration's increment SUM; about the object's first node, so that the second
-// moments do not cancel in float) into ElasticObjects, and the moves the correction would
-// make, -force w dt^2, into P (zero on pinned objects) for `elastic_product#correction` and
-// `elastic_curvature#correction`. Variant `apply`: the correction's length
-// (correction_length of r . d and d . A d; 1 where nothing holds the object) and SUM less
-// that share of the rigid part's force. The twin of cpu-ref's `elastic_group` and
-// `correction_length` (src/backend/cpu/reference/elastic.rs).
-// Variant `part_colliders`: the colliders' force so far is not elastic either.
-// @variant part: PART
-// @variant part_colliders: PART COLLIDERS_ON
-// @variant apply: APPLY
+// The body of the passes `elastic_rigid_part` and `elastic_rigid_apply` (finite elements,
+// after the last conjugate-gradient iteration; one workgroup per object; docs/GPU.md,
+// "Finite elements on the GPU"): the rigid part of each free object's elastic forces (what
+// the unconverged residual leaves) taken off them, so that they conserve momentum: whole on
+// a body nothing holds, as far as it lowers the step's quadratic model on one a contact
+// holds. With PART (`elastic_rigid_part`): the rigid part (RigidPart::of over the nodes at
+// the step's start, a held node weighing nothing, the elastic force so far plus the
+// iteration's increment SUM; about the object's first node, so that the second moments do
+// not cancel in float) into ElasticObjects, and the moves the correction would make,
+// -force w dt^2, into P (zero on pinned objects) for `elastic_correction_product` and
+// `elastic_correction_curvature`. With APPLY (`elastic_rigid_apply`): the correction's
+// length (correction_length of r . d and d . A d; 1 where nothing holds the object) and SUM
+// less that share of the rigid part's force, into SUM and the node's contribution slot.
+// The twin of cpu-ref's `elastic_group` and `correction_length`
+// (src/backend/cpu/reference/elastic.rs). With COLLIDERS_ON: the colliders' force so far
+// is not elastic either.
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "common/workgroup_sum.glsl"
@@ -28,6 +26,9 @@ layout(std430, set = 0, binding = B_ELASTIC_NODES) restrict buffer ElasticNodesB
 layout(std430, set = 0, binding = B_ELASTIC_OBJECTS) restrict buffer ElasticObjectsU { uint objects_u[]; };
 layout(std430, set = 0, binding = B_ELASTIC_OBJECTS) restrict buffer ElasticObjectsF { vec4 objects[]; };
 
+#ifdef APPLY
+layout(std430, set = 0, binding = B_CONTRIBUTIONS) writeonly restrict buffer Contributions { vec4 contributions[]; };
+#endif
 #ifdef COLLIDERS_ON
 layout(std430, set = 0, binding = B_COLLIDER_CONTACTS) readonly restrict buffer ColliderContacts { vec4 collider_contacts[]; };
 #endif
@@ -149,6 +150,7 @@ void main() {
     for (uint i = first + me; i < end; i += lanes) {
         vec3 sum = plane(ELASTIC_PLANE_SUM, i) - rigid_force(i) * length;
         nodes[ELASTIC_PLANE_SUM * pc.node_count + i] = vec4(sum, 0.0);
+        contributions[pc.slot_first + i] = vec4(sum, 0.0);
     }
 #endif
 }
