@@ -1,10 +1,11 @@
-//! The finite elements' coarse level on the GPU (passes `elastic_coarse_factor` and
-//! `elastic_coarse_solve`, one workgroup each, f32) equals its definition,
+//! The finite elements' coarse level on the GPU (passes `elastic_coarse_factor`, one
+//! workgroup, `elastic_coarse_inverse`, a column per invocation, and `elastic_coarse_solve`,
+//! the inverse's product, a row per invocation; f32) equals its definition,
 //! `CoarseSpace::assemble` and `CoarseSpace::solve` in f64, on the coarse matrix of a bent
 //! block of 2541 nodes (40 aggregates, 240 unknowns): within 1e-4 of the correction's size at
-//! the default step on rubber (measured 9.4e-7), within 1e-2 for a material of 1 GPa at
-//! ten times the step, where the stiffness shapes the matrix (measured 1.4e-3: what an f32
-//! factor of it allows). The second brick of `vulkan`'s finite elements (docs/GPU.md,
+//! the default step on rubber (measured 8.1e-7; 9.4e-7 with the triangular solves), within
+//! 1e-2 for a material of 1 GPa at ten times the step, where the stiffness shapes the matrix
+//! (measured 1.36e-3: what an f32 factor of it allows). The second brick of `vulkan`'s finite elements (docs/GPU.md,
 //! "Finite elements on the GPU").
 
 mod common;
@@ -67,15 +68,17 @@ fn reference(e: f64, dt: f64, rhs: &[Vec<f64>]) -> (usize, Vec<f64>, Vec<Vec<f64
 /// The GPU's solutions of `rhs` with the matrix `columns` factored there, validation on.
 fn on_gpu(n: usize, columns: &[f64], rhs: &[Vec<f64>]) -> Vec<Vec<f64>> {
     let ctx = twin::context();
+    // The factor in place, its flags, then the inverse.
     let mut matrix: Vec<f32> = columns.iter().map(|&x| x as f32).collect();
-    matrix.extend(std::iter::repeat_n(0.0f32, n));
+    matrix.extend(std::iter::repeat_n(0.0f32, n + n * n));
     let vectors: Vec<f32> = rhs
         .iter()
         .flat_map(|b| b[..n].iter().map(|&x| x as f32))
         .collect();
     let coarse = Buffer::with_data(&ctx, "coarse matrix", bytemuck::cast_slice(&matrix)).unwrap();
     let bytes = 4 * n as u64;
-    let vector = Buffer::device(&ctx, "coarse vector", bytes).unwrap();
+    // The right-hand side, then the solution.
+    let vector = Buffer::device(&ctx, "coarse vector", 2 * bytes).unwrap();
     let staged = Buffer::with_data(&ctx, "coarse rhs", bytemuck::cast_slice(&vectors)).unwrap();
     let total = bytes * rhs.len() as u64;
     let readback = Buffer::readback(&ctx, "coarse readback", total).unwrap();
@@ -93,31 +96,15 @@ fn on_gpu(n: usize, columns: &[f64], rhs: &[Vec<f64>]) -> Vec<Vec<f64>> {
         (numbers[2], &state),
     ]);
     let constants = [n as u32];
-    let (factor, solve) = (
-        file::PASSES_ELASTIC_COARSE_FACTOR_COMP,
-        file::PASSES_ELASTIC_COARSE_SOLVE_COMP,
-    );
-    let factor = Kernel::with_constants(
-        &ctx,
-        "elastic_coarse_factor",
-        factor,
-        &layout,
-        256,
-        &constants,
-    )
-    .unwrap();
-    let solve = Kernel::with_constants(
-        &ctx,
-        "elastic_coarse_solve",
-        solve,
-        &layout,
-        256,
-        &constants,
-    )
-    .unwrap();
+    let kernel = |key: &str| Kernel::with_constants(&ctx, key, key, &layout, 256, &constants);
+    let factor = kernel(file::PASSES_ELASTIC_COARSE_FACTOR_COMP).unwrap();
+    let inverse = kernel(file::PASSES_ELASTIC_COARSE_INVERSE_COMP).unwrap();
+    let solve = kernel(file::PASSES_ELASTIC_COARSE_SOLVE_COMP).unwrap();
     let push = PushConstants::zeroed();
     one_shot(&ctx, |cmd| {
         factor.record(cmd, &push, 1);
+        barrier(&ctx, cmd, &[&coarse], Access::COMPUTE, Access::COMPUTE);
+        inverse.record(cmd, &push, n as u32);
         barrier(&ctx, cmd, &[&coarse], Access::COMPUTE, Access::COMPUTE);
         for k in 0..rhs.len() as u64 {
             twin::copy(&ctx, cmd, &staged, &vector, [k * bytes, 0], bytes);
@@ -128,7 +115,7 @@ fn on_gpu(n: usize, columns: &[f64], rhs: &[Vec<f64>]) -> Vec<Vec<f64>> {
                 Access::TRANSFER_WRITE,
                 Access::COMPUTE,
             );
-            solve.record(cmd, &push, 1);
+            solve.record(cmd, &push, n as u32);
             barrier(
                 &ctx,
                 cmd,
@@ -136,7 +123,7 @@ fn on_gpu(n: usize, columns: &[f64], rhs: &[Vec<f64>]) -> Vec<Vec<f64>> {
                 Access::COMPUTE,
                 Access::TRANSFER_READ,
             );
-            twin::copy(&ctx, cmd, &vector, &readback, [0, k * bytes], bytes);
+            twin::copy(&ctx, cmd, &vector, &readback, [bytes, k * bytes], bytes);
             barrier(
                 &ctx,
                 cmd,

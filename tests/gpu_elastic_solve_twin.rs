@@ -312,6 +312,10 @@ fn compare_iterations(name: &str, s: Scene) -> usize {
             gpu.pass(file::PASSES_ELASTIC_COARSE_FACTOR_COMP, &[unknowns]),
             1,
         ),
+        (
+            gpu.pass(file::PASSES_ELASTIC_COARSE_INVERSE_COMP, &[unknowns]),
+            unknowns as usize,
+        ),
     ];
     let iteration = [
         (
@@ -320,7 +324,7 @@ fn compare_iterations(name: &str, s: Scene) -> usize {
         ),
         (
             gpu.pass(file::PASSES_ELASTIC_COARSE_SOLVE_COMP, &[unknowns]),
-            1,
+            unknowns as usize,
         ),
         (gpu.pass(file::PASSES_ELASTIC_PROLONG_COMP, &coarse), n),
         (gpu.pass(file::PASSES_ELASTIC_BEGIN_COMP, &[partials]), 1),

@@ -45,11 +45,11 @@ impl Gpu {
         let partials = n.max(t).div_ceil(WORKGROUP as usize);
         let state = vec![0u32; 16 + 9 * partials];
         // The coarse level at the first linearisation, its matrix's columns as the
-        // reference assembles them (with the flags' slots after).
+        // reference assembles them (with the flags' slots and the inverse's after).
         let (_, columns) = coarse_level(s);
         let mut matrix: Vec<f32> = columns.iter().map(|&x| x as f32).collect();
         let unknowns = 6 * nodes.aggregates.len();
-        matrix.extend(std::iter::repeat_n(0.0f32, unknowns));
+        matrix.extend(std::iter::repeat_n(0.0f32, unknowns + unknowns * unknowns));
         let aggregates = &nodes.aggregates;
         // The colliders at the step from t = 0 (a placeholder of each where there is none).
         let contacts: Vec<[f32; 4]> = s.contacts.iter().map(|&c| vec4(c, 0.0)).collect();
@@ -104,7 +104,7 @@ impl Gpu {
             ),
             (
                 binding::COARSE_VECTOR,
-                empty("coarse vector", 4 * unknowns.max(1)),
+                empty("coarse vector", 8 * unknowns.max(1)),
             ),
             up(
                 binding::COARSE_AGGREGATES,

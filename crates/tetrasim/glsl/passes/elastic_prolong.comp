@@ -2,8 +2,8 @@
 // Pass `elastic_prolong` (finite elements' preconditioner, per node; docs/GPU.md, "Finite
 // elements on the GPU"): the preconditioned residual Z = the inverse diagonal block times R
 // plus, for a node of an aggregate not touching a contact, the coarse correction P u
-// (`elastic_coarse_solve`'s u: its aggregate's translation plus its turn x (x - centre) /
-// size), and its share of r . z as the workgroup's partial, at a linearisation or while
+// (`elastic_coarse_solve`'s u, CoarseVector's second half: its aggregate's translation plus
+// its turn x (x - centre) / size), and its share of r . z as the workgroup's partial, at a linearisation or while
 // the solve goes on (`elastic_preconditions`). The twin of cpu-ref's `precondition`
 // (src/schedule/family/elastic.rs, ElasticNodes::precondition). Without aggregates
 // (AGGREGATES 0) the block-Jacobi term alone.
@@ -31,8 +31,10 @@ void main() {
         uint g = AGGREGATES > 0u ? aggregate_of(i) : NO_AGGREGATE;
         if (g != NO_AGGREGATE && nodes[ELASTIC_PLANE_HELD * n + i].w == 0.0) {
             vec4 centre = modes[g];
-            vec3 push = vec3(vector[6u * g], vector[6u * g + 1u], vector[6u * g + 2u]);
-            vec3 turn = vec3(vector[6u * g + 3u], vector[6u * g + 4u], vector[6u * g + 5u]);
+            // `elastic_coarse_solve`'s u, after the restricted residual.
+            uint u = 6u * AGGREGATES + 6u * g;
+            vec3 push = vec3(vector[u], vector[u + 1u], vector[u + 2u]);
+            vec3 turn = vec3(vector[u + 3u], vector[u + 4u], vector[u + 5u]);
             z += push + cross(turn, nodes[ELASTIC_PLANE_AT * n + i].xyz - centre.xyz) / centre.w;
         }
         nodes[ELASTIC_PLANE_Z * n + i] = vec4(z, 0.0);

@@ -11,8 +11,8 @@
 //!                                                     after a step beyond the trust): where
 //!                                                     the nodes end, the stiffness, the
 //!                                                     Newton rows
-//! elastic_coarse_{modes,tets,nodes,gather,factor}     first iteration, every tenth step:
-//!                                                     the coarse level
+//! elastic_coarse_{modes,tets,nodes,gather,factor,     first iteration, every tenth step:
+//! inverse}                                            the coarse level and its inverse
 //! elastic_restrict, elastic_coarse_solve,             the preconditioner (at a
 //! elastic_prolong, elastic_begin, elastic_direction   linearisation or while the solve goes
 //!                                                     on), r . z, beta, the direction
@@ -174,6 +174,12 @@ pub(super) fn stages(sweep: usize) -> Vec<Stage> {
         ),
         stage(
             ElasticCoarseFactor,
+            FirstIteration,
+            Coarse,
+            vec![(CoarseMatrix, ReadWrite), state],
+        ),
+        stage(
+            ElasticCoarseInverse,
             FirstIteration,
             Coarse,
             vec![(CoarseMatrix, ReadWrite), state],

@@ -68,10 +68,13 @@ pub enum PassKind {
     ElasticCoarseGather,
     /// The coarse matrix's Cholesky factor, in one workgroup.
     ElasticCoarseFactor,
+    /// The coarse matrix's inverse from its factor, a column per invocation.
+    ElasticCoarseInverse,
     /// Finite elements' preconditioner, each iteration: the residual restricted to the coarse
     /// level (a workgroup per aggregate).
     ElasticRestrict,
-    /// The coarse level's solve, in one workgroup.
+    /// The coarse level's solve: the inverse times the restricted residual, a row per
+    /// invocation.
     ElasticCoarseSolve,
     /// The preconditioned residual: block-Jacobi plus the coarse correction, per node.
     ElasticProlong,
@@ -179,7 +182,7 @@ pub enum PassKind {
 
 impl PassKind {
     /// Every pass, in execution order.
-    pub const ALL: [PassKind; 56] = [
+    pub const ALL: [PassKind; 57] = [
         PassKind::ClampDrive,
         PassKind::SpringScatter,
         PassKind::SpringGather,
@@ -201,6 +204,7 @@ impl PassKind {
         PassKind::ElasticCoarseNodes,
         PassKind::ElasticCoarseGather,
         PassKind::ElasticCoarseFactor,
+        PassKind::ElasticCoarseInverse,
         PassKind::ElasticRestrict,
         PassKind::ElasticCoarseSolve,
         PassKind::ElasticProlong,
@@ -262,6 +266,7 @@ impl PassKind {
             PassKind::ElasticCoarseNodes => "elastic_coarse_nodes",
             PassKind::ElasticCoarseGather => "elastic_coarse_gather",
             PassKind::ElasticCoarseFactor => "elastic_coarse_factor",
+            PassKind::ElasticCoarseInverse => "elastic_coarse_inverse",
             PassKind::ElasticRestrict => "elastic_restrict",
             PassKind::ElasticCoarseSolve => "elastic_coarse_solve",
             PassKind::ElasticProlong => "elastic_prolong",
@@ -324,6 +329,7 @@ impl PassKind {
             PassKind::ElasticCoarseNodes => file::PASSES_ELASTIC_COARSE_NODES_COMP,
             PassKind::ElasticCoarseGather => file::PASSES_ELASTIC_COARSE_GATHER_COMP,
             PassKind::ElasticCoarseFactor => file::PASSES_ELASTIC_COARSE_FACTOR_COMP,
+            PassKind::ElasticCoarseInverse => file::PASSES_ELASTIC_COARSE_INVERSE_COMP,
             PassKind::ElasticRestrict => file::PASSES_ELASTIC_RESTRICT_COMP,
             PassKind::ElasticCoarseSolve => file::PASSES_ELASTIC_COARSE_SOLVE_COMP,
             PassKind::ElasticProlong => file::PASSES_ELASTIC_PROLONG_COMP,

@@ -139,9 +139,8 @@ fn elastic_pass(
         ElasticCoarseTets => (if a > 0 { t } else { 0 }, coarse),
         ElasticCoarseNodes => (e.members, coarse),
         ElasticCoarseGather => (a * a * wg, coarse),
-        ElasticCoarseFactor | ElasticCoarseSolve => {
-            (if a > 0 { one } else { 0 }, Some(vec![unknowns]))
-        }
+        ElasticCoarseFactor => (if a > 0 { one } else { 0 }, Some(vec![unknowns])),
+        ElasticCoarseInverse | ElasticCoarseSolve => (e.unknowns() as u32, Some(vec![unknowns])),
         ElasticProlong => (n, coarse),
         ElasticBegin | ElasticAlpha => (one, Some(vec![node_partials])),
         ElasticBacktrack => (one, Some(vec![potential_partials])),
@@ -166,8 +165,8 @@ fn elastic_buffers(counts: PlanCounts, e: ElasticCounts, wg: u32) -> Vec<BufferP
         (ElasticCorners, 64 * t),
         (ElasticNodes, 16 * ELASTIC_PLANES * n),
         (ElasticState, 4 * state),
-        (CoarseMatrix, 4 * (u * u + u)),
-        (CoarseVector, 4 * u),
+        (CoarseMatrix, 4 * (2 * u * u + u)),
+        (CoarseVector, 4 * 2 * u),
         (CoarseAggregates, 4 * (a + 1 + u64::from(e.members) + n)),
         (CoarseModes, 16 * a),
         (CoarseIndex, 4 * u64::from(e.index_words)),
