@@ -35,7 +35,8 @@ cp "$t/release/tetrasim" "$t/release/tetprep" "$b/bin/"
 tests=(gpu_lifecycle gpu_matches_cpu gpu_validation determinism gpu_frames_in_flight gpu_free_fall
        atomics_paths_agree gpu_timing gpu_warm_start backends_match_reference_settings gpu_colliders
        gpu_body_contact anderson inversion block_gauss_seidel gpu_minres gpu_descriptor_sets
-       gpu_clamps gpu_grabs gpu_cli render extremes)
+       gpu_clamps gpu_grabs gpu_cli render extremes gpu_finite_elements squash_recovery forces_out
+       gpu_coarse_twin gpu_elastic_solve_twin)
 args=(); for n in "${tests[@]}"; do [ -f "tests/$n.rs" ] && args+=(--test "$n"); done
 cargo test --release --no-run "${args[@]}" 2>&1 | sed -n 's/.*Executable tests\/\([a-z_0-9]*\)\.rs (\(.*\))/\1 \2/p' |
   while read -r name path; do cp "$path" "$b/tests/$name"; done

@@ -3,9 +3,11 @@
 //! hanging at rest from pins at its top is held by its weight, and stretched by
 //! `rho g L^2 / (2 E)` (the elongation of a bar under its own weight, nu = 0 so that the
 //! pinned top does not hold its section); a body resting on the floor or on a fixed
-//! collider is held by its weight there.
+//! collider is held by its weight there. On `cpu-ref`, `cpu` and `vulkan` (lavapipe, the
+//! validation layer on: its `reactions` pass).
 
 mod common;
+mod gpu_support;
 
 use common::{cpu_backend, material_params, unplaced};
 use glam::DVec3;
@@ -29,6 +31,23 @@ fn params(method: Method, nu: f64) -> SimParams {
 /// A bar 0.1 x `length` x 0.1 m along Y standing on y = 0, in cells of 0.05 m.
 fn bar(length: f64) -> tetrasim::mesh::TetMesh {
     box_tets(DVec3::ZERO, 0.05, [2, (length / 0.05).round() as usize, 2])
+}
+
+/// The backends measured: both CPU backends, and `vulkan` where there is a device.
+fn backends() -> Vec<&'static str> {
+    let mut out = vec!["cpu-ref", "cpu"];
+    if gpu_support::vulkan_available() {
+        out.push("vulkan");
+    }
+    out
+}
+
+/// Backend `name` of `model` with `params`.
+fn backend(model: &Model, params: &SimParams, name: &str) -> Box<dyn Backend> {
+    match name {
+        "vulkan" => Box::new(gpu_support::validated(model, params)),
+        _ => cpu_backend(model, params, name),
+    }
 }
 
 /// Runs until no node moves faster than 1 mm/s (checked every 100 frames, at most 6000).
@@ -65,12 +84,12 @@ fn hanging(method: Method, backend: &str) -> (DVec3, f64) {
         .pinned_in_box(DVec3::new(-1.0, 0.6 - 1e-9, -1.0), DVec3::splat(1.0))
         .build()
         .unwrap();
-    let mut solver = cpu_backend(&model, &params, backend);
+    let mut solver = self::backend(&model, &params, backend);
     let frames = settle(solver.as_mut());
     let pin = solver
         .reactions()
         .unwrap()
-        .expect("cpu backends measure")
+        .expect("every backend measures")
         .pin
         / weight(&model);
     let state = solver.state().unwrap();
@@ -91,7 +110,7 @@ fn hanging(method: Method, backend: &str) -> (DVec3, f64) {
 #[test]
 fn a_hanging_bar_is_held_by_its_weight_and_stretched_as_the_closed_form_says() {
     let elongation = DENSITY * G * 0.6 * 0.6 / (2.0 * E);
-    for backend in ["cpu-ref", "cpu"] {
+    for backend in backends() {
         let (pin, drop) = hanging(Method::NeoHookean, backend);
         assert!(
             (pin.y - 1.0).abs() < 0.01,
@@ -116,6 +135,13 @@ fn springs_hang_from_their_pins_by_their_weight_but_miss_the_stretch() {
     let elongation = DENSITY * G * 0.6 * 0.6 / (2.0 * E);
     let (pin, drop) = hanging(Method::Volume, "cpu");
     assert!((pin.y - 1.0).abs() < 0.01, "pin force {pin} of the weight");
+    if gpu_support::vulkan_available() {
+        let (pin, _) = hanging(Method::Volume, "vulkan");
+        assert!(
+            (pin.y - 1.0).abs() < 0.01,
+            "vulkan: pin force {pin} of the weight"
+        );
+    }
     assert!(
         (drop / elongation - 1.0).abs() > 0.1,
         "the springs came within 10 % of the closed form: {drop} m of {elongation} m"
@@ -126,7 +152,7 @@ fn springs_hang_from_their_pins_by_their_weight_but_miss_the_stretch() {
 /// carries the weight, the pins nothing.
 #[test]
 fn a_resting_body_is_held_by_the_floor_or_the_collider_it_rests_on() {
-    for backend in ["cpu-ref", "cpu"] {
+    for backend in backends() {
         for on_collider in [false, true] {
             let mut params = params(Method::NeoHookean, 0.3);
             params.floor = !on_collider;
@@ -146,7 +172,7 @@ fn a_resting_body_is_held_by_the_floor_or_the_collider_it_rests_on() {
                 };
                 model = model.with_colliders([Collider::new(slab, pose)]).unwrap();
             }
-            let mut solver = cpu_backend(&model, &params, backend);
+            let mut solver = self::backend(&model, &params, backend);
             settle(solver.as_mut());
             let r = solver.reactions().unwrap().unwrap();
             let support = match on_collider {

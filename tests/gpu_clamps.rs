@@ -3,7 +3,9 @@
 //! `a_clamp_follows_its_keyframes_exactly_and_drags_the_body`), validation layer on: every
 //! clamped node ends every frame on its target, the body is dragged up, and the run matches
 //! `cpu-ref` per frame (volume) and at the end (positions) within the backends' tolerances
-//! (tests/gpu_matches_cpu.rs). Without `clamp_drive` the clamped nodes would not move.
+//! (tests/gpu_matches_cpu.rs), and so does the force the clamp exerts (forces out, the
+//! `reactions` pass: within 1e-3 of its largest). Without `clamp_drive` the clamped nodes
+//! would not move.
 
 mod common;
 mod gpu_support;
@@ -64,9 +66,14 @@ fn a_clamp_follows_its_keyframes_exactly_on_the_gpu_and_drags_the_body() {
     let mut reference = ReferenceBackend::new(&model, &params).unwrap();
     let mut worst_off: f64 = 0.0;
     let mut worst_volume: f64 = 0.0;
+    let (mut worst_force, mut largest_force) = (0.0f64, 0.0f64);
     for frame in 1..=60u32 {
         gpu.step_frame().unwrap();
         reference.step_frame().unwrap();
+        let force = |r: Option<tetrasim::backend::Reactions>| r.expect("measured").clamps[0];
+        let want = force(reference.reactions().unwrap());
+        worst_force = worst_force.max((force(gpu.reactions().unwrap()) - want).length());
+        largest_force = largest_force.max(want.length());
         let got = 100.0 * gpu.volume().unwrap().volume / rest;
         let want = 100.0 * reference.volume().unwrap().volume / rest;
         worst_volume = worst_volume.max((got - want).abs());
@@ -86,8 +93,14 @@ fn a_clamp_follows_its_keyframes_exactly_on_the_gpu_and_drags_the_body() {
     let diag = model.bounds_diagonal();
     println!(
         "clamp: worst clamped node off its target {worst_off:.2e} m, volume difference \
-         {worst_volume:.2e} points, final positions {:.2e} of the diagonal",
-        worst / diag
+         {worst_volume:.2e} points, final positions {:.2e} of the diagonal, its force within \
+         {:.2e} of its largest ({largest_force:.3} N)",
+        worst / diag,
+        worst_force / largest_force
+    );
+    assert!(
+        worst_force <= 1e-3 * largest_force && largest_force > 0.0,
+        "the clamp's force is {worst_force} N off the reference's (largest {largest_force} N)"
     );
     assert!(worst_volume <= 1e-3, "volume off by {worst_volume} points");
     assert!(

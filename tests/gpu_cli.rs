@@ -101,7 +101,7 @@ fn vulkan_run_reports_device_atomics_and_pass_times() {
     assert_eq!(device, tetrasim::gpu::list_devices().unwrap()[0].name);
     let passes = r.passes.as_ref().unwrap();
     // In execution order: the springs, the volume constraints and their application, then
-    // the integration, the divergence check and the volume measure.
+    // the integration, the divergence check, the volume measure and the forces out.
     let names: Vec<&str> = passes.iter().map(|p| p.name.as_str()).collect();
     assert_eq!(
         names,
@@ -111,7 +111,8 @@ fn vulkan_run_reports_device_atomics_and_pass_times() {
             "constraint_apply",
             "integrate",
             "check",
-            "volume_sum"
+            "volume_sum",
+            "reactions"
         ]
     );
     assert!(passes.iter().all(|p| p.ms_per_frame > 0.0), "{passes:?}");

@@ -138,27 +138,31 @@ fn springs_only_and_volume_with_floor_plan_differently() {
             "10 x (volume, constraint_apply#sums[floor])",
             "integrate[floor]",
             "check",
-            "volume_sum"
+            "volume_sum",
+            "reactions"
         ]
     );
     // The Jacobi volume scene adds constraint sums (16 B/node), degrees (4 B/node), the
-    // volume compliances and the volume multipliers (4 B/tet each), and copies the partials (16 B per workgroup) every
-    // frame; both have the rest volumes and the spring damping.
+    // volume compliances and the volume multipliers (4 B/tet each), and copies the partials
+    // (16 B per workgroup) every frame; with its records, the forces out's inputs (32 B/node,
+    // a 4-byte placeholder in the springs' scene, which has no records), each node's clamp
+    // (4 B) and their one workgroup's sum, copied too; both have the rest volumes and the
+    // spring damping.
     let (n, t) = (27u64, 48u64);
     assert_eq!(
         volume.device_bytes() - springs.device_bytes(),
-        16 * n + 4 * n + 4 * t + 4 * t
+        16 * n + 4 * n + 4 * t + 4 * t + (32 * n - 4) + 4 * n + 16
     );
     assert_eq!(
         (springs.readback_bytes(), volume.readback_bytes()),
-        (16, 16 + 16)
+        (16, 16 + 16 + 16)
     );
     assert_eq!(
         (
             springs.dispatches_per_frame(),
             volume.dispatches_per_frame()
         ),
-        (3, 1 + 20 + 1 + 1 + 1)
+        (3, 1 + 20 + 1 + 1 + 1 + 1)
     );
     assert!(volume.bytes_per_frame() > 5 * springs.bytes_per_frame());
 
@@ -180,12 +184,13 @@ fn springs_only_and_volume_with_floor_plan_differently() {
             ),
             "integrate[floor]".into(),
             "check".into(),
-            "volume_sum".into()
+            "volume_sum".into(),
+            "reactions".into()
         ]
     );
     assert_eq!(
         gs.dispatches_per_frame() as u64,
-        1 + 1 + 10 * (2 * k + 2) + 1 + 1 + 1
+        1 + 1 + 10 * (2 * k + 2) + 1 + 1 + 1 + 1
     );
     let global = gs.global.unwrap();
     assert_eq!((global.objects, global.nodes), (1, 26));

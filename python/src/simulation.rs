@@ -133,8 +133,8 @@ impl Simulation {
         let name = backend.name();
         backend.reactions().map_err(to_py)?.ok_or_else(|| {
             PyRuntimeError::new_err(format!(
-                "the {name} backend does not measure the forces pins and colliders exert yet; \
-                 run on backend=\"cpu\" or \"cpu-ref\""
+                "the {name} backend did not measure the forces pins and colliders exert (it \
+                 measures them with per-frame metrics)"
             ))
         })
     }

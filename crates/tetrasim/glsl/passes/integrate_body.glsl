@@ -24,6 +24,9 @@ layout(constant_id = 3) const uint GRABBED = 0u;
 // 1 with the finite elements: the next step starts from this step's elastic forces
 // (elastic_start, physics/elastic.glsl) beside gravity (specialisation constant 4).
 layout(constant_id = 4) const uint ELASTIC_WARM = 0u;
+// 1 when the frame reports the forces its supports exert (`reactions`): each node's
+// holding inputs go to ReactionInputs every step, the last step's stay (constant 5).
+layout(constant_id = 5) const uint REACTIONS = 0u;
 #include "physics/contact.glsl"
 #include "physics/elastic.glsl"
 
@@ -32,6 +35,9 @@ layout(std430, set = 0, binding = B_VELOCITIES) restrict buffer Velocities { vec
 layout(std430, set = 0, binding = B_FORCES) restrict buffer Forces { vec4 forces[]; };
 #ifdef COLLIDERS_ON
 layout(std430, set = 0, binding = B_COLLIDER_CONTACTS) restrict buffer ColliderContacts { vec4 contacts[]; };
+#endif
+#ifndef SPLIT_VELOCITY_PASS
+layout(std430, set = 0, binding = B_REACTION_INPUTS) writeonly restrict buffer ReactionInputs { vec4 reaction_inputs[]; };
 #endif
 #if defined(SPLIT_VELOCITY_PASS) || defined(SPLIT_ON)
 layout(std430, set = 0, binding = B_SPLIT_VELOCITIES) restrict buffer SplitVelocities { vec4 split_velocities[]; };
@@ -52,6 +58,9 @@ void main() {
         n = f.w;
     }
     vec3 xn = p.xyz;
+    // The colliders' force on the node and which pushes it (-1: none).
+    vec3 pushed = vec3(0.0);
+    int pusher = -1;
 #ifdef COLLIDERS_ON
     int touching = -1;
     vec3 normal = vec3(0.0);
@@ -63,6 +72,8 @@ void main() {
         // solve (contact_measure counts it after the frame's last step, whose last solve is
         // `integrate`'s).
         contacts[i] = vec4(0.0, 0.0, 0.0, touching >= 0 ? 1.0 : 0.0);
+        pushed = c;
+        pusher = touching;
     }
     // integrate_node with the collider's friction before the position update.
     vec3 vn = v.xyz + pc.dt * w * f.xyz;
@@ -73,6 +84,15 @@ void main() {
     xn += pc.dt * vn;
 #else
     vec3 vn = integrate_node(xn, v.xyz, f.xyz, w, pc.dt, n, pc.friction);
+#endif
+#ifndef SPLIT_VELOCITY_PASS
+    if (REACTIONS != 0u) {
+        // What a pin holds the node against: every force on it (the finite elements: but
+        // the elastic force, which `reactions` takes from the tets where the nodes end).
+        vec3 outer = pc.gravity * v.w + vec3(0.0, n, 0.0) + pushed;
+        reaction_inputs[2u * i] = vec4(ELASTIC_WARM != 0u ? outer : f.xyz, n);
+        reaction_inputs[2u * i + 1u] = vec4(pushed, float(pusher + 1));
+    }
 #endif
     vec3 warm = ELASTIC_WARM != 0u ? elastic_start(f.xyz, v.w, pc.gravity) : vec3(0.0);
     forces[i] = vec4(pc.gravity * v.w + warm, 0.0);

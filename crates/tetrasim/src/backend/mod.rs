@@ -179,7 +179,8 @@ pub trait Backend: Send {
         }
     }
     /// The forces the supports exerted in the last step of the last frame
-    /// ([`Reactions`]); `None` where the backend does not measure them (`vulkan`, for now).
+    /// ([`Reactions`]); `None` where the backend does not measure them (`vulkan` without
+    /// per-frame metrics).
     fn reactions(&mut self) -> Result<Option<Reactions>> {
         Ok(None)
     }

@@ -177,13 +177,14 @@ bindings! {
     NODE_TET_OFFSETS = 54,
     /// Node -> tet corners CSR items (`4 tet + corner`; finite elements).
     NODE_TET_ITEMS = 55,
-    /// float per coarse unknown squared, then one per unknown (finite elements' coarse
-    /// level): `P^T A P`'s columns (column-major), factored in place into `L` (the lower
-    /// triangle, column-major), then 1.0 per unknown kept in the factor, 0.0 per one left
-    /// out (`elastic_coarse_factor`).
+    /// float per coarse unknown squared, then one per unknown, then one per unknown squared
+    /// (finite elements' coarse level): `P^T A P`'s columns (column-major), factored in
+    /// place into `L` (the lower triangle, column-major), 1.0 per unknown kept in the
+    /// factor, 0.0 per one left out (`elastic_coarse_factor`), and the inverse
+    /// (`elastic_coarse_inverse`, column-major).
     COARSE_MATRIX = 56,
-    /// float per coarse unknown: a restricted residual, solved in place into the coarse
-    /// correction (`elastic_coarse_solve`).
+    /// float per coarse unknown, twice: a restricted residual, and the coarse correction
+    /// (`elastic_coarse_solve`).
     COARSE_VECTOR = 57,
     /// 6 vec4 per tet (finite elements): its stiffness at the step's linearisation, F's
     /// columns and its cofactor's with the four factors in w (glsl/physics/newton.glsl,
@@ -214,4 +215,14 @@ bindings! {
     /// node, 1 if nothing pins it, 1 if a contact holds it; then, as floats, the rigid
     /// part's centre, acceleration and angular acceleration (vec4 each).
     ELASTIC_OBJECTS = 66,
+    /// 2 vec4 per node (forces out): what holds it at the frame's last step, from
+    /// `integrate`: the force on it but its pin's (a pinned node's; finite elements: but
+    /// the elastic force's too) with w = the floor's normal force, then the colliders' force
+    /// with w = 1 + the collider that pushes it (0: none).
+    REACTION_INPUTS = 67,
+    /// vec4 per reaction per `reactions` workgroup: the pins', the floor's, each collider's
+    /// and each clamp's force, summed over the workgroup's nodes.
+    REACTION_PARTIALS = 68,
+    /// u32 per node: 1 + the clamp that holds it (0: none).
+    NODE_CLAMPS = 69,
 }

@@ -535,6 +535,9 @@ mod tests {
             ("CoarseScratch", binding::COARSE_SCRATCH),
             ("ElasticObjectsU", binding::ELASTIC_OBJECTS),
             ("ElasticObjectsF", binding::ELASTIC_OBJECTS),
+            ("ReactionInputs", binding::REACTION_INPUTS),
+            ("ReactionPartials", binding::REACTION_PARTIALS),
+            ("NodeClamps", binding::NODE_CLAMPS),
         ]
         .into_iter()
         .collect();

@@ -218,8 +218,8 @@ mod tests {
         // colliders; contact_measure: colliders, bodies, colliders_bodies; minres_setup and
         // minres_forces: colliders; minres_rows: one per mix of its four row segments (15);
         // minres_finish: s, v, sv; elastic_contacts, elastic_start, elastic and
-        // elastic_rigid_part: colliders.
-        assert_eq!(variants, 61);
+        // elastic_rigid_part: colliders; reactions: elastic.
+        assert_eq!(variants, 62);
     }
 
     #[test]

@@ -156,6 +156,12 @@ pub enum BufferId {
     CoarseScratch,
     /// 16 words per object: its nodes and rigid part (`neo-hookean`).
     ElasticObjects,
+    /// 2 vec4 per node: what holds it at the frame's last step (forces out).
+    ReactionInputs,
+    /// vec4 per reaction per `reactions` workgroup (forces out, copied to the host).
+    ReactionPartials,
+    /// u32 per node: 1 + its clamp (forces out with clamps).
+    NodeClamps,
 }
 
 impl BufferId {
@@ -229,6 +235,9 @@ impl BufferId {
             BufferId::CoarseIndex => "coarse index",
             BufferId::CoarseScratch => "coarse scratch",
             BufferId::ElasticObjects => "elastic objects",
+            BufferId::ReactionInputs => "reaction inputs",
+            BufferId::ReactionPartials => "reaction partials",
+            BufferId::NodeClamps => "node clamps",
         }
     }
 
@@ -302,6 +311,9 @@ impl BufferId {
             BufferId::CoarseIndex => binding::COARSE_INDEX,
             BufferId::CoarseScratch => binding::COARSE_SCRATCH,
             BufferId::ElasticObjects => binding::ELASTIC_OBJECTS,
+            BufferId::ReactionInputs => binding::REACTION_INPUTS,
+            BufferId::ReactionPartials => binding::REACTION_PARTIALS,
+            BufferId::NodeClamps => binding::NODE_CLAMPS,
         }
     }
 }

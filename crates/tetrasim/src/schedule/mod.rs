@@ -299,6 +299,7 @@ impl Schedule {
                     .sum(),
             )
             .with_contact_measure(metrics)
+            .with_reactions(metrics)
     }
 
     /// The same schedule with the body contact stages when `on` ([`crate::contact`]): once

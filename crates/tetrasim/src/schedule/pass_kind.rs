@@ -178,11 +178,15 @@ pub enum PassKind {
     ContactMeasure,
     /// The frame's volume metrics.
     VolumeSum,
+    /// The forces the supports exerted in the frame's last step (forces out, with per-frame
+    /// metrics), summed per workgroup. GPU only: the CPU backends keep theirs from their
+    /// step (no-op arms).
+    Reactions,
 }
 
 impl PassKind {
     /// Every pass, in execution order.
-    pub const ALL: [PassKind; 57] = [
+    pub const ALL: [PassKind; 58] = [
         PassKind::ClampDrive,
         PassKind::SpringScatter,
         PassKind::SpringGather,
@@ -240,6 +244,7 @@ impl PassKind {
         PassKind::Check,
         PassKind::ContactMeasure,
         PassKind::VolumeSum,
+        PassKind::Reactions,
     ];
 
     /// The name in plans, timings and records (the shader's file stem).
@@ -302,6 +307,7 @@ impl PassKind {
             PassKind::Check => "check",
             PassKind::ContactMeasure => "contact_measure",
             PassKind::VolumeSum => "volume_sum",
+            PassKind::Reactions => "reactions",
         }
     }
 
@@ -365,6 +371,7 @@ impl PassKind {
             PassKind::Check => file::PASSES_CHECK_COMP,
             PassKind::ContactMeasure => file::PASSES_CONTACT_MEASURE_COMP,
             PassKind::VolumeSum => file::PASSES_VOLUME_SUM_COMP,
+            PassKind::Reactions => file::PASSES_REACTIONS_COMP,
         }
     }
 

@@ -99,6 +99,36 @@ pub fn volume_sum() -> Stage {
 }
 
 impl Schedule {
+    /// The same schedule with the `reactions` stage when `metrics` are taken per frame: once
+    /// per frame after the last step it sums the forces the pins, the floor, the colliders
+    /// and the clamps exerted in that step from what `integrate` leaves for it (and, with
+    /// the finite elements, their elastic forces at the pinned nodes).
+    pub fn with_reactions(mut self, metrics: bool) -> Self {
+        use Access::{Read, Write};
+        use BufferId::*;
+        if !metrics {
+            return self;
+        }
+        let mut bindings = vec![
+            (Positions, Read),
+            (ReactionInputs, Read),
+            (NodeClamps, Read),
+            (ReactionPartials, Write),
+        ];
+        if self.runs(PassKind::Elastic) {
+            bindings.extend([
+                (Tets, Read),
+                (ElasticTets, Read),
+                (NodeTetOffsets, Read),
+                (NodeTetItems, Read),
+            ]);
+        }
+        let reactions = stage(PassKind::Reactions, Repeat::Frame, Domain::Nodes, bindings);
+        let at = super::before(&self.stages, PassKind::Reactions);
+        self.stages.insert(at, reactions);
+        self
+    }
+
     /// The same schedule with the `contact_measure` stage when `metrics` are taken per frame
     /// and the frame has kinematic colliders ([`Self::with_colliders`]) or body contact
     /// ([`Self::with_body_contact`]): once per frame after `check`, it reads the end-of-frame

@@ -259,10 +259,13 @@ impl Schedule {
                 ],
             ));
         }
+        // `integrate` leaves the forces out's inputs (only with the `reactions` stage, its
+        // specialisation constant says; the buffer is a placeholder without).
         let mut bindings = vec![
             (Positions, ReadWrite),
             (Velocities, ReadWrite),
             (Forces, ReadWrite),
+            (ReactionInputs, Write),
         ];
         if split {
             bindings.push((SplitVelocities, Read));

@@ -236,6 +236,13 @@ impl SimBuffers {
         if let Some(bodies) = problem.bodies.as_ref().filter(|_| plan.body.is_some()) {
             body_buffers(&mut optional, bodies, n)?;
         }
+        optional.data(
+            BufferId::NodeClamps,
+            bytes(&super::reactions::node_clamps(model)),
+        )?;
+        for id in [BufferId::ReactionInputs, BufferId::ReactionPartials] {
+            optional.zeroed(id, plan.buffer(id).map_or(0, |b| b.bytes))?;
+        }
         if plan.elastic_counts().is_some() {
             let data = super::elastic::ElasticData::prepare(problem);
             for (id, data) in data.uploads() {
@@ -290,8 +297,8 @@ impl SimBuffers {
 
     /// Device-local bytes of every buffer built (what the plan's total must equal).
     pub fn device_bytes(&self) -> u64 {
-        (ALL_BUFFERS.iter().chain(&super::elastic::BUFFERS))
-            .filter_map(|&id| self.get(id))
+        all_buffers()
+            .filter_map(|id| self.get(id))
             .map(|b| b.size)
             .sum()
     }
@@ -299,7 +306,7 @@ impl SimBuffers {
     /// Fails when a buffer exists that the plan lacks, or the other way round, or when a
     /// size differs: the plan printed by `tetrasim plan` is then wrong.
     fn check_against(&self, plan: &EnginePlan) -> Result<()> {
-        for &id in ALL_BUFFERS.iter().chain(&super::elastic::BUFFERS) {
+        for id in all_buffers() {
             let built = self.get(id).map(|b| b.size);
             let planned = plan.buffer(id).map(|b| b.bytes);
             if built != planned {
@@ -526,6 +533,14 @@ impl Optional<'_> {
 }
 
 /// Every buffer kind.
+fn all_buffers() -> impl Iterator<Item = BufferId> {
+    let extra = super::elastic::BUFFERS
+        .iter()
+        .chain(&super::reactions::BUFFERS);
+    ALL_BUFFERS.iter().chain(extra).copied()
+}
+
+/// The buffer kinds but the finite elements' and the reactions'.
 const ALL_BUFFERS: [BufferId; 53] = [
     BufferId::Positions,
     BufferId::Velocities,

@@ -202,6 +202,24 @@ impl Backend for VulkanBackend {
         Ok(())
     }
 
+    /// The forces the supports exerted in the last collected frame's last step, from its
+    /// copy of the `reactions` pass's partials (with per-frame metrics; `None` without).
+    fn reactions(&mut self) -> Result<Option<crate::backend::Reactions>> {
+        let Some(k) = self.collected_slot else {
+            return Ok(None);
+        };
+        let Some(readback) = &self.slots[k].reactions_readback else {
+            return Ok(None);
+        };
+        let pass = self.plan.passes.iter();
+        let wg = pass
+            .filter(|p| p.stage.kind == crate::schedule::PassKind::Reactions)
+            .map(|p| p.workgroup_size);
+        let groups = self.counts.nodes.div_ceil(wg.max().unwrap_or(1)) as usize;
+        let (colliders, clamps) = (self.colliders.len(), self.clamps.len());
+        reactions::sum(readback.mapped()?, groups, colliders, clamps).map(Some)
+    }
+
     fn gpu_report(&mut self) -> Result<Option<GpuReport>> {
         let passes = self.pass_times()?;
         Ok(Some(GpuReport {

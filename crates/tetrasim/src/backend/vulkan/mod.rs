@@ -20,6 +20,7 @@ mod minres;
 mod options;
 mod passes;
 pub mod plan;
+mod reactions;
 
 use std::collections::VecDeque;
 use std::sync::Arc;
@@ -69,6 +70,8 @@ struct FrameSlot {
     timer: Option<Timer>,
     status_readback: Buffer,
     partials_readback: Option<Buffer>,
+    /// Host-visible copy of the frame's reaction partials (with per-frame metrics).
+    reactions_readback: Option<Buffer>,
 }
 
 /// The Vulkan compute backend. Field order is drop order: GPU work is waited for in
@@ -82,6 +85,8 @@ pub struct VulkanBackend {
     /// The slot of the last finished frame, while its partials hold the volume of the
     /// current positions.
     fresh_slot: Option<usize>,
+    /// The slot of the last frame collected (its reactions are the run's latest).
+    collected_slot: Option<usize>,
     /// Most frames ever queued at once.
     max_queued: usize,
     measure: Recorded,
@@ -270,6 +275,10 @@ impl VulkanBackend {
                     )?),
                     false => None,
                 };
+                let reactions_readback = match plan.buffer(plan::BufferId::ReactionPartials) {
+                    Some(b) => Some(Buffer::readback(&ctx, "reactions (readback)", b.bytes)?),
+                    None => None,
+                };
                 let frame = Recorded::begin(&ctx, &format!("frame {k}"), false)?;
                 Recorder {
                     ctx: &ctx,
@@ -283,7 +292,7 @@ impl VulkanBackend {
                     &passes,
                     &buffers,
                     &status_readback,
-                    partials_readback.as_ref(),
+                    [partials_readback.as_ref(), reactions_readback.as_ref()],
                 )?;
                 frame.end()?;
                 Ok(FrameSlot {
@@ -291,6 +300,7 @@ impl VulkanBackend {
                     timer,
                     status_readback,
                     partials_readback,
+                    reactions_readback,
                 })
             })
             .collect::<Result<Vec<_>>>()?;
@@ -310,6 +320,7 @@ impl VulkanBackend {
             queued: VecDeque::new(),
             next_slot: 0,
             fresh_slot: None,
+            collected_slot: None,
             max_queued: 0,
             measure,
             measure_readback,
@@ -466,6 +477,7 @@ impl VulkanBackend {
         }
         self.frames += 1;
         self.fresh_slot = (self.queued.is_empty() && slot.partials_readback.is_some()).then_some(k);
+        self.collected_slot = Some(k);
         Ok(Some(k))
     }
 

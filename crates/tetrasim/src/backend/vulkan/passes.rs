@@ -38,7 +38,9 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::buffers::SimBuffers;
-use super::plan::{volume_sum_pass, EnginePlan, PassPlan, CONTACT_STATUS_BYTES, STATUS_BYTES};
+use super::plan::{
+    volume_sum_pass, BufferId, EnginePlan, PassPlan, CONTACT_STATUS_BYTES, STATUS_BYTES,
+};
 use crate::gpu::commands::{barrier, memory_barrier, Access};
 use crate::gpu::layout::{phase, PushConstants};
 use crate::gpu::{AtomicsPath, Buffer, Context, Kernel, Timer};
@@ -298,7 +300,7 @@ impl Recorder<'_> {
     /// A whole frame in frame slot `slot`: `substeps` steps (each reading its row of the
     /// slot's collider poses), the frame's passes, the host copies of the
     /// divergence status into `status_readback` and, with per-frame metrics, of the volume
-    /// partials into `partials_readback`. It starts with an execution barrier after every
+    /// and reaction partials into `readbacks`. It starts with an execution barrier after every
     /// earlier copy, so a frame submitted right behind another (frames in flight) rewrites
     /// the status and the partials only once the earlier frame's copies have read them.
     pub fn record_frame(
@@ -308,7 +310,7 @@ impl Recorder<'_> {
         p: &Passes,
         b: &SimBuffers,
         status_readback: &Buffer,
-        partials_readback: Option<&Buffer>,
+        readbacks: [Option<&Buffer>; 2],
     ) -> Result<()> {
         memory_barrier(self.ctx, self.cmd, Access::TRANSFER_READ, Access::COMPUTE);
         if plan.measures_contact() {
@@ -335,8 +337,12 @@ impl Recorder<'_> {
             self.dispatch(pass, b, &push, pass.plan.elements)?;
         }
         self.copy_to_host(&b.status, status_readback);
-        if let Some(readback) = partials_readback {
+        let [partials, reactions] = readbacks;
+        if let Some(readback) = partials {
             self.copy_to_host(&b.partials, readback);
+        }
+        if let (Some(readback), Some(sums)) = (reactions, b.get(BufferId::ReactionPartials)) {
+            self.copy_to_host(sums, readback);
         }
         Ok(())
     }

@@ -60,6 +60,36 @@ fn plans() -> Vec<(String, EnginePlan)> {
             format!("jacobi, {name}"),
             plan(&jacobi, &tests::volume_sweep()),
         ));
+        for method in [Method::Mss, Method::MssNode, Method::Distance] {
+            for floor in [false, true] {
+                let params = SimParams {
+                    method,
+                    floor,
+                    ..SimParams::default()
+                };
+                out.push((
+                    format!("{method}, floor {floor}, {name}"),
+                    plan(&params, &[]),
+                ));
+            }
+        }
+        let split = SimParams {
+            contact: crate::params::ContactMode::Split,
+            ..volume.clone()
+        };
+        out.push((
+            format!("split, {name}"),
+            plan(&split, &tests::volume_sweep()),
+        ));
+        for metrics in [false, true] {
+            let clamped = PlanCounts {
+                clamps: 1,
+                clamped: 2,
+                ..counts
+            };
+            let p = EnginePlan::new(clamped, &volume, 64, metrics, &tests::volume_sweep(), None);
+            out.push((format!("clamps, metrics {metrics}, {name}"), p));
+        }
     }
     out
 }

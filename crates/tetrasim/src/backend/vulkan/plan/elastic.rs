@@ -77,8 +77,8 @@ impl EnginePlan {
             let kind = pass.stage.kind;
             if kind == PassKind::Integrate {
                 // ELASTIC_WARM, constant 4: the next step starts from the elastic forces.
-                pass.constants.resize(3, 0);
-                pass.constants.push(1);
+                pass.constants.resize(pass.constants.len().max(4), 0);
+                pass.constants[3] = 1;
                 continue;
             }
             if !kind.is_elastic() {

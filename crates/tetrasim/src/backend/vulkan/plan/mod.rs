@@ -176,7 +176,8 @@ impl EnginePlan {
             .with_body_contact(body.is_some())
             .with_colliders(counts.colliders, counts.grabbed > 0)
             .with_clamps(counts.clamped)
-            .with_contact_measure(metrics);
+            .with_contact_measure(metrics)
+            .with_reactions(metrics);
         let status = match measures_contact(counts, metrics, body.is_some()) {
             true => CONTACT_STATUS_BYTES,
             false => STATUS_BYTES,
@@ -406,6 +407,17 @@ fn buffers(
         if metrics { alloc(partial_bytes) } else { 0 },
     ));
     buffers.push((Status, status_bytes, status_bytes));
+    // Forces out: each node's holding inputs, its clamp, and the workgroups' sums, copied
+    // to the host every frame.
+    // Without them `integrate` binds a placeholder of the inputs (it never writes them).
+    if schedule.runs(PassKind::Reactions) {
+        let sums = reaction_partials(counts, schedule.colliders, workgroup_size);
+        buffers.push((ReactionInputs, 32 * n, 0));
+        buffers.push((NodeClamps, 4 * n, 0));
+        buffers.push((ReactionPartials, 16 * sums, alloc(16 * sums)));
+    } else {
+        buffers.push((ReactionInputs, 0, 0));
+    }
     let mut buffers: Vec<BufferPlan> = buffers
         .into_iter()
         .map(|(id, bytes, readback_bytes)| BufferPlan {
@@ -438,6 +450,16 @@ fn buffers(
         }
     }
     buffers
+}
+
+/// The vec4 sums `reactions` leaves for the host on a model of `counts` with `colliders`
+/// colliders: the pins' (with the floor's), each collider's and each clamp's, per workgroup
+/// of the plan's `workgroup_size` (at most [`GLOBAL_WORKGROUP`]).
+pub fn reaction_partials(counts: PlanCounts, colliders: u32, workgroup_size: u32) -> u64 {
+    let groups = counts
+        .nodes
+        .div_ceil(workgroup_size.clamp(1, GLOBAL_WORKGROUP));
+    u64::from(groups) * u64::from(1 + colliders + counts.clamps)
 }
 
 /// Bytes of one collider's pose over one step ([`crate::gpu::layout::GpuColliderPose`]).

@@ -134,6 +134,22 @@ impl PassPlan {
                 false => Variant::Plain,
             };
         }
+        // Forces out: `integrate` leaves each node's holding inputs (constant 5, after the
+        // finite elements' ELASTIC_WARM), `reactions` sums them per workgroup in shared
+        // memory, its colliders and clamps as constants 1 and 2.
+        if schedule.runs(PassKind::Reactions) {
+            if stage.kind == PassKind::Integrate {
+                constants.resize(4, 0);
+                constants.push(1);
+            }
+            if stage.kind == PassKind::Reactions {
+                workgroup_size = global_workgroup;
+                constants = vec![schedule.colliders, counts.clamps];
+                if schedule.runs(PassKind::Elastic) {
+                    variant = Variant::Named("elastic");
+                }
+            }
+        }
         let constraints = |sweep: Option<usize>| match sweep.map(|s| schedule.sweeps[s].kind) {
             Some(ConstraintKind::Volume) => counts.tets,
             _ => counts.springs,

@@ -365,12 +365,19 @@ fn contact_is_measured_per_frame_only_with_metrics_and_something_to_measure() {
         assert_eq!(measure.stage.bindings.len(), bindings, "{label}");
         assert_eq!(measure.constants, constants, "{label}");
         assert_eq!(measure.elements, COUNTS.nodes);
-        // After `check`, before `volume_sum`: one dispatch per frame, whose bytes count.
-        let frame: Vec<String> = p.pass_list().into_iter().rev().take(3).collect();
-        assert_eq!(frame, ["volume_sum", label, "check"]);
+        // After `check`, before `volume_sum` (and `reactions`): one dispatch per frame,
+        // whose bytes count.
+        let frame: Vec<String> = p.pass_list().into_iter().rev().take(4).collect();
+        assert_eq!(frame, ["reactions", "volume_sum", label, "check"]);
         assert_eq!(p.runs_per_frame(measure), 1);
         assert!(p.pass_bytes(measure) > 16 * u64::from(COUNTS.nodes));
-        assert_eq!(p.readback_bytes(), without.readback_bytes() + 16);
+        // 16 more status bytes, and a partial for each collider more.
+        let colliders = u64::from(p.schedule.colliders - without.schedule.colliders);
+        let groups = u64::from(COUNTS.nodes.div_ceil(64));
+        assert_eq!(
+            p.readback_bytes(),
+            without.readback_bytes() + 16 + 16 * colliders * groups
+        );
     }
     // Grabs alone push no collider node and have no body contact: the contact words stay 0
     // without a pass.

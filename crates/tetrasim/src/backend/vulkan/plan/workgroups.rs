@@ -95,6 +95,7 @@ fn element_wise(kind: PassKind) -> bool {
                 | PassKind::GlobalVolume
                 | PassKind::Check
                 | PassKind::VolumeSum
+                | PassKind::Reactions
                 | PassKind::ContactScan
                 | PassKind::AndersonSum
                 | PassKind::AndersonMix
