@@ -68,6 +68,7 @@ fn _tetrasim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(mesh::read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(mesh::prep, m)?)?;
     m.add_function(wrap_pyfunction!(simulation::default_params, m)?)?;
+    m.add_function(wrap_pyfunction!(simulation::material_method, m)?)?;
     m.add_function(wrap_pyfunction!(simulation::accuracy_params, m)?)?;
     m.add_function(wrap_pyfunction!(scene_json, m)?)?;
     m.add_function(wrap_pyfunction!(scene_toml, m)?)?;

@@ -27,6 +27,14 @@ pub fn default_params() -> PyResult<String> {
     serde_json::to_string(&SimParams::default()).map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
+/// The method of a body given the parameters `params_json` that names none, by its name:
+/// the scene's rule (`tetrascene::scene::material_method`: the finite elements for a
+/// material given by its Young's modulus unless the parameters ask for springs).
+#[pyfunction]
+pub fn material_method(params_json: &str) -> PyResult<&'static str> {
+    Ok(tetrascene::scene::material_method(&parse_params(params_json)?).name())
+}
+
 /// The default parameters with the speed/accuracy dial's level `accuracy` (`fast`,
 /// `balanced`, `accurate`) written on them, as JSON: the base Python's keywords then
 /// override ([`tetrasim::params::Accuracy`]).

@@ -142,6 +142,10 @@ def _params(overrides: dict) -> str:
     if gravity is not None and not isinstance(gravity, (int, float)):
         overrides["gravity"] = [float(g) for g in gravity]
     params.update(overrides)
+    # A material given by its Young's modulus runs as the scene's object would: the finite
+    # elements unless a parameter asks for springs (``tetrascene::scene::material_method``).
+    if "method" not in overrides and params.get("youngs_modulus") is not None:
+        params["method"] = _tetrasim.material_method(json.dumps(params))
     return json.dumps(params)
 
 
@@ -169,7 +173,8 @@ class Simulation:
     ``set_state`` moves them); ``pin_boxes``: ``((x0, y0, z0), (x1, y1, z1))`` boxes [m,
     after placement] whose nodes are pinned. ``self_contact``: the surface collides with
     itself (the scene key ``self_contact``). ``params``: any run parameter by its name
-    (``default_params()`` lists them, e.g. ``method="distance"`` (default ``"volume"``),
+    (``default_params()`` lists them, e.g. ``method="distance"`` (default ``"volume"``;
+    ``"neo-hookean"`` for a material given by ``youngs_modulus`` unless springs are asked for),
     ``dt=1e-3``, ``iterations=10``, ``solver="gauss-seidel"``, ``youngs_modulus=1e5``,
     ``poisson_ratio=0.45``, ``contact="split"`` (no rebound, at twice the solve)), plus
     ``density`` [kg/m^3] or ``node_mass`` [kg] (a ``youngs_modulus`` needs a ``density``)

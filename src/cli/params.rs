@@ -79,7 +79,7 @@ const PLACES: &[(&str, Option<&str>, Option<&str>)] = &[
 
 /// Defaults that differ between the command line, scenes and Python, said as such.
 const DEFAULTS: &[(&str, &str)] = &[
-    ("method", "`all` (command line), `volume` (scenes, Python)"),
+    ("method", "`all` (command line), `volume` (scenes, Python); `neo-hookean` for a material given by its Young's modulus"),
     ("no_floor", "a floor (command line, Python), none (scenes)"),
     (
         "fit_size",

@@ -13,7 +13,7 @@ use crate::launch::{stage, Staged};
 use crate::overrides::{MaterialOverrides, SolverOverrides};
 use crate::preset::{Preset, PresetName};
 use crate::runner::{run_methods, Checkpointing, OutputFormat, OutputUnits, RunOptions};
-use crate::scene::{Collider, Object, Output, Pins, Scene};
+use crate::scene::{material_method, Collider, Object, Output, Pins, Scene};
 use tetrasim::metrics::{pass_table, short_run_warnings, table, write_json};
 use tetrasim::params::{Method, SimParams, Solver as SolverKind};
 use tetrasim::sim::DEFAULT_MESH;
@@ -29,10 +29,10 @@ pub enum MethodChoice {
     Distance,
     /// Springs and volume constraints.
     Volume,
-    /// Finite elements (stable Neo-Hookean; needs the material's E, nu and density; cpu and
-    /// cpu-ref): a Newton step per time step, --iterations conjugate-gradient iterations
-    /// with a two-level preconditioner (the default 10 match an independent FEM within
-    /// 1.3 % on a 2304-tet beam; docs/PHYSICS.md, "Finite elements").
+    /// Finite elements (stable Neo-Hookean; needs the material's E, nu and density; the
+    /// default for such a material): a Newton step per time step, --iterations
+    /// conjugate-gradient iterations with a two-level preconditioner (the default 10 match an
+    /// independent FEM within 1.3 % on a 2304-tet beam; docs/PHYSICS.md, "Finite elements").
     NeoHookean,
     /// mss, distance and volume (the paper's three), in that order.
     All,
@@ -68,8 +68,9 @@ pub struct RunArgs {
     /// refused with a tet mesh).
     #[arg(long)]
     pub target_tets: Option<usize>,
-    /// Method to run (default `all`; with --scene, one method for every object instead of
-    /// the scene's).
+    /// Method to run (default `all`, the paper's three; for a material given by
+    /// --youngs-modulus `neo-hookean`, or `volume` where a flag asks for springs; with
+    /// --scene, one method for every object instead of the scene's).
     #[arg(long, value_enum)]
     pub method: Option<MethodChoice>,
     /// Solver backend: cpu-ref (f64 reference), cpu (f32, all cores; the default) or vulkan
@@ -176,9 +177,16 @@ impl RunArgs {
         self.preset.unwrap_or(PresetName::Seed)
     }
 
-    /// The methods `--method` names (`all` when not given).
+    /// The methods `--method` names; when not given, a material given by its Young's
+    /// modulus runs as a scene's object would ([`material_method`]: the finite elements, or
+    /// `volume` where a flag asks for springs), anything else `all`.
     pub fn methods(&self) -> Vec<Method> {
-        self.method.unwrap_or(MethodChoice::All).methods()
+        let params = self.params();
+        match self.method {
+            Some(choice) => choice.methods(),
+            None if params.youngs_modulus.is_some() => vec![material_method(&params)],
+            None => MethodChoice::All.methods(),
+        }
     }
 
     /// `scene` with the given flags over its values: the solver's, every object's material
@@ -219,7 +227,7 @@ impl RunArgs {
         }
         for object in &mut scene.objects {
             object.material = self.material.over(&object.material);
-            object.method = method.unwrap_or(object.method);
+            object.method = method.or(object.method);
             object.target_tets = self.target_tets.or(object.target_tets);
             if self.no_fit {
                 (object.fit_size, object.drop_height) = (None, None);
@@ -312,7 +320,7 @@ impl RunArgs {
             objects: vec![Object {
                 mesh: self.mesh(),
                 target_tets: self.target_tets,
-                method: self.methods()[0],
+                method: Some(self.methods()[0]),
                 fit_size: match self.no_fit {
                     true => None,
                     false => self.fit_size.or(preset.placement.fit_size),
@@ -373,7 +381,7 @@ impl RunArgs {
                     eprintln!("{warning} (in {})", path.display());
                 }
                 self.override_scene(&mut scene)?;
-                let method = scene.objects[0].method;
+                let method = scene.params_for(0).method;
                 Ok((scene, vec![method]))
             }
             None => {
@@ -503,10 +511,18 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
     }
     if args.scene.is_none() && args.method.is_none() {
         // The one default that differs between the command line and scenes or Python.
-        eprintln!(
-            "methods mss, distance and volume: the command line's default (--method all); \
-             scenes and Python default to volume"
-        );
+        match params.youngs_modulus {
+            Some(_) => eprintln!(
+                "method {}: the default for a material given by its Young's modulus \
+                 (neo-hookean unless a flag asks for springs; --method names another)",
+                params.method
+            ),
+            None => eprintln!(
+                "methods mss, distance and volume: the command line's default (--method all); \
+                 scenes and Python default to volume, and a material given by its Young's \
+                 modulus to neo-hookean"
+            ),
+        }
     }
     let estimate = tetrasim::stability::estimate(model, params);
     if estimate.exceeded_by(params.dt) {

@@ -182,9 +182,10 @@ pub struct Object {
     /// Tets to aim at when `mesh` is a surface file meshed in-process (default 5000).
     #[serde(default)]
     pub target_tets: Option<usize>,
-    /// Simulation method.
-    #[serde(default = "default_method")]
-    pub method: Method,
+    /// Simulation method; absent: [`material_method`] of the object's parameters (the
+    /// finite elements for a material given by its Young's modulus, else `volume`).
+    #[serde(default)]
+    pub method: Option<Method>,
     /// Largest bounding-box side after scaling [m]; absent keeps the mesh's size.
     #[serde(default)]
     pub fit_size: Option<f64>,
@@ -215,8 +216,21 @@ pub struct Object {
     pub self_contact: bool,
 }
 
-fn default_method() -> Method {
-    Method::Volume
+/// The method of an object that names none, from its parameters `params`: `neo-hookean`,
+/// the finite elements, for a material given by its Young's modulus, unless the parameters
+/// ask for what only the spring methods take (implicit or warm-started springs, another
+/// solver, MINRES, Anderson, blocks, inversion sweeps, a relaxation); `volume` otherwise,
+/// the paper's method that holds the volume (issue 51: a material should act as its E and
+/// nu say wherever the caller did not choose otherwise).
+pub fn material_method(params: &SimParams) -> Method {
+    let elastic = SimParams {
+        method: Method::NeoHookean,
+        ..params.clone()
+    };
+    match params.youngs_modulus.is_some() && elastic.validate().is_ok() {
+        true => Method::NeoHookean,
+        false => Method::Volume,
+    }
 }
 
 /// `[output]`: files to write.
@@ -446,13 +460,16 @@ impl Scene {
             _ => None,
         });
         let mut params = SimParams {
-            method: o.method,
+            method: o.method.unwrap_or(Method::Volume),
             floor: floor.is_some(),
             friction: floor.unwrap_or(0.0),
             ..self.base.clone()
         };
         self.solver.apply(&mut params);
         o.material.apply(&mut params);
+        if o.method.is_none() {
+            params.method = material_method(&params);
+        }
         params
     }
 

@@ -53,6 +53,23 @@ fn full_scene_maps_onto_params() {
         .contains(DVec3::splat(0.5)));
 }
 
+/// An object that names no method: the finite elements for a material given by its Young's
+/// modulus, `volume` when it asks for springs or has no modulus, and a named method kept.
+#[test]
+fn a_material_given_by_its_modulus_runs_the_finite_elements_unless_told_otherwise() {
+    let material = "material = { youngs_modulus = 1e5, poisson_ratio = 0.45, density = 1000.0 }";
+    let method = |solver: &str, object: &str| {
+        let text = format!("[solver]\n{solver}\n[[object]]\nmesh = \"a\"\n{object}\n");
+        Scene::parse(&text).unwrap().params_for(0).method
+    };
+    assert_eq!(method("", material), Method::NeoHookean);
+    assert_eq!(method("", ""), Method::Volume);
+    assert_eq!(method("springs = \"implicit\"", material), Method::Volume);
+    assert_eq!(method("solver = \"jacobi\"", material), Method::Volume);
+    let named = format!("method = \"mss\"\n{material}");
+    assert_eq!(method("", &named), Method::Mss);
+}
+
 #[test]
 fn unknown_key_names_its_path() {
     let err = Scene::parse("[[object]]\nmesh = \"a\"\nmaterial = { kss = 1.0 }\n")
