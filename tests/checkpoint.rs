@@ -1,9 +1,10 @@
 //! Checkpoints: a run saved at frame 30 and resumed in a new backend ends bit for bit where
 //! the uninterrupted 60-frame run ends, with the same record series, on `cpu-ref` and `cpu`
 //! (volume constraints under a moving collider and a clamp; the finite elements, whose
-//! steps start from the last one's forces; warm-started implicit springs) and on `vulkan`'s
-//! default solver; and a truncated, corrupt or mismatched checkpoint is refused, saying
-//! which.
+//! steps start from the last one's forces; warm-started implicit springs) and on `vulkan`
+//! (its default solver, and the finite elements, whose forces and coarse level the
+//! checkpoint carries from the device); and a truncated, corrupt or mismatched checkpoint
+//! is refused, saying which.
 
 mod gpu_support;
 
@@ -153,6 +154,11 @@ fn resumed_runs_end_bit_for_bit_on_vulkan() {
     let staged = springs_scene("");
     let (straight, resumed) = straight_and_resumed("vulkan", &staged);
     assert!(straight == resumed, "the resumed vulkan run differs");
+    let (straight, resumed) = straight_and_resumed("vulkan", &elastic_scene());
+    assert!(
+        straight == resumed,
+        "the resumed neo-hookean vulkan run differs"
+    );
     // Warm-started multipliers stay on the device: saving them is refused, not skipped.
     let warm = springs_scene("springs = \"implicit\"\nwarm_start = true");
     let mut backend = new_backend("vulkan", &warm);

@@ -162,9 +162,10 @@ impl Backend for VulkanBackend {
             .upload_state(state, &self.inv_mass, &self.mass, gravity)
     }
 
-    /// The frame and step counters. Everything else a step starts from is the state or is
-    /// rebuilt at the step's start, except warm-started springs' multipliers and the finite
-    /// elements' forces and coarse level, which stay on the device (refused for now).
+    /// The frame and step counters, and the finite elements' forces and coarse level
+    /// (`carry.rs`). Everything else a step starts from is the state or is rebuilt at the
+    /// step's start, except warm-started springs' multipliers, which stay on the device
+    /// (refused for now).
     fn carried(&mut self) -> Result<Carried> {
         self.settle()?;
         if self.plan.schedule.warm_start {
@@ -174,30 +175,23 @@ impl Backend for VulkanBackend {
                  and cannot save them yet (run on cpu or cpu-ref, or without warm_start)",
             ));
         }
-        if self.plan.elastic_counts().is_some() {
-            return Err(Error::param(
-                "checkpoint",
-                "the vulkan backend keeps the finite elements' forces and coarse level on the \
-                 device, and cannot save them yet (checkpoint neo-hookean on cpu or cpu-ref)",
-            ));
-        }
         Ok(Carried {
             frames: self.frames,
             steps: self.submitted * u64::from(self.plan.schedule.substeps),
-            arrays: Vec::new(),
+            arrays: self.carried_arrays()?,
         })
     }
 
     fn restore(&mut self, state: &State, carried: &Carried) -> Result<()> {
         let substeps = u64::from(self.plan.schedule.substeps);
-        let on_device = self.plan.schedule.warm_start || self.plan.elastic_counts().is_some();
-        if on_device || carried.steps % substeps != 0 {
+        if self.plan.schedule.warm_start || carried.steps % substeps != 0 {
             return Err(Error::param(
                 "checkpoint",
                 "it was not saved by the vulkan backend on this problem",
             ));
         }
         self.set_state(state)?;
+        self.restore_arrays(carried)?;
         (self.frames, self.submitted) = (carried.frames, carried.steps / substeps);
         Ok(())
     }

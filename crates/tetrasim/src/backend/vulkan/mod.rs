@@ -12,6 +12,7 @@
 //! reads back every node.
 
 mod buffers;
+mod carry;
 mod coarse;
 mod colliders;
 mod elastic;
