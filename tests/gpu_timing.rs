@@ -19,11 +19,23 @@ fn pass_times_are_present_positive_and_within_the_frame_wall_time() {
     let expected: [(Method, &[&str]); 4] = [
         (
             Method::Mss,
-            &["spring_scatter", "integrate", "check", "volume_sum"],
+            &[
+                "spring_scatter",
+                "integrate",
+                "check",
+                "volume_sum",
+                "reactions",
+            ],
         ),
         (
             Method::MssNode,
-            &["spring_gather", "integrate", "check", "volume_sum"],
+            &[
+                "spring_gather",
+                "integrate",
+                "check",
+                "volume_sum",
+                "reactions",
+            ],
         ),
         (
             Method::Distance,
@@ -37,6 +49,7 @@ fn pass_times_are_present_positive_and_within_the_frame_wall_time() {
                 "integrate",
                 "check",
                 "volume_sum",
+                "reactions",
             ],
         ),
         (
@@ -51,6 +64,7 @@ fn pass_times_are_present_positive_and_within_the_frame_wall_time() {
                 "integrate",
                 "check",
                 "volume_sum",
+                "reactions",
             ],
         ),
     ];

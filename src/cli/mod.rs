@@ -4,6 +4,7 @@
 mod bench;
 mod gpu_args;
 mod info;
+mod method_choice;
 mod outcome;
 mod output_flags;
 pub mod params;

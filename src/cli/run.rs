@@ -8,6 +8,7 @@ use anyhow::Context as _;
 use tetrasim::backend::vulkan::EngineOptions;
 
 use super::gpu_args::GpuArgs;
+pub use super::method_choice::MethodChoice;
 use super::outcome::{BadScene, DivergedRun, InterruptedRun};
 use crate::launch::{stage, Staged};
 use crate::overrides::{MaterialOverrides, SolverOverrides};
@@ -17,40 +18,6 @@ use crate::scene::{material_method, Collider, Object, Output, Pins, Scene};
 use tetrasim::metrics::{pass_table, short_run_warnings, table, write_json};
 use tetrasim::params::{Method, SimParams, Solver as SolverKind};
 use tetrasim::sim::DEFAULT_MESH;
-
-/// `--method` values: one method or `all`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum MethodChoice {
-    /// Springs only, spring-centric.
-    Mss,
-    /// Springs only, node-centric.
-    MssNode,
-    /// Springs and distance constraints.
-    Distance,
-    /// Springs and volume constraints.
-    Volume,
-    /// Finite elements (stable Neo-Hookean; needs the material's E, nu and density; the
-    /// default for such a material): a Newton step per time step, --iterations
-    /// conjugate-gradient iterations with a two-level preconditioner (the default 10 match an
-    /// independent FEM within 1.3 % on a 2304-tet beam; docs/PHYSICS.md, "Finite elements").
-    NeoHookean,
-    /// mss, distance and volume (the paper's three), in that order.
-    All,
-}
-
-impl MethodChoice {
-    /// The methods this choice runs, in order.
-    pub fn methods(self) -> Vec<Method> {
-        match self {
-            MethodChoice::Mss => vec![Method::Mss],
-            MethodChoice::MssNode => vec![Method::MssNode],
-            MethodChoice::Distance => vec![Method::Distance],
-            MethodChoice::Volume => vec![Method::Volume],
-            MethodChoice::NeoHookean => vec![Method::NeoHookean],
-            MethodChoice::All => vec![Method::Mss, Method::Distance, Method::Volume],
-        }
-    }
-}
 
 /// Arguments of `tetrasim run`. Every physics value defaults to the preset's.
 #[derive(Debug, clap::Args)]
