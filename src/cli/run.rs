@@ -459,13 +459,17 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
     for note in &staged.notes {
         eprintln!("{note}");
     }
+    // The springs are counted where a method runs them (the finite elements have none).
+    let springs = match methods.iter().any(|&m| m != Method::NeoHookean) {
+        true => format!(", {} springs", model.springs.len()),
+        false => String::new(),
+    };
     eprintln!(
-        "{}: {} nodes ({} pinned), {} tets, {} springs; backend {}, {} frames of dt {} s x {} substeps, {} iterations, solver {}",
+        "{}: {} nodes ({} pinned), {} tets{springs}; backend {}, {} frames of dt {} s x {} substeps, {} iterations, solver {}",
         staged.label,
         model.node_count(),
         model.node_count() - model.free_node_count(),
         model.tets.len(),
-        model.springs.len(),
         backend,
         staged.frames,
         params.dt,

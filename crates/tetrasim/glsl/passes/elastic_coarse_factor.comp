@@ -7,7 +7,9 @@
 // modes the fine matrix does not see. Left-looking by columns: every invocation forms its
 // rows' entries of column j from the columns before, then divides by the pivot. Entry (i, k),
 // i >= k, is at coarse[k * UNKNOWNS + i] (column-major: invocations i read consecutive
-// floats); the flags follow the matrix.
+// floats); the flags follow the matrix. Its workgroup is at least 128 invocations whatever the
+// plan's (`coarse_factor_workgroup`): with fewer, an invocation's rows at the most aggregates
+// come near lavapipe's loop limit (common/coarse_dot.glsl).
 #include "common/version.glsl"
 #include "common/bindings.glsl"
 #include "physics/newton.glsl"
@@ -16,6 +18,8 @@
 layout(constant_id = 1) const uint UNKNOWNS = 6u;
 
 layout(std430, set = 0, binding = B_COARSE_MATRIX) restrict buffer CoarseMatrix { float coarse[]; };
+
+#include "common/coarse_dot.glsl"
 
 shared float diagonal;
 
@@ -32,11 +36,7 @@ void main() {
         barrier();
         // s_i = A(i, j) - sum_k<j L(i, k) L(j, k), into the column's slots.
         for (uint i = j + gl_LocalInvocationID.x; i < n; i += lanes) {
-            float s = coarse[j * n + i];
-            for (uint k = 0u; k < j; ++k) {
-                s -= coarse[k * n + i] * coarse[k * n + j];
-            }
-            coarse[j * n + i] = s;
+            coarse[j * n + i] -= coarse_dot(i, n, j, n, j);
         }
         memoryBarrierBuffer();
         barrier();

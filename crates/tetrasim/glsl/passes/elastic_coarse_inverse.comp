@@ -16,6 +16,8 @@ layout(constant_id = 1) const uint UNKNOWNS = 6u;
 
 layout(std430, set = 0, binding = B_COARSE_MATRIX) restrict buffer CoarseMatrix { float coarse[]; };
 
+#include "common/coarse_dot.glsl"
+
 void main() {
     if (!coarse_rebuilds()) {
         return;
@@ -30,10 +32,7 @@ void main() {
     for (uint i = 0u; i < n; ++i) {
         float y = 0.0;
         if (i >= j && coarse[n * n + i] > 0.5) {
-            float s = i == j ? 1.0 : 0.0;
-            for (uint k = j; k < i; ++k) {
-                s -= coarse[k * n + i] * coarse[column + k];
-            }
+            float s = (i == j ? 1.0 : 0.0) - coarse_dot(j * n + i, n, column + j, 1u, i - j);
             y = s / coarse[i * n + i];
         }
         coarse[column + i] = y;
@@ -42,10 +41,7 @@ void main() {
     for (uint i = n; i-- > 0u;) {
         float x = 0.0;
         if (coarse[n * n + i] > 0.5) {
-            float s = coarse[column + i];
-            for (uint k = i + 1u; k < n; ++k) {
-                s -= coarse[i * n + k] * coarse[column + k];
-            }
+            float s = coarse[column + i] - coarse_dot(i * n + i + 1u, 1u, column + i + 1u, 1u, n - 1u - i);
             x = s / coarse[i * n + i];
         }
         coarse[column + i] = x;

@@ -62,6 +62,15 @@ pub fn elastic_workgroup(workgroup_size: u32) -> u32 {
     workgroup_size.min(GLOBAL_WORKGROUP)
 }
 
+/// The workgroup of `elastic_coarse_factor`, one workgroup whose invocations share the
+/// factor's rows: the plan's finite-element workgroup, but at least 128 invocations (what
+/// every Vulkan device allows), as with fewer an invocation's rows of the largest coarse
+/// level (`MOST_AGGREGATES`, 384 unknowns) take near lavapipe's 65535 loop iterations, after
+/// which it ends the invocation silently (glsl/common/coarse_dot.glsl).
+pub fn coarse_factor_workgroup(workgroup_size: u32) -> u32 {
+    elastic_workgroup(workgroup_size).max(128)
+}
+
 impl EnginePlan {
     /// The plan with the finite elements' sizes `e`: their buffers, and their passes'
     /// invocations, workgroup and constants. Nothing without the `elastic` pass.
@@ -84,8 +93,11 @@ impl EnginePlan {
             if !kind.is_elastic() {
                 continue;
             }
-            pass.workgroup_size = wg;
-            let (elements, constants) = elastic_pass(kind, counts, e, wg);
+            pass.workgroup_size = match kind {
+                PassKind::ElasticCoarseFactor => coarse_factor_workgroup(self.workgroup_size),
+                _ => wg,
+            };
+            let (elements, constants) = elastic_pass(kind, counts, e, pass.workgroup_size);
             pass.elements = elements;
             if let Some(constants) = constants {
                 pass.constants = constants;

@@ -45,7 +45,9 @@ pub use cost::{profile as gpu_profile, GpuProfile, GPU_PROFILES};
 pub use counts::{
     grabbed_nodes, BodyCounts, GlobalCounts, PlanCounts, SweepOffsets, PEAK_BANDWIDTH,
 };
-pub use elastic::{elastic_workgroup, ElasticCounts, ELASTIC_PLANES, ELASTIC_STATE_WORDS};
+pub use elastic::{
+    coarse_factor_workgroup, elastic_workgroup, ElasticCounts, ELASTIC_PLANES, ELASTIC_STATE_WORDS,
+};
 pub use minres::{MinresCounts, MINRES_PLANES, MINRES_STATE_BYTES};
 pub use pass::{volume_sum_pass, PassPlan, Variant};
 pub use workgroups::for_elements as workgroup_for_elements;
