@@ -460,7 +460,7 @@ pub fn execute(args: RunArgs) -> anyhow::Result<()> {
         eprintln!("{note}");
     }
     // The springs are counted where a method runs them (the finite elements have none).
-    let springs = match methods.iter().any(|&m| m != Method::NeoHookean) {
+    let springs = match methods.iter().any(|m| m.has_springs()) {
         true => format!(", {} springs", model.springs.len()),
         false => String::new(),
     };

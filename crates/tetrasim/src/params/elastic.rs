@@ -7,7 +7,7 @@ use crate::error::{Error, Result};
 impl SimParams {
     /// Whether the method has springs (every method but the finite elements).
     pub fn has_springs(&self) -> bool {
-        self.method != Method::NeoHookean
+        self.method.has_springs()
     }
 
     /// Checks what the finite-element method needs; the error names the key.

@@ -31,6 +31,11 @@ impl Method {
         Method::Volume,
     ];
 
+    /// Whether the method runs springs (every method but the finite elements).
+    pub fn has_springs(self) -> bool {
+        self != Method::NeoHookean
+    }
+
     /// The name used on the command line, in JSON and in reports.
     pub fn name(self) -> &'static str {
         match self {
